@@ -1,0 +1,89 @@
+//! The math functions programs may call.
+
+/// A built-in function.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub enum Func {
+    Abs,
+    Sqrt,
+    Sin,
+    Cos,
+    Tan,
+    Atan,
+    Atan2,
+    Exp,
+    Ln,
+    Log10,
+    Int,
+    Fix,
+    Round,
+    Sgn,
+    Min,
+    Max,
+}
+
+/// Names, arity and meaning. Angles are in radians, as in BASIC.
+pub const FUNCTIONS: &[(&str, Func, usize, &str)] = &[
+    ("ABS", Func::Abs, 1, "absolute value"),
+    ("SQRT", Func::Sqrt, 1, "square root"),
+    ("SQR", Func::Sqrt, 1, "square root (BASIC spelling)"),
+    ("SIN", Func::Sin, 1, "sine of radians"),
+    ("COS", Func::Cos, 1, "cosine of radians"),
+    ("TAN", Func::Tan, 1, "tangent of radians"),
+    ("ATAN", Func::Atan, 1, "arc tangent, radians"),
+    ("ATN", Func::Atan, 1, "arc tangent, radians (BASIC spelling)"),
+    ("ATAN2", Func::Atan2, 2, "arc tangent of y/x, radians"),
+    ("EXP", Func::Exp, 1, "e to the power"),
+    ("LN", Func::Ln, 1, "natural logarithm"),
+    ("LOG", Func::Ln, 1, "natural logarithm (BASIC meaning)"),
+    ("LOG10", Func::Log10, 1, "base-10 logarithm"),
+    ("INT", Func::Int, 1, "largest integer not above"),
+    ("FIX", Func::Fix, 1, "integer part (towards zero)"),
+    ("TRUNC", Func::Fix, 1, "integer part (towards zero)"),
+    ("ROUND", Func::Round, 1, "nearest integer, halves away from zero"),
+    ("SGN", Func::Sgn, 1, "-1, 0 or 1"),
+    ("MIN", Func::Min, 2, "smaller of two"),
+    ("MAX", Func::Max, 2, "larger of two"),
+];
+
+/// Look up a function by name, ignoring case.
+pub fn find(name: &str) -> Option<(Func, usize)> {
+    FUNCTIONS.iter().find(|f| f.0.eq_ignore_ascii_case(name)).map(|f| (f.1, f.2))
+}
+
+impl Func {
+    /// Apply the function. The result may be NaN or infinite; the caller reports that.
+    pub fn apply(self, a: f64, b: f64) -> f64 {
+        match self {
+            Func::Abs => a.abs(),
+            Func::Sqrt => a.sqrt(),
+            Func::Sin => a.sin(),
+            Func::Cos => a.cos(),
+            Func::Tan => a.tan(),
+            Func::Atan => a.atan(),
+            Func::Atan2 => a.atan2(b),
+            Func::Exp => a.exp(),
+            Func::Ln => a.ln(),
+            Func::Log10 => a.log10(),
+            Func::Int => a.floor(),
+            Func::Fix => a.trunc(),
+            Func::Round => a.round(),
+            Func::Sgn => {
+                if a > 0.0 {
+                    1.0
+                } else if a < 0.0 {
+                    -1.0
+                } else {
+                    0.0
+                }
+            }
+            Func::Min => a.min(b),
+            Func::Max => a.max(b),
+        }
+    }
+
+    /// The name used in disassembly.
+    pub fn name(self) -> &'static str {
+        FUNCTIONS.iter().find(|f| f.1 == self).map_or("?", |f| f.0)
+    }
+}

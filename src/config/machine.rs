@@ -1,0 +1,119 @@
+//! `machine.toml`: the update period, programs, I/O counts, user variables and bits, object
+//! set-up and assignments.
+
+use super::values::Duration;
+use indexmap::IndexMap;
+use serde::Deserialize;
+use toml::Spanned;
+
+/// The whole machine file.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MachineFile {
+    /// General settings.
+    #[serde(default)]
+    pub machine: MachineSection,
+    /// The programs, by number.
+    #[serde(default, rename = "program")]
+    pub programs: Vec<ProgramEntry>,
+    /// How many points of each kind of digital I/O exist.
+    #[serde(default)]
+    pub io: IndexMap<String, Spanned<u32>>,
+    /// Instance counts of other objects (`Capture = 4`).
+    #[serde(default)]
+    pub objects: IndexMap<String, Spanned<u32>>,
+    /// User variables by name.
+    #[serde(default)]
+    pub variables: IndexMap<String, Spanned<VarDecl>>,
+    /// User bits.
+    #[serde(default)]
+    pub bits: BitsSection,
+    /// Queue set-up by instance number (`[queue.0]`).
+    #[serde(default)]
+    pub queue: IndexMap<String, Spanned<QueueSetup>>,
+    /// Source → destination assignments.
+    #[serde(default, rename = "assignment")]
+    pub assignments: Vec<AssignmentEntry>,
+}
+
+/// `[machine]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MachineSection {
+    /// A name for the trace and the summary.
+    pub name: Option<String>,
+    /// The trajectory update period (default 1 ms).
+    pub update: Option<Spanned<Duration>>,
+    /// Instructions a task may run in one update before it must yield (default 1000).
+    pub budget: Option<Spanned<u64>>,
+    /// Number of tasks (default 4).
+    pub tasks: Option<Spanned<u32>>,
+}
+
+/// `[[program]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProgramEntry {
+    /// Program number (`Program.N`).
+    pub number: Spanned<u32>,
+    /// File, relative to the machine file.
+    pub file: Spanned<String>,
+    /// Start this program when the run starts.
+    #[serde(default)]
+    pub autostart: bool,
+}
+
+/// `[variables.NAME]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct VarDecl {
+    /// Decimal places kept (0 to 9).
+    #[serde(default)]
+    pub decimals: u8,
+    /// Value at the start of the run.
+    #[serde(default)]
+    pub initial: f64,
+}
+
+/// `[bits]`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BitsSection {
+    /// Bits `Bit.0 .. Bit.(count-1)` (default 32).
+    pub count: Option<Spanned<u32>>,
+    /// Names for bits: `Ready = 3` makes `Bit.Ready` mean `Bit.3`.
+    #[serde(default)]
+    pub names: IndexMap<String, Spanned<u32>>,
+    /// Bits that start ON, by number or name.
+    #[serde(default)]
+    pub initially_on: Vec<Spanned<String>>,
+}
+
+/// `[queue.N]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct QueueSetup {
+    /// A descriptive name ("Label").
+    pub name: Option<String>,
+    /// Capacity (default 8).
+    pub size: Option<Spanned<u32>>,
+    /// QueueOffset at the start, in source units.
+    #[serde(default)]
+    pub offset: f64,
+    /// Count at which QueueFull turns on (default: the size).
+    pub full_level: Option<Spanned<u32>>,
+    /// What exit positions are compared with: MasterPosn, FeedbackPosn or CommandPosn.
+    pub source: Option<Spanned<String>>,
+}
+
+/// `[[assignment]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AssignmentEntry {
+    /// A bit member: an input, a status bit, a user bit.
+    pub source: Spanned<String>,
+    /// A bit member or an action.
+    pub destination: Spanned<String>,
+    /// "ActiveOn" (default) or "ActiveOff".
+    pub polarity: Option<Spanned<String>>,
+}

@@ -1,0 +1,219 @@
+//! Diagnostics: every problem found in a file a user wrote (program, machine file, scenario),
+//! located by span and rendered with miette.
+// miette's derive is not used here, but keep the lint allowance next to diagnostics code
+// in case it is (miette issue 458).
+#![allow(unused_assignments)]
+
+use crate::syntax::span::{line_col, Span};
+use miette::{Diagnostic, LabeledSpan, Severity, SourceCode};
+use std::fmt;
+use std::sync::Arc;
+
+/// How bad a problem is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Level {
+    /// Stops the program from running.
+    Error,
+    /// Reported; the program still runs.
+    Warning,
+}
+
+/// One problem in one file, located by span.
+#[derive(Debug, Clone)]
+pub struct Problem {
+    /// Stable code, e.g. `pacer::check::unknown_member`.
+    pub code: &'static str,
+    /// Error or warning.
+    pub level: Level,
+    /// The message.
+    pub message: String,
+    /// The exact place.
+    pub span: Span,
+    /// Text of the label on the span.
+    pub label: String,
+    /// A hint, e.g. the nearest valid name.
+    pub help: Option<String>,
+}
+
+impl Problem {
+    /// An error.
+    pub fn error(code: &'static str, span: Span, message: impl Into<String>, label: impl Into<String>) -> Problem {
+        Problem { code, level: Level::Error, message: message.into(), span, label: label.into(), help: None }
+    }
+
+    /// A warning.
+    pub fn warning(code: &'static str, span: Span, message: impl Into<String>, label: impl Into<String>) -> Problem {
+        Problem { code, level: Level::Warning, message: message.into(), span, label: label.into(), help: None }
+    }
+
+    /// Add a help line.
+    pub fn with_help(mut self, help: impl Into<String>) -> Problem {
+        self.help = Some(help.into());
+        self
+    }
+
+    /// Add a help line if there is one.
+    pub fn with_help_opt(mut self, help: Option<String>) -> Problem {
+        self.help = help;
+        self
+    }
+}
+
+/// A source file as diagnostics need it.
+#[derive(Debug, Clone)]
+pub struct SourceFile {
+    /// The path as the user gave it.
+    pub name: String,
+    /// The whole text.
+    pub text: Arc<str>,
+}
+
+impl SourceFile {
+    /// A named source.
+    pub fn new(name: impl Into<String>, text: impl Into<Arc<str>>) -> SourceFile {
+        SourceFile { name: name.into(), text: text.into() }
+    }
+
+    /// 1-based line and column of a span's start.
+    pub fn line_col(&self, span: Span) -> (usize, usize) {
+        line_col(&self.text, span.start)
+    }
+}
+
+/// A problem tied to its file, ready to render.
+#[derive(Debug, Clone)]
+pub struct Located {
+    /// The problem.
+    pub problem: Problem,
+    /// Its file.
+    pub file: SourceFile,
+}
+
+impl fmt::Display for Located {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(&self.problem.message)
+    }
+}
+
+impl std::error::Error for Located {}
+
+impl Diagnostic for Located {
+    fn code<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
+        Some(Box::new(self.problem.code))
+    }
+
+    fn severity(&self) -> Option<Severity> {
+        Some(match self.problem.level {
+            Level::Error => Severity::Error,
+            Level::Warning => Severity::Warning,
+        })
+    }
+
+    fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
+        self.problem.help.as_ref().map(|h| Box::new(h) as Box<dyn fmt::Display>)
+    }
+
+    fn source_code(&self) -> Option<&dyn SourceCode> {
+        Some(self)
+    }
+
+    fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
+        let span = clamp(self.problem.span, self.file.text.len());
+        Some(Box::new(std::iter::once(LabeledSpan::new_with_span(Some(self.problem.label.clone()), span))))
+    }
+}
+
+impl SourceCode for Located {
+    fn read_span<'a>(
+        &'a self,
+        span: &miette::SourceSpan,
+        context_lines_before: usize,
+        context_lines_after: usize,
+    ) -> Result<Box<dyn miette::SpanContents<'a> + 'a>, miette::MietteError> {
+        let inner = self.file.text.read_span(span, context_lines_before, context_lines_after)?;
+        Ok(Box::new(miette::MietteSpanContents::new_named(
+            self.file.name.clone(),
+            inner.data(),
+            *inner.span(),
+            inner.line(),
+            inner.column(),
+            inner.line_count(),
+        )))
+    }
+}
+
+fn clamp(span: Span, len: usize) -> Span {
+    let start = span.start.min(len);
+    Span::new(start, span.end.clamp(start, len))
+}
+
+/// Everything wrong with a set of files.
+#[derive(Debug, Clone, Default)]
+pub struct Diagnostics {
+    /// In the order found (files in the order given, then by position).
+    pub items: Vec<Located>,
+}
+
+impl Diagnostics {
+    /// No problems yet.
+    pub fn new() -> Diagnostics {
+        Diagnostics::default()
+    }
+
+    /// Add the problems of one file, sorted by position.
+    pub fn extend_file(&mut self, file: &SourceFile, mut problems: Vec<Problem>) {
+        problems.sort_by_key(|p| (p.span.start, p.span.end));
+        for problem in problems {
+            self.items.push(Located { problem, file: file.clone() });
+        }
+    }
+
+    /// Count of errors (not warnings).
+    pub fn error_count(&self) -> usize {
+        self.items.iter().filter(|d| d.problem.level == Level::Error).count()
+    }
+
+    /// True when at least one error is present.
+    pub fn has_errors(&self) -> bool {
+        self.error_count() > 0
+    }
+
+    /// Render all problems as text, without colour, at a fixed width (for tests and goldens).
+    pub fn render_plain(&self) -> String {
+        self.render(false)
+    }
+
+    /// Render all problems; with colour when asked.
+    pub fn render(&self, color: bool) -> String {
+        let theme = if color { miette::GraphicalTheme::unicode() } else { miette::GraphicalTheme::unicode_nocolor() };
+        let handler = miette::GraphicalReportHandler::new_themed(theme).with_width(100);
+        let mut out = String::new();
+        for d in &self.items {
+            let (line, col) = d.file.line_col(d.problem.span);
+            out.push_str(&format!("{}:{}:{}: ", d.file.name, line, col));
+            out.push_str(match d.problem.level {
+                Level::Error => "error",
+                Level::Warning => "warning",
+            });
+            out.push('\n');
+            if handler.render_report(&mut out, d).is_err() {
+                out.push_str(&d.problem.message);
+            }
+            out.push('\n');
+        }
+        out
+    }
+}
+
+/// The closest candidate to `name` (case-insensitive), if close enough to be a likely slip.
+pub fn nearest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) -> Option<&'a str> {
+    let lower = name.to_ascii_lowercase();
+    let mut best: Option<(f64, &str)> = None;
+    for c in candidates {
+        let score = strsim::jaro_winkler(&lower, &c.to_ascii_lowercase());
+        if best.is_none_or(|(s, _)| score > s) {
+            best = Some((score, c));
+        }
+    }
+    best.filter(|(s, _)| *s >= 0.75).map(|(_, c)| c)
+}

@@ -1,0 +1,319 @@
+//! The object registry: every object instance of a machine and every member's storage slot,
+//! built from the catalog and `machine.toml`. Names resolve to slots here, once, at compile time.
+
+pub mod catalog;
+mod resolve;
+
+pub use catalog::{Access, Hook, Instances, Kind, MemberDef, TypeDef, ValueType};
+pub use resolve::Resolved;
+
+use crate::config::machine::MachineFile;
+use crate::config::span_of;
+use crate::diag::{nearest, Problem};
+use indexmap::IndexMap;
+
+/// Index of a member's storage in the signal table.
+pub type SlotId = u32;
+
+/// Instance index used for a type's own members (`Jog.Select`).
+pub const GLOBAL_INSTANCE: u32 = u32::MAX;
+
+/// What one storage slot holds.
+#[derive(Debug, Clone)]
+pub struct SlotInfo {
+    /// Canonical full name, e.g. `Queue.0.QueueOffset`.
+    pub name: String,
+    /// Its value type (user variables carry their own decimal places).
+    pub ty: ValueType,
+    /// The member definition.
+    pub member: &'static MemberDef,
+    /// The object's behaviour.
+    pub kind: Kind,
+    /// Instance index within its type (0-based), or [`GLOBAL_INSTANCE`].
+    pub instance: u32,
+    /// Value at the start of a run.
+    pub initial: f64,
+}
+
+/// The instances of one type in this machine.
+#[derive(Debug, Clone)]
+pub struct TypeInstances {
+    /// The catalog entry.
+    pub def: &'static TypeDef,
+    /// Number of instances.
+    pub count: u32,
+    /// First instance number as written (1 for I/O points, 0 for objects).
+    pub first: u32,
+    /// Instance names (lower-case) → index, for named instances (`Var.Count`, `Bit.Ready`).
+    pub names: IndexMap<String, u32>,
+    /// Display name of each instance (`0`, `Count`).
+    pub display: Vec<String>,
+    /// First slot of this type's storage.
+    pub base: SlotId,
+}
+
+impl TypeInstances {
+    /// The slot of `member_index` of `instance`.
+    pub fn slot(&self, instance: u32, member_index: usize, global: bool) -> SlotId {
+        let per = self.def.members.len() as u32;
+        if global {
+            self.base + self.count * per + member_index as u32
+        } else {
+            self.base + instance * per + member_index as u32
+        }
+    }
+}
+
+/// Every object of one machine.
+#[derive(Debug, Clone)]
+pub struct Registry {
+    /// Per type, in catalog order.
+    pub types: Vec<TypeInstances>,
+    /// Every slot, in layout order.
+    pub slots: Vec<SlotInfo>,
+    /// Queue set-up: per queue instance (size, full level).
+    pub queue_sizes: Vec<(u32, u32)>,
+}
+
+/// Highest instance count accepted for any type.
+const MAX_INSTANCES: u32 = 4096;
+
+impl Registry {
+    /// Build the registry of a machine. `program_numbers` are the programs loaded.
+    pub fn build(machine: &MachineFile, program_numbers: &[u32]) -> Result<Registry, Vec<Problem>> {
+        let mut problems = Vec::new();
+        let mut counts: IndexMap<&'static str, u32> = IndexMap::new();
+        for table in [&machine.io, &machine.objects] {
+            for (key, value) in table {
+                let span = span_of(value);
+                match catalog::find_type(key) {
+                    Some(def) if matches!(def.instances, Instances::Numbered { .. }) => {
+                        let n = *value.get_ref();
+                        if n > MAX_INSTANCES || (def.kind == Kind::Queue && n > 8) || (def.kind == Kind::Profile && n != 2) {
+                            let limit = match def.kind {
+                                Kind::Queue => "at most 8 queues".to_string(),
+                                Kind::Profile => "there are exactly 2 profiles".to_string(),
+                                _ => format!("at most {MAX_INSTANCES}"),
+                            };
+                            problems.push(Problem::error("pacer::machine::count", span, format!("{n} is not a valid count of {}", def.name), limit));
+                        } else {
+                            counts.insert(def.name, n);
+                        }
+                    }
+                    Some(def) => problems.push(Problem::error(
+                        "pacer::machine::count",
+                        span,
+                        format!("{} has no instance count", def.name),
+                        "set in its own table",
+                    )),
+                    None => {
+                        let names = catalog::TYPES.iter().filter(|t| matches!(t.instances, Instances::Numbered { .. })).map(|t| t.name);
+                        problems.push(
+                            Problem::error("pacer::machine::count", span, format!("unknown object type `{key}`"), "not an object type")
+                                .with_help_opt(nearest(key, names).map(|n| format!("did you mean `{n}`?"))),
+                        )
+                    }
+                }
+            }
+        }
+        let highest_program = program_numbers.iter().copied().max().map_or(0, |n| n + 1);
+
+        let mut types = Vec::new();
+        let mut slots: Vec<SlotInfo> = Vec::new();
+        for def in catalog::TYPES {
+            let (first, mut count) = match def.instances {
+                Instances::Global => (0, 1),
+                Instances::Numbered { first, default_count } => (first, counts.get(def.name).copied().unwrap_or(default_count)),
+                Instances::Named => (0, 0),
+            };
+            if def.kind == Kind::Program {
+                count = count.max(highest_program);
+            }
+            let mut names = IndexMap::new();
+            let mut display: Vec<String> = (0..count).map(|i| (first + i).to_string()).collect();
+            let mut decimals: Vec<u8> = Vec::new();
+            let mut initial: Vec<f64> = Vec::new();
+            match def.kind {
+                Kind::Var => {
+                    for (name, decl) in &machine.variables {
+                        let d = decl.get_ref();
+                        let span = span_of(decl);
+                        if !valid_ident(name) {
+                            problems.push(Problem::error("pacer::machine::variable", span, format!("`{name}` is not a valid variable name"), "letters, digits and _; not starting with a digit"));
+                        }
+                        if d.decimals > 9 {
+                            problems.push(Problem::error("pacer::machine::variable", span, format!("Var.{name}: {} decimal places is too many", d.decimals), "0 to 9"));
+                        }
+                        let scaled = d.initial * 10f64.powi(i32::from(d.decimals.min(9)));
+                        if !scaled.is_finite() || scaled.abs() > f64::from(i32::MAX) {
+                            problems.push(Problem::error("pacer::machine::variable", span, format!("Var.{name}: initial value {} does not fit a 32-bit variable with {} decimals", d.initial, d.decimals), "out of range"));
+                        }
+                        names.insert(name.to_ascii_lowercase(), count);
+                        display.push(name.clone());
+                        decimals.push(d.decimals.min(9));
+                        initial.push(round_to(d.initial, d.decimals.min(9)));
+                        count += 1;
+                    }
+                }
+                Kind::Bit => {
+                    count = machine.bits.count.as_ref().map_or(32, |c| *c.get_ref());
+                    if count > MAX_INSTANCES {
+                        if let Some(c) = &machine.bits.count {
+                            problems.push(Problem::error("pacer::machine::bits", span_of(c), format!("{count} bits is too many"), format!("at most {MAX_INSTANCES}")));
+                        }
+                        count = 32;
+                    }
+                    display = (0..count).map(|i| i.to_string()).collect();
+                    for (name, number) in &machine.bits.names {
+                        let n = *number.get_ref();
+                        if n >= count {
+                            problems.push(Problem::error("pacer::machine::bits", span_of(number), format!("Bit.{n} does not exist"), format!("bits are 0 to {}", count.saturating_sub(1))));
+                        } else if !valid_ident(name) || name.chars().all(|c| c.is_ascii_digit()) {
+                            problems.push(Problem::error("pacer::machine::bits", span_of(number), format!("`{name}` is not a valid bit name"), "letters, digits and _"));
+                        } else {
+                            names.insert(name.to_ascii_lowercase(), n);
+                            display[n as usize] = name.clone();
+                        }
+                    }
+                    initial = vec![0.0; count as usize];
+                    for on in &machine.bits.initially_on {
+                        let key = on.get_ref();
+                        let idx = key.parse::<u32>().ok().filter(|n| *n < count).or_else(|| names.get(&key.to_ascii_lowercase()).copied());
+                        match idx {
+                            Some(i) => initial[i as usize] = 1.0,
+                            None => problems.push(Problem::error("pacer::machine::bits", span_of(on), format!("no bit `{key}`"), "unknown bit")),
+                        }
+                    }
+                }
+                _ => {}
+            }
+            let base = slots.len() as SlotId;
+            for i in 0..count {
+                for member in def.members {
+                    let ty = if def.kind == Kind::Var { ValueType::Fixed(decimals[i as usize]) } else { member.ty };
+                    let init = match def.kind {
+                        Kind::Var | Kind::Bit => initial[i as usize],
+                        _ => default_value(def.kind, member),
+                    };
+                    let name = match (def.default_member, def.kind) {
+                        (Some(_), Kind::Var | Kind::Bit | Kind::DriveInput | Kind::ModuleInput | Kind::DriveOutput | Kind::ModuleOutput) => {
+                            format!("{}.{}", def.name, display[i as usize])
+                        }
+                        _ => format!("{}.{}.{}", def.name, display[i as usize], member.name),
+                    };
+                    let name = if def.instances == Instances::Global { format!("{}.{}", def.name, member.name) } else { name };
+                    let name = if def.name == catalog::BARE_GLOBAL_TYPE { member.name.to_string() } else { name };
+                    slots.push(SlotInfo { name, ty, member, kind: def.kind, instance: i, initial: init });
+                }
+            }
+            for member in def.global_members {
+                slots.push(SlotInfo {
+                    name: format!("{}.{}", def.name, member.name),
+                    ty: member.ty,
+                    member,
+                    kind: def.kind,
+                    instance: GLOBAL_INSTANCE,
+                    initial: default_value(def.kind, member),
+                });
+            }
+            types.push(TypeInstances { def, count, first, names, display, base });
+        }
+
+        let queue_count = types.iter().find(|t| t.def.kind == Kind::Queue).map_or(0, |t| t.count);
+        let mut queue_sizes = vec![(8u32, 8u32); queue_count as usize];
+        let mut registry = Registry { types, slots, queue_sizes: Vec::new() };
+        for (key, setup) in &machine.queue {
+            let span = span_of(setup);
+            let Some(n) = key.parse::<u32>().ok().filter(|n| *n < queue_count) else {
+                problems.push(Problem::error("pacer::machine::queue", span, format!("[queue.{key}]: no such queue"), format!("queues are 0 to {}", queue_count.saturating_sub(1))));
+                continue;
+            };
+            let s = setup.get_ref();
+            let size = s.size.as_ref().map_or(8, |v| *v.get_ref());
+            if size == 0 || size > 10_000 {
+                let sp = s.size.as_ref().map_or(span, span_of);
+                problems.push(Problem::error("pacer::machine::queue", sp, format!("queue size {size} is out of range"), "1 to 10000"));
+            }
+            let full = s.full_level.as_ref().map_or(size, |v| *v.get_ref());
+            if full > size {
+                let sp = s.full_level.as_ref().map_or(span, span_of);
+                problems.push(Problem::error("pacer::machine::queue", sp, format!("full level {full} is above the queue size {size}"), "at most the size"));
+            }
+            if let Some(src) = &s.source {
+                let ok = ["MasterPosn", "FeedbackPosn", "CommandPosn"].iter().any(|v| v.eq_ignore_ascii_case(src.get_ref()));
+                if !ok {
+                    problems.push(Problem::error("pacer::machine::queue", span_of(src), format!("unknown queue source `{}`", src.get_ref()), "MasterPosn, FeedbackPosn or CommandPosn"));
+                }
+            }
+            queue_sizes[n as usize] = (size, full);
+            registry.set_initial(Kind::Queue, n, "QueueOffset", round_to(s.offset, 4));
+            registry.set_initial(Kind::Queue, n, "QueueSize", f64::from(size));
+            registry.set_initial(Kind::Queue, n, "FullLevel", f64::from(full));
+        }
+        for (n, (size, full)) in queue_sizes.iter().enumerate() {
+            if !machine.queue.contains_key(&n.to_string()) {
+                registry.set_initial(Kind::Queue, n as u32, "QueueSize", f64::from(*size));
+                registry.set_initial(Kind::Queue, n as u32, "FullLevel", f64::from(*full));
+            }
+        }
+        registry.queue_sizes = queue_sizes;
+        if problems.is_empty() {
+            Ok(registry)
+        } else {
+            Err(problems)
+        }
+    }
+
+    /// The instances of a type.
+    pub fn of(&self, kind: Kind) -> &TypeInstances {
+        // The registry holds every catalog type, so the lookup cannot fail.
+        self.types.iter().find(|t| t.def.kind == kind).unwrap_or(&self.types[0])
+    }
+
+    /// The slot of a member by name (for kernel code that knows its members).
+    pub fn slot_of(&self, kind: Kind, instance: u32, member: &str) -> Option<SlotId> {
+        let t = self.of(kind);
+        if instance == GLOBAL_INSTANCE {
+            let idx = t.def.global_members.iter().position(|m| m.name == member)?;
+            return Some(t.slot(0, idx, true));
+        }
+        let idx = t.def.members.iter().position(|m| m.name == member)?;
+        (instance < t.count).then(|| t.slot(instance, idx, false))
+    }
+
+    fn set_initial(&mut self, kind: Kind, instance: u32, member: &str, value: f64) {
+        if let Some(s) = self.slot_of(kind, instance, member) {
+            self.slots[s as usize].initial = value;
+        }
+    }
+
+    /// Number of slots.
+    pub fn slot_count(&self) -> usize {
+        self.slots.len()
+    }
+}
+
+fn default_value(kind: Kind, member: &MemberDef) -> f64 {
+    match (kind, member.name) {
+        (Kind::Queue, "QueueEmpty") => 1.0,
+        (Kind::Queue, "QueueSize" | "FullLevel") => 8.0,
+        (Kind::Program, "Task") => -1.0,
+        (Kind::Motion, "FeedRateOverride") => 100.0,
+        (Kind::Pls, "Enable") => 1.0,
+        _ => 0.0,
+    }
+}
+
+fn valid_ident(s: &str) -> bool {
+    let mut c = s.chars();
+    matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_') && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
+}
+
+/// Round to `decimals` places, as a fixed-point store does.
+pub fn round_to(v: f64, decimals: u8) -> f64 {
+    let scale = POW10[decimals.min(9) as usize];
+    (v * scale).round() / scale
+}
+
+/// Powers of ten for fixed-point scaling.
+pub const POW10: [f64; 10] = [1.0, 10.0, 100.0, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];

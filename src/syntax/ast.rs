@@ -1,0 +1,190 @@
+//! The abstract syntax tree shared by both dialects. Every node carries its source span.
+
+use super::span::Span;
+
+/// One segment of a dotted name (`Queue`, `0`, `QueueEmpty`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Segment {
+    /// The text as written.
+    pub text: String,
+    /// Where it is.
+    pub span: Span,
+}
+
+/// A possibly dotted name, e.g. `Queue.0.QueueOffset`, `Var.Count`, `DriveInput.4`.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Name {
+    /// The dot-separated parts.
+    pub segments: Vec<Segment>,
+    /// The whole name.
+    pub span: Span,
+}
+
+impl Name {
+    /// Split a dotted-name token that starts at byte `start`.
+    pub fn from_token(text: &str, start: usize) -> Name {
+        let mut segments = Vec::new();
+        let mut pos = start;
+        for part in text.split('.') {
+            segments.push(Segment { text: part.to_string(), span: Span::new(pos, pos + part.len()) });
+            pos += part.len() + 1;
+        }
+        Name { segments, span: Span::new(start, start + text.len()) }
+    }
+
+    /// The name as written, dots included.
+    pub fn text(&self) -> String {
+        self.segments.iter().map(|s| s.text.as_str()).collect::<Vec<_>>().join(".")
+    }
+}
+
+/// Unary operators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum UnOp {
+    /// `-x`
+    Neg,
+    /// `NOT x`
+    Not,
+}
+
+/// Binary operators, in BASIC precedence order from lowest.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum BinOp {
+    /// `OR`
+    Or,
+    /// `XOR`
+    Xor,
+    /// `AND`
+    And,
+    /// `=`
+    Eq,
+    /// `<>`
+    Ne,
+    /// `<`
+    Lt,
+    /// `<=`
+    Le,
+    /// `>`
+    Gt,
+    /// `>=`
+    Ge,
+    /// `+`
+    Add,
+    /// `-`
+    Sub,
+    /// `*`
+    Mul,
+    /// `/`
+    Div,
+    /// `MOD`
+    Mod,
+    /// `^`
+    Pow,
+}
+
+impl BinOp {
+    /// The operator as written in source.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            BinOp::Or => "OR",
+            BinOp::Xor => "XOR",
+            BinOp::And => "AND",
+            BinOp::Eq => "=",
+            BinOp::Ne => "<>",
+            BinOp::Lt => "<",
+            BinOp::Le => "<=",
+            BinOp::Gt => ">",
+            BinOp::Ge => ">=",
+            BinOp::Add => "+",
+            BinOp::Sub => "-",
+            BinOp::Mul => "*",
+            BinOp::Div => "/",
+            BinOp::Mod => "MOD",
+            BinOp::Pow => "^",
+        }
+    }
+}
+
+/// An expression.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Expr {
+    /// What it is.
+    pub kind: ExprKind,
+    /// Where it is.
+    pub span: Span,
+}
+
+/// The kinds of expression.
+#[derive(Debug, Clone, PartialEq)]
+pub enum ExprKind {
+    /// A numeric literal.
+    Number(f64),
+    /// ON/TRUE/… or OFF/FALSE/….
+    Bool(bool),
+    /// A reference to an object member, variable or bit.
+    Name(Name),
+    /// `-x`, `NOT x`.
+    Unary(UnOp, Box<Expr>),
+    /// `a op b`.
+    Binary(BinOp, Box<Expr>, Box<Expr>),
+    /// A function call such as `ABS(x)`.
+    Call(Segment, Vec<Expr>),
+    /// `( x )`, kept so diagnostics can point at the parentheses.
+    Paren(Box<Expr>),
+}
+
+/// What an initiate starts from.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Using {
+    /// `Using Last`: where the previous motion ended on the internal timeline.
+    Last(Span),
+    /// `Using Capture.N`: from a capture object's latched data.
+    Capture(Name),
+}
+
+/// A statement. Block statements own their bodies.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Stmt {
+    /// What it is.
+    pub kind: StmtKind,
+    /// The span of its first line.
+    pub span: Span,
+}
+
+/// The kinds of statement.
+#[derive(Debug, Clone, PartialEq)]
+pub enum StmtKind {
+    /// `target = value`.
+    Assign { target: Name, value: Expr },
+    /// A bare action, e.g. `Queue.0.QueueRemove`, `Index.0.Initiate Using Capture.1 On Profile.1`.
+    Action { target: Name, using: Option<Using>, profile: Option<Name> },
+    /// `Dwell For Time s`.
+    DwellTime(Expr),
+    /// `Dwell For Master Dist d`.
+    DwellMaster(Expr),
+    /// `Wait For Time s`.
+    WaitTime(Expr),
+    /// `Wait For expr`.
+    WaitFor(Expr),
+    /// `If c Then … [Else …] Endif`.
+    If { cond: Expr, then_body: Vec<Stmt>, else_body: Option<Vec<Stmt>> },
+    /// `Do While c … Loop`.
+    DoWhile { cond: Expr, body: Vec<Stmt> },
+    /// `For v = a To b [Step s] … Next [v]`.
+    For { var: Name, from: Expr, to: Expr, step: Option<Expr>, body: Vec<Stmt> },
+    /// `Call Program.N`: runs another program on this task and comes back.
+    Call(Name),
+    /// `label:`.
+    Label(Segment),
+    /// `Goto label` / `Jump label`.
+    Goto(Segment),
+    /// `End`.
+    End,
+}
+
+/// A parsed program file.
+#[derive(Debug, Clone, PartialEq, Default)]
+pub struct ProgramAst {
+    /// The top-level statements.
+    pub body: Vec<Stmt>,
+}

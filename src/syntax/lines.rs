@@ -1,0 +1,50 @@
+//! Lines as the grammar produces them, before block structure is assembled.
+
+use super::ast::{BinOp, Expr, ExprKind, Name, StmtKind, Using};
+use super::span::Span;
+
+/// A modifier written after an initiate.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Modifier {
+    /// `Using Last` or `Using Capture.N`.
+    Using(Using),
+    /// `On Profile.N`.
+    Profile(Name),
+}
+
+/// One source line.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Line {
+    /// What the line says.
+    pub kind: LineKind,
+    /// Where it is.
+    pub span: Span,
+}
+
+/// What a line can say.
+#[derive(Debug, Clone, PartialEq)]
+pub enum LineKind {
+    /// A statement that needs no block structure.
+    Simple(StmtKind),
+    /// A bare action with its modifiers in source order.
+    Action { target: Name, modifiers: Vec<Modifier> },
+    /// `If c Then`.
+    If(Expr),
+    /// `Else`.
+    Else,
+    /// `Endif` / `End If`.
+    Endif,
+    /// `Do While c`.
+    DoWhile(Expr),
+    /// `Loop`.
+    Loop,
+    /// `For v = a To b [Step s]`.
+    For { var: Name, from: Expr, to: Expr, step: Option<Expr> },
+    /// `Next [v]`.
+    Next(Option<Name>),
+}
+
+/// Build a binary expression spanning `l..r`.
+pub fn bin(op: BinOp, a: Expr, b: Expr, l: usize, r: usize) -> Expr {
+    Expr { kind: ExprKind::Binary(op, Box::new(a), Box::new(b)), span: Span::new(l, r) }
+}
