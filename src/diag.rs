@@ -37,13 +37,37 @@ pub struct Problem {
 
 impl Problem {
     /// An error.
-    pub fn error(code: &'static str, span: Span, message: impl Into<String>, label: impl Into<String>) -> Problem {
-        Problem { code, level: Level::Error, message: message.into(), span, label: label.into(), help: None }
+    pub fn error(
+        code: &'static str,
+        span: Span,
+        message: impl Into<String>,
+        label: impl Into<String>,
+    ) -> Problem {
+        Problem {
+            code,
+            level: Level::Error,
+            message: message.into(),
+            span,
+            label: label.into(),
+            help: None,
+        }
     }
 
     /// A warning.
-    pub fn warning(code: &'static str, span: Span, message: impl Into<String>, label: impl Into<String>) -> Problem {
-        Problem { code, level: Level::Warning, message: message.into(), span, label: label.into(), help: None }
+    pub fn warning(
+        code: &'static str,
+        span: Span,
+        message: impl Into<String>,
+        label: impl Into<String>,
+    ) -> Problem {
+        Problem {
+            code,
+            level: Level::Warning,
+            message: message.into(),
+            span,
+            label: label.into(),
+            help: None,
+        }
     }
 
     /// Add a help line.
@@ -71,7 +95,10 @@ pub struct SourceFile {
 impl SourceFile {
     /// A named source.
     pub fn new(name: impl Into<String>, text: impl Into<Arc<str>>) -> SourceFile {
-        SourceFile { name: name.into(), text: text.into() }
+        SourceFile {
+            name: name.into(),
+            text: text.into(),
+        }
     }
 
     /// 1-based line and column of a span's start.
@@ -110,7 +137,10 @@ impl Diagnostic for Located {
     }
 
     fn help<'a>(&'a self) -> Option<Box<dyn fmt::Display + 'a>> {
-        self.problem.help.as_ref().map(|h| Box::new(h) as Box<dyn fmt::Display>)
+        self.problem
+            .help
+            .as_ref()
+            .map(|h| Box::new(h) as Box<dyn fmt::Display>)
     }
 
     fn source_code(&self) -> Option<&dyn SourceCode> {
@@ -119,7 +149,10 @@ impl Diagnostic for Located {
 
     fn labels(&self) -> Option<Box<dyn Iterator<Item = LabeledSpan> + '_>> {
         let span = clamp(self.problem.span, self.file.text.len());
-        Some(Box::new(std::iter::once(LabeledSpan::new_with_span(Some(self.problem.label.clone()), span))))
+        Some(Box::new(std::iter::once(LabeledSpan::new_with_span(
+            Some(self.problem.label.clone()),
+            span,
+        ))))
     }
 }
 
@@ -130,7 +163,10 @@ impl SourceCode for Located {
         context_lines_before: usize,
         context_lines_after: usize,
     ) -> Result<Box<dyn miette::SpanContents<'a> + 'a>, miette::MietteError> {
-        let inner = self.file.text.read_span(span, context_lines_before, context_lines_after)?;
+        let inner = self
+            .file
+            .text
+            .read_span(span, context_lines_before, context_lines_after)?;
         Ok(Box::new(miette::MietteSpanContents::new_named(
             self.file.name.clone(),
             inner.data(),
@@ -164,13 +200,19 @@ impl Diagnostics {
     pub fn extend_file(&mut self, file: &SourceFile, mut problems: Vec<Problem>) {
         problems.sort_by_key(|p| (p.span.start, p.span.end));
         for problem in problems {
-            self.items.push(Located { problem, file: file.clone() });
+            self.items.push(Located {
+                problem,
+                file: file.clone(),
+            });
         }
     }
 
     /// Count of errors (not warnings).
     pub fn error_count(&self) -> usize {
-        self.items.iter().filter(|d| d.problem.level == Level::Error).count()
+        self.items
+            .iter()
+            .filter(|d| d.problem.level == Level::Error)
+            .count()
     }
 
     /// True when at least one error is present.
@@ -185,7 +227,11 @@ impl Diagnostics {
 
     /// Render all problems; with colour when asked.
     pub fn render(&self, color: bool) -> String {
-        let theme = if color { miette::GraphicalTheme::unicode() } else { miette::GraphicalTheme::unicode_nocolor() };
+        let theme = if color {
+            miette::GraphicalTheme::unicode()
+        } else {
+            miette::GraphicalTheme::unicode_nocolor()
+        };
         let handler = miette::GraphicalReportHandler::new_themed(theme).with_width(100);
         let mut out = String::new();
         for d in &self.items {

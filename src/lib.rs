@@ -2,7 +2,13 @@
 //! industrial motion controllers.
 
 pub mod check;
+pub mod compile;
 pub mod config;
 pub mod diag;
+pub mod kernel;
+pub mod load;
 pub mod registry;
 pub mod syntax;
+pub mod trace;
+pub mod vm;
+pub mod world;

@@ -1,1 +1,198 @@
-fn main() {}
+//! The `pacer` command.
+
+use clap::{Parser, Subcommand};
+use pacer::load::{load, LoadRequest};
+use pacer::trace::Trace;
+use pacer::vm::Machine;
+use std::io::IsTerminal;
+use std::path::PathBuf;
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(
+    name = "pacer",
+    version,
+    about = "Run motion-controller programs on an exact, repeatable simulated machine"
+)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(clap::Args)]
+struct Project {
+    /// A machine folder, or program files (.pt)
+    #[arg(required = true)]
+    paths: Vec<PathBuf>,
+    /// Machine file (default: machine.toml beside the programs)
+    #[arg(long)]
+    machine: Option<PathBuf>,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Run programs on the simulated machine
+    Run {
+        #[command(flatten)]
+        project: Project,
+        /// Scenario file (default: scenario.toml beside the programs)
+        #[arg(long)]
+        scenario: Option<PathBuf>,
+        /// Simulated seconds to run (default: the scenario's duration, else until all programs end)
+        #[arg(long = "for", value_name = "SECONDS")]
+        duration: Option<f64>,
+        /// Write the JSON-lines trace here
+        #[arg(long, value_name = "FILE.jsonl")]
+        trace: Option<PathBuf>,
+        /// Print nothing but errors
+        #[arg(long, short)]
+        quiet: bool,
+    },
+    /// Parse and check programs (and the machine and scenario files) without running
+    Check {
+        #[command(flatten)]
+        project: Project,
+        /// Scenario file to check too
+        #[arg(long)]
+        scenario: Option<PathBuf>,
+    },
+    /// Print the compiled bytecode of programs
+    Disasm {
+        #[command(flatten)]
+        project: Project,
+    },
+}
+
+const EXIT_PROBLEMS: u8 = 1;
+const EXIT_RUNTIME: u8 = 2;
+const EXIT_IO: u8 = 3;
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let color = std::io::stderr().is_terminal();
+    match cli.command {
+        Command::Run {
+            project,
+            scenario,
+            duration,
+            trace,
+            quiet,
+        } => run(project, scenario, duration, trace, quiet, color),
+        Command::Check { project, scenario } => {
+            let req = LoadRequest {
+                paths: project.paths,
+                machine: project.machine,
+                scenario,
+            };
+            match load(&req) {
+                Ok(loaded) => {
+                    eprint!("{}", loaded.warnings.render(color));
+                    println!("ok: {} program(s) checked", loaded.sources.len());
+                    ExitCode::SUCCESS
+                }
+                Err(d) => problems(&d, color),
+            }
+        }
+        Command::Disasm { project } => {
+            let req = LoadRequest {
+                paths: project.paths,
+                machine: project.machine,
+                scenario: None,
+            };
+            match load(&req) {
+                Ok(loaded) => {
+                    for chunk in &loaded.image.chunks {
+                        print!(
+                            "{}",
+                            pacer::compile::disasm::disassemble(
+                                chunk,
+                                &loaded.layout,
+                                &loaded.image.registry
+                            )
+                        );
+                    }
+                    ExitCode::SUCCESS
+                }
+                Err(d) => problems(&d, color),
+            }
+        }
+    }
+}
+
+fn problems(d: &pacer::diag::Diagnostics, color: bool) -> ExitCode {
+    eprint!("{}", d.render(color));
+    eprintln!("{} error(s)", d.error_count());
+    ExitCode::from(EXIT_PROBLEMS)
+}
+
+fn run(
+    project: Project,
+    scenario: Option<PathBuf>,
+    duration: Option<f64>,
+    trace: Option<PathBuf>,
+    quiet: bool,
+    color: bool,
+) -> ExitCode {
+    let duration_ns = match duration.map(pacer::config::values::seconds_to_ns) {
+        None => None,
+        Some(Ok(ns)) => Some(ns),
+        Some(Err(e)) => {
+            eprintln!("error: --for: {e}");
+            return ExitCode::from(EXIT_PROBLEMS);
+        }
+    };
+    let req = LoadRequest {
+        paths: project.paths,
+        machine: project.machine,
+        scenario,
+    };
+    let loaded = match load(&req) {
+        Ok(l) => l,
+        Err(d) => return problems(&d, color),
+    };
+    eprint!("{}", loaded.warnings.render(color));
+    let sink: Option<Box<dyn std::io::Write>> = match &trace {
+        None => None,
+        Some(p) => match std::fs::File::create(p) {
+            Ok(f) => Some(Box::new(std::io::BufWriter::with_capacity(1 << 16, f))),
+            Err(e) => {
+                eprintln!("error: cannot create trace file {}: {e}", p.display());
+                return ExitCode::from(EXIT_IO);
+            }
+        },
+    };
+    let tick_ns = loaded.image.tick_ns;
+    let name = loaded.image.name.clone();
+    let mut machine = Machine::new(loaded.image, Trace::new(sink, tick_ns));
+    let summary = machine.run(duration_ns);
+    if let Err(e) = machine.finish() {
+        eprintln!("error: writing the trace: {e}");
+        return ExitCode::from(EXIT_IO);
+    }
+    if !quiet {
+        let events: Vec<String> = summary
+            .events
+            .iter()
+            .map(|(k, n)| format!("{n} {k}"))
+            .collect();
+        println!(
+            "pacer: {name}: {:.3} s simulated in {} updates of {} ms, {} instructions; {}; stopped: {}",
+            summary.seconds,
+            summary.ticks,
+            tick_ns as f64 / 1e6,
+            summary.instructions,
+            if events.is_empty() { "no events".to_string() } else { events.join(", ") },
+            summary.stop_reason
+        );
+        if let Some(p) = &trace {
+            println!("trace: {}", p.display());
+        }
+    }
+    match summary.error {
+        Some(e) => {
+            eprintln!("error: {e}");
+            ExitCode::from(EXIT_RUNTIME)
+        }
+        None => ExitCode::SUCCESS,
+    }
+}

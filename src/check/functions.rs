@@ -31,7 +31,12 @@ pub const FUNCTIONS: &[(&str, Func, usize, &str)] = &[
     ("COS", Func::Cos, 1, "cosine of radians"),
     ("TAN", Func::Tan, 1, "tangent of radians"),
     ("ATAN", Func::Atan, 1, "arc tangent, radians"),
-    ("ATN", Func::Atan, 1, "arc tangent, radians (BASIC spelling)"),
+    (
+        "ATN",
+        Func::Atan,
+        1,
+        "arc tangent, radians (BASIC spelling)",
+    ),
     ("ATAN2", Func::Atan2, 2, "arc tangent of y/x, radians"),
     ("EXP", Func::Exp, 1, "e to the power"),
     ("LN", Func::Ln, 1, "natural logarithm"),
@@ -40,7 +45,12 @@ pub const FUNCTIONS: &[(&str, Func, usize, &str)] = &[
     ("INT", Func::Int, 1, "largest integer not above"),
     ("FIX", Func::Fix, 1, "integer part (towards zero)"),
     ("TRUNC", Func::Fix, 1, "integer part (towards zero)"),
-    ("ROUND", Func::Round, 1, "nearest integer, halves away from zero"),
+    (
+        "ROUND",
+        Func::Round,
+        1,
+        "nearest integer, halves away from zero",
+    ),
     ("SGN", Func::Sgn, 1, "-1, 0 or 1"),
     ("MIN", Func::Min, 2, "smaller of two"),
     ("MAX", Func::Max, 2, "larger of two"),
@@ -48,7 +58,10 @@ pub const FUNCTIONS: &[(&str, Func, usize, &str)] = &[
 
 /// Look up a function by name, ignoring case.
 pub fn find(name: &str) -> Option<(Func, usize)> {
-    FUNCTIONS.iter().find(|f| f.0.eq_ignore_ascii_case(name)).map(|f| (f.1, f.2))
+    FUNCTIONS
+        .iter()
+        .find(|f| f.0.eq_ignore_ascii_case(name))
+        .map(|f| (f.1, f.2))
 }
 
 impl Func {

@@ -37,7 +37,11 @@ pub struct CheckEnv<'a> {
 
 /// Check a program; returns every problem found.
 pub fn check_program(ast: &ProgramAst, env: &CheckEnv<'_>) -> Vec<Problem> {
-    let mut c = Checker { env, problems: Vec::new(), labels: IndexMap::new() };
+    let mut c = Checker {
+        env,
+        problems: Vec::new(),
+        labels: IndexMap::new(),
+    };
     c.collect_labels(&ast.body);
     c.block(&ast.body);
     c.problems
@@ -96,14 +100,24 @@ pub fn expr_type(e: &Expr, registry: &Registry) -> Result<Ty, Problem> {
         ExprKind::Call(f, args) => {
             let Some((_, arity)) = functions::find(&f.text) else {
                 let names = functions::FUNCTIONS.iter().map(|f| f.0);
-                return Err(Problem::error("pacer::check::unknown_function", f.span, format!("unknown function `{}`", f.text), "not a function")
-                    .with_help_opt(nearest(&f.text, names).map(|n| format!("did you mean `{n}`?"))));
+                return Err(Problem::error(
+                    "pacer::check::unknown_function",
+                    f.span,
+                    format!("unknown function `{}`", f.text),
+                    "not a function",
+                )
+                .with_help_opt(nearest(&f.text, names).map(|n| format!("did you mean `{n}`?"))));
             };
             if args.len() != arity {
                 return Err(Problem::error(
                     "pacer::check::arguments",
                     e.span,
-                    format!("{} takes {arity} argument{}, not {}", f.text.to_ascii_uppercase(), if arity == 1 { "" } else { "s" }, args.len()),
+                    format!(
+                        "{} takes {arity} argument{}, not {}",
+                        f.text.to_ascii_uppercase(),
+                        if arity == 1 { "" } else { "s" },
+                        args.len()
+                    ),
                     "wrong number of arguments",
                 ));
             }
@@ -124,13 +138,23 @@ fn want(e: &Expr, ty: Ty, registry: &Registry, why: &str) -> Result<(), Problem>
 }
 
 fn type_error(e: &Expr, got: Ty, wanted: Ty) -> Problem {
-    Problem::error("pacer::check::type", e.span, format!("expected {}, found {}", wanted.word(), got.word()), format!("this is {}", got.word()))
+    Problem::error(
+        "pacer::check::type",
+        e.span,
+        format!("expected {}, found {}", wanted.word(), got.word()),
+        format!("this is {}", got.word()),
+    )
 }
 
 fn num_operand(op: BinOp, e: &Expr, t: Ty) -> Result<(), Problem> {
     if t == Ty::Bool {
-        return Err(Problem::error("pacer::check::type", e.span, format!("`{}` needs numbers, found an ON/OFF value", op.symbol()), "this is ON/OFF")
-            .with_help("compare bits with `= ON` / `= OFF`, combine them with AND/OR/NOT"));
+        return Err(Problem::error(
+            "pacer::check::type",
+            e.span,
+            format!("`{}` needs numbers, found an ON/OFF value", op.symbol()),
+            "this is ON/OFF",
+        )
+        .with_help("compare bits with `= ON` / `= OFF`, combine them with AND/OR/NOT"));
     }
     Ok(())
 }
@@ -143,15 +167,30 @@ fn mixed(op: BinOp, a: &Expr, ta: Ty, b: &Expr, tb: Ty) -> Problem {
     } else {
         "both sides must be numbers, or both ON/OFF values".to_string()
     };
-    Problem::error("pacer::check::type", num_side.span, format!("`{}` between an ON/OFF value and a number", op.symbol()), "a number")
-        .with_help(help)
+    Problem::error(
+        "pacer::check::type",
+        num_side.span,
+        format!("`{}` between an ON/OFF value and a number", op.symbol()),
+        "a number",
+    )
+    .with_help(help)
 }
 
 fn readable(r: &Resolved, span: Span) -> Result<(), Problem> {
     match r.access {
-        Access::Action => Err(Problem::error("pacer::check::not_readable", span, format!("{} is an action and has no value to read", r.name), "an action")
-            .with_help(format!("run it as a statement: `{}`", r.name))),
-        Access::Input => Err(Problem::error("pacer::check::not_readable", span, format!("{} can only be written", r.name), "write-only")),
+        Access::Action => Err(Problem::error(
+            "pacer::check::not_readable",
+            span,
+            format!("{} is an action and has no value to read", r.name),
+            "an action",
+        )
+        .with_help(format!("run it as a statement: `{}`", r.name))),
+        Access::Input => Err(Problem::error(
+            "pacer::check::not_readable",
+            span,
+            format!("{} can only be written", r.name),
+            "write-only",
+        )),
         _ => Ok(()),
     }
 }
@@ -169,20 +208,31 @@ impl Checker<'_, '_> {
                     if let Some(first) = self.labels.get(&key) {
                         let _ = first;
                         self.problems.push(
-                            Problem::error("pacer::check::label", seg.span, format!("label `{}` is defined twice", seg.text), "second definition")
-                                .with_help("labels must be unique in a program; rename one of them"),
+                            Problem::error(
+                                "pacer::check::label",
+                                seg.span,
+                                format!("label `{}` is defined twice", seg.text),
+                                "second definition",
+                            )
+                            .with_help("labels must be unique in a program; rename one of them"),
                         );
                     } else {
                         self.labels.insert(key, seg.span);
                     }
                 }
-                StmtKind::If { then_body, else_body, .. } => {
+                StmtKind::If {
+                    then_body,
+                    else_body,
+                    ..
+                } => {
                     self.collect_labels(then_body);
                     if let Some(e) = else_body {
                         self.collect_labels(e);
                     }
                 }
-                StmtKind::DoWhile { body, .. } | StmtKind::For { body, .. } => self.collect_labels(body),
+                StmtKind::DoWhile { body, .. } | StmtKind::For { body, .. } => {
+                    self.collect_labels(body)
+                }
                 _ => {}
             }
         }
@@ -217,11 +267,25 @@ impl Checker<'_, '_> {
     fn stmt(&mut self, s: &Stmt) {
         match &s.kind {
             StmtKind::Assign { target, value } => self.assign(target, value),
-            StmtKind::Action { target, using, profile } => self.action(target, using.as_ref(), profile.as_ref()),
-            StmtKind::DwellTime(e) | StmtKind::WaitTime(e) => self.expect(e, Ty::Num, "a time in seconds"),
+            StmtKind::Action {
+                target,
+                using,
+                profile,
+            } => self.action(target, using.as_ref(), profile.as_ref()),
+            StmtKind::DwellTime(e) | StmtKind::WaitTime(e) => {
+                self.expect(e, Ty::Num, "a time in seconds")
+            }
             StmtKind::DwellMaster(e) => self.expect(e, Ty::Num, "a master distance"),
-            StmtKind::WaitFor(e) => self.expect(e, Ty::Bool, "Wait For needs a condition, e.g. `Wait For DriveInput.1=ON`"),
-            StmtKind::If { cond, then_body, else_body } => {
+            StmtKind::WaitFor(e) => self.expect(
+                e,
+                Ty::Bool,
+                "Wait For needs a condition, e.g. `Wait For DriveInput.1=ON`",
+            ),
+            StmtKind::If {
+                cond,
+                then_body,
+                else_body,
+            } => {
                 self.expect(cond, Ty::Bool, "If needs a condition");
                 self.block(then_body);
                 if let Some(e) = else_body {
@@ -232,11 +296,24 @@ impl Checker<'_, '_> {
                 self.expect(cond, Ty::Bool, "Do While needs a condition");
                 self.block(body);
             }
-            StmtKind::For { var, from, to, step, body } => {
+            StmtKind::For {
+                var,
+                from,
+                to,
+                step,
+                body,
+            } => {
                 if let Some(r) = self.report(self.reg().resolve(var)) {
                     if r.access != Access::ReadWrite || r.ty.is_bit() || r.hook != Hook::Store {
-                        self.problems.push(Problem::error("pacer::check::for_variable", var.span, format!("{} cannot count a For loop", r.name), "not a numeric variable")
-                            .with_help("count with a user variable, e.g. `For Var.I = 1 To 10`"));
+                        self.problems.push(
+                            Problem::error(
+                                "pacer::check::for_variable",
+                                var.span,
+                                format!("{} cannot count a For loop", r.name),
+                                "not a numeric variable",
+                            )
+                            .with_help("count with a user variable, e.g. `For Var.I = 1 To 10`"),
+                        );
                     }
                 }
                 self.expect(from, Ty::Num, "loop bounds are numbers");
@@ -244,7 +321,12 @@ impl Checker<'_, '_> {
                 if let Some(st) = step {
                     self.expect(st, Ty::Num, "the step is a number");
                     if matches!(st.kind, ExprKind::Number(v) if v == 0.0) {
-                        self.problems.push(Problem::error("pacer::check::step", st.span, "a Step of 0 never ends the loop", "zero step"));
+                        self.problems.push(Problem::error(
+                            "pacer::check::step",
+                            st.span,
+                            "a Step of 0 never ends the loop",
+                            "zero step",
+                        ));
                     }
                 }
                 self.block(body);
@@ -256,9 +338,19 @@ impl Checker<'_, '_> {
             }
             StmtKind::Goto(seg) => {
                 if !self.labels.contains_key(&seg.text.to_ascii_lowercase()) {
-                    let near = nearest(&seg.text, self.labels.keys().map(String::as_str)).map(|n| format!("did you mean `{n}`?"));
-                    self.problems.push(Problem::error("pacer::check::label", seg.span, format!("no label `{}` in this program", seg.text), "unknown label")
-                        .with_help(near.unwrap_or_else(|| format!("define it on a line of its own: `{}:`", seg.text))));
+                    let near = nearest(&seg.text, self.labels.keys().map(String::as_str))
+                        .map(|n| format!("did you mean `{n}`?"));
+                    self.problems.push(
+                        Problem::error(
+                            "pacer::check::label",
+                            seg.span,
+                            format!("no label `{}` in this program", seg.text),
+                            "unknown label",
+                        )
+                        .with_help(near.unwrap_or_else(|| {
+                            format!("define it on a line of its own: `{}:`", seg.text)
+                        })),
+                    );
                 }
             }
             StmtKind::Label(_) | StmtKind::End => {}
@@ -267,9 +359,26 @@ impl Checker<'_, '_> {
 
     fn program_loaded(&mut self, index: u32, span: Span) {
         if !self.env.loaded_programs.contains(&index) {
-            let loaded = self.env.loaded_programs.iter().map(|n| format!("Program.{n}")).collect::<Vec<_>>().join(", ");
-            self.problems.push(Problem::error("pacer::check::program", span, format!("Program.{index} is not loaded on this machine"), "no such program")
-                .with_help(if loaded.is_empty() { "no programs are loaded".to_string() } else { format!("loaded: {loaded}") }));
+            let loaded = self
+                .env
+                .loaded_programs
+                .iter()
+                .map(|n| format!("Program.{n}"))
+                .collect::<Vec<_>>()
+                .join(", ");
+            self.problems.push(
+                Problem::error(
+                    "pacer::check::program",
+                    span,
+                    format!("Program.{index} is not loaded on this machine"),
+                    "no such program",
+                )
+                .with_help(if loaded.is_empty() {
+                    "no programs are loaded".to_string()
+                } else {
+                    format!("loaded: {loaded}")
+                }),
+            );
         }
     }
 
@@ -278,17 +387,33 @@ impl Checker<'_, '_> {
             let _ = self.report(expr_type(value, self.reg()));
             return;
         };
-        let Some(vt) = self.report(expr_type(value, self.reg())) else { return };
+        let Some(vt) = self.report(expr_type(value, self.reg())) else {
+            return;
+        };
         match r.access {
             Access::Read => {
-                self.problems.push(Problem::error("pacer::check::read_only", target.span, format!("{} is read-only", r.name), "cannot be written")
-                    .with_help("it is a status the controller sets"));
+                self.problems.push(
+                    Problem::error(
+                        "pacer::check::read_only",
+                        target.span,
+                        format!("{} is read-only", r.name),
+                        "cannot be written",
+                    )
+                    .with_help("it is a status the controller sets"),
+                );
                 return;
             }
             Access::Action => {
                 if vt != Ty::Bool {
-                    self.problems.push(Problem::error("pacer::check::type", value.span, format!("{} is an action: assign ON to trigger it", r.name), "a number")
-                        .with_help(format!("write `{}=ON` or just `{}`", r.name, r.name)));
+                    self.problems.push(
+                        Problem::error(
+                            "pacer::check::type",
+                            value.span,
+                            format!("{} is an action: assign ON to trigger it", r.name),
+                            "a number",
+                        )
+                        .with_help(format!("write `{}=ON` or just `{}`", r.name, r.name)),
+                    );
                 }
                 if r.hook == Hook::ProgramInitiate {
                     self.program_loaded(r.instance, target.span);
@@ -298,23 +423,53 @@ impl Checker<'_, '_> {
             Access::Input | Access::ReadWrite => {}
         }
         if r.ty.is_bit() && vt == Ty::Num {
-            self.problems.push(Problem::error("pacer::check::number_to_bit", value.span, format!("a number assigned to the bit {}", r.name), "a number")
-                .with_help("bits take ON/TRUE/YES/SET/ENABLE or OFF/FALSE/NO/CLEAR/DISABLE"));
+            self.problems.push(
+                Problem::error(
+                    "pacer::check::number_to_bit",
+                    value.span,
+                    format!("a number assigned to the bit {}", r.name),
+                    "a number",
+                )
+                .with_help("bits take ON/TRUE/YES/SET/ENABLE or OFF/FALSE/NO/CLEAR/DISABLE"),
+            );
         } else if !r.ty.is_bit() && vt == Ty::Bool {
-            self.problems.push(Problem::error("pacer::check::bit_to_number", value.span, format!("an ON/OFF value assigned to {}, which is {}", r.name, r.ty.describe()), "ON/OFF")
-                .with_help("assign a number"));
+            self.problems.push(
+                Problem::error(
+                    "pacer::check::bit_to_number",
+                    value.span,
+                    format!(
+                        "an ON/OFF value assigned to {}, which is {}",
+                        r.name,
+                        r.ty.describe()
+                    ),
+                    "ON/OFF",
+                )
+                .with_help("assign a number"),
+            );
         }
     }
 
     fn action(&mut self, target: &Name, using: Option<&Using>, profile: Option<&Name>) {
-        let Some(r) = self.report(self.reg().resolve(target)) else { return };
+        let Some(r) = self.report(self.reg().resolve(target)) else {
+            return;
+        };
         if r.access != Access::Action {
             let help = match (r.access, r.ty.is_bit()) {
                 (Access::ReadWrite, true) => format!("to set it, write `{}=ON`", r.name),
-                (Access::Input, _) | (Access::ReadWrite, false) => format!("give it a value: `{}=…`", r.name),
+                (Access::Input, _) | (Access::ReadWrite, false) => {
+                    format!("give it a value: `{}=…`", r.name)
+                }
                 _ => "it is a status; read it in a condition, e.g. `Wait For …`".to_string(),
             };
-            self.problems.push(Problem::error("pacer::check::not_action", target.span, format!("{} is not an action", r.name), "not an action").with_help(help));
+            self.problems.push(
+                Problem::error(
+                    "pacer::check::not_action",
+                    target.span,
+                    format!("{} is not an action", r.name),
+                    "not an action",
+                )
+                .with_help(help),
+            );
             return;
         }
         if r.hook == Hook::ProgramInitiate {
@@ -327,14 +482,27 @@ impl Checker<'_, '_> {
                 Using::Capture(n) => n.span,
             };
             if !is_motion {
-                self.problems.push(Problem::error("pacer::check::using", span, format!("`Using` only applies to motion initiates, not {}", r.name), "not a motion"));
+                self.problems.push(Problem::error(
+                    "pacer::check::using",
+                    span,
+                    format!("`Using` only applies to motion initiates, not {}", r.name),
+                    "not a motion",
+                ));
             } else if let Using::Capture(n) = u {
                 let _ = self.report(self.reg().resolve_instance(n, Kind::Capture));
             }
         }
         if let Some(p) = profile {
             if !is_motion {
-                self.problems.push(Problem::error("pacer::check::profile", p.span, format!("`On Profile` only applies to motion initiates, not {}", r.name), "not a motion"));
+                self.problems.push(Problem::error(
+                    "pacer::check::profile",
+                    p.span,
+                    format!(
+                        "`On Profile` only applies to motion initiates, not {}",
+                        r.name
+                    ),
+                    "not a motion",
+                ));
             } else {
                 let _ = self.report(self.reg().resolve_instance(p, Kind::Profile));
             }

@@ -11,8 +11,15 @@ use crate::syntax::span::Span;
 /// Parse a TOML document into `T`, turning a syntax or shape error into a located problem.
 pub fn parse_toml<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> Result<T, Problem> {
     toml::from_str::<T>(text).map_err(|e| {
-        let span = e.span().map_or(Span::new(0, 0), |r| Span::new(r.start, r.end));
-        Problem::error("pacer::config", span, format!("{what}: {}", e.message().trim()), "here")
+        let span = e
+            .span()
+            .map_or(Span::new(0, 0), |r| Span::new(r.start, r.end));
+        Problem::error(
+            "pacer::config",
+            span,
+            format!("{what}: {}", e.message().trim()),
+            "here",
+        )
     })
 }
 

@@ -19,9 +19,13 @@ impl Duration {
 /// Parse `"50ms"`-style text to nanoseconds.
 pub fn parse_duration(text: &str) -> Result<u64, String> {
     let t = text.trim();
-    let split = t.find(|c: char| c.is_ascii_alphabetic() || c == 'µ').unwrap_or(t.len());
+    let split = t
+        .find(|c: char| c.is_ascii_alphabetic() || c == 'µ')
+        .unwrap_or(t.len());
     let (num, unit) = t.split_at(split);
-    let value: f64 = num.trim().parse().map_err(|_| format!("`{text}` is not a duration (write e.g. 0.05, \"50ms\", \"62.5us\")"))?;
+    let value: f64 = num.trim().parse().map_err(|_| {
+        format!("`{text}` is not a duration (write e.g. 0.05, \"50ms\", \"62.5us\")")
+    })?;
     let scale = match unit.trim() {
         "" | "s" => 1e9,
         "ms" => 1e6,
@@ -35,7 +39,9 @@ pub fn parse_duration(text: &str) -> Result<u64, String> {
 /// Seconds to whole nanoseconds, refusing negative, infinite and absurd values.
 pub fn seconds_to_ns(s: f64) -> Result<u64, String> {
     if !s.is_finite() || s < 0.0 {
-        return Err(format!("a duration must be a finite number of seconds, at least 0 (got {s})"));
+        return Err(format!(
+            "a duration must be a finite number of seconds, at least 0 (got {s})"
+        ));
     }
     let ns = (s * 1e9).round();
     if ns > 1e18 {
@@ -94,7 +100,9 @@ impl<'de> Deserialize<'de> for Level {
                 Ok(Level(v))
             }
             fn visit_str<E: de::Error>(self, v: &str) -> Result<Level, E> {
-                bool_word(v).map(Level).ok_or_else(|| E::custom(format!("`{v}` is not a level: use ON or OFF")))
+                bool_word(v)
+                    .map(Level)
+                    .ok_or_else(|| E::custom(format!("`{v}` is not a level: use ON or OFF")))
             }
         }
         d.deserialize_any(V)

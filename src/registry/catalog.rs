@@ -152,7 +152,15 @@ pub struct TypeDef {
 }
 
 const fn m(name: &'static str, ty: ValueType, access: Access, doc: &'static str) -> MemberDef {
-    MemberDef { name, aliases: &[], ty, access, hook: Hook::Store, continuous: false, doc }
+    MemberDef {
+        name,
+        aliases: &[],
+        ty,
+        access,
+        hook: Hook::Store,
+        continuous: false,
+        doc,
+    }
 }
 
 const fn hook(h: Hook, mut d: MemberDef) -> MemberDef {
@@ -173,87 +181,298 @@ const fn alias(mut d: MemberDef, aliases: &'static [&'static str]) -> MemberDef 
 use Access::{Action, Input, Read, ReadWrite};
 use ValueType::{Bit, Fixed, Integer, Real};
 
-const INPUT: &[MemberDef] = &[m("Value", Bit, Read, "state of the input, sampled every update")];
-const OUTPUT: &[MemberDef] = &[hook(Hook::OutputWrite, m("Value", Bit, ReadWrite, "state of the output"))];
+const INPUT: &[MemberDef] = &[m(
+    "Value",
+    Bit,
+    Read,
+    "state of the input, sampled every update",
+)];
+const OUTPUT: &[MemberDef] = &[hook(
+    Hook::OutputWrite,
+    m("Value", Bit, ReadWrite, "state of the output"),
+)];
 const DRIVE_IO: &[MemberDef] = &[
     m("In", Bit, Read, "state of the point as an input"),
-    hook(Hook::OutputWrite, m("Out", Bit, ReadWrite, "state of the point as an output")),
+    hook(
+        Hook::OutputWrite,
+        m("Out", Bit, ReadWrite, "state of the point as an output"),
+    ),
 ];
-const VAR: &[MemberDef] = &[m("Value", Fixed(0), ReadWrite, "the variable's value (decimal places set in machine.toml)")];
+const VAR: &[MemberDef] = &[m(
+    "Value",
+    Fixed(0),
+    ReadWrite,
+    "the variable's value (decimal places set in machine.toml)",
+)];
 const BIT: &[MemberDef] = &[m("Value", Bit, ReadWrite, "the bit")];
 const PROGRAM: &[MemberDef] = &[
-    hook(Hook::ProgramInitiate, m("Initiate", Bit, Action, "start the program on a free task (it runs beside the caller)")),
-    hook(Hook::ProgramStop, m("Stop", Bit, Action, "stop the program")),
+    hook(
+        Hook::ProgramInitiate,
+        m(
+            "Initiate",
+            Bit,
+            Action,
+            "start the program on a free task (it runs beside the caller)",
+        ),
+    ),
+    hook(
+        Hook::ProgramStop,
+        m("Stop", Bit, Action, "stop the program"),
+    ),
     m("Running", Bit, Read, "the program is running on a task"),
-    m("Task", Integer, Read, "the task the program runs on, -1 when not running"),
+    m(
+        "Task",
+        Integer,
+        Read,
+        "the task the program runs on, -1 when not running",
+    ),
 ];
 const TIMER: &[MemberDef] = &[
-    hook(Hook::TimerInitiate, m("Initiate", Bit, Action, "start timing from 0")),
-    hook(Hook::TimerStop, m("Stop", Bit, Action, "stop timing and clear the output")),
-    m("Preset", Fixed(3), ReadWrite, "time to count, seconds (Realtime) or master units (Synchronized)"),
-    m("Synchronized", Bit, ReadWrite, "count master distance instead of time"),
-    continuous(m("Elapsed", Fixed(6), Read, "time (or distance) counted so far")),
+    hook(
+        Hook::TimerInitiate,
+        m("Initiate", Bit, Action, "start timing from 0"),
+    ),
+    hook(
+        Hook::TimerStop,
+        m("Stop", Bit, Action, "stop timing and clear the output"),
+    ),
+    m(
+        "Preset",
+        Fixed(3),
+        ReadWrite,
+        "time to count, seconds (Realtime) or master units (Synchronized)",
+    ),
+    m(
+        "Synchronized",
+        Bit,
+        ReadWrite,
+        "count master distance instead of time",
+    ),
+    continuous(m(
+        "Elapsed",
+        Fixed(6),
+        Read,
+        "time (or distance) counted so far",
+    )),
     m("Active", Bit, Read, "timing"),
-    m("Output", Bit, Read, "on once the preset is reached, until the next Initiate or Stop"),
+    m(
+        "Output",
+        Bit,
+        Read,
+        "on once the preset is reached, until the next Initiate or Stop",
+    ),
 ];
 const QUEUE: &[MemberDef] = &[
-    hook(Hook::QueueDataIn, m("DataIn", Fixed(4), Input, "push a value; its exit position is value + QueueOffset")),
+    hook(
+        Hook::QueueDataIn,
+        m(
+            "DataIn",
+            Fixed(4),
+            Input,
+            "push a value; its exit position is value + QueueOffset",
+        ),
+    ),
     m("DataOut", Fixed(4), Read, "the oldest entry's value"),
-    hook(Hook::QueueOffset, m("QueueOffset", Fixed(4), ReadWrite, "added to each entry's value to make its exit position")),
-    m("ExitPosition", Fixed(4), Read, "DataOut + the current QueueOffset"),
-    hook(Hook::QueueCompareEnable, m("QueueCompareEnable", Bit, ReadWrite, "compare the source with the oldest exit position")),
-    m("QueueExit", Bit, Read, "the source has reached the oldest entry's exit position"),
-    hook(Hook::QueueRemove, m("QueueRemove", Bit, Action, "drop the oldest entry (clears QueueExit)")),
-    hook(Hook::QueueClear, m("QueueClear", Bit, Action, "empty the queue")),
+    hook(
+        Hook::QueueOffset,
+        m(
+            "QueueOffset",
+            Fixed(4),
+            ReadWrite,
+            "added to each entry's value to make its exit position",
+        ),
+    ),
+    m(
+        "ExitPosition",
+        Fixed(4),
+        Read,
+        "DataOut + the current QueueOffset",
+    ),
+    hook(
+        Hook::QueueCompareEnable,
+        m(
+            "QueueCompareEnable",
+            Bit,
+            ReadWrite,
+            "compare the source with the oldest exit position",
+        ),
+    ),
+    m(
+        "QueueExit",
+        Bit,
+        Read,
+        "the source has reached the oldest entry's exit position",
+    ),
+    hook(
+        Hook::QueueRemove,
+        m(
+            "QueueRemove",
+            Bit,
+            Action,
+            "drop the oldest entry (clears QueueExit)",
+        ),
+    ),
+    hook(
+        Hook::QueueClear,
+        m("QueueClear", Bit, Action, "empty the queue"),
+    ),
     m("QueueEmpty", Bit, Read, "no entries"),
     m("QueueFull", Bit, Read, "count >= FullLevel"),
-    m("QueueOverflow", Bit, Read, "a DataIn found the queue holding QueueSize entries"),
+    m(
+        "QueueOverflow",
+        Bit,
+        Read,
+        "a DataIn found the queue holding QueueSize entries",
+    ),
     m("QueueCount", Integer, Read, "number of entries"),
     m("QueueSize", Integer, Read, "capacity (machine.toml)"),
-    hook(Hook::QueueFullLevel, m("FullLevel", Integer, ReadWrite, "count at which QueueFull turns on")),
+    hook(
+        Hook::QueueFullLevel,
+        m(
+            "FullLevel",
+            Integer,
+            ReadWrite,
+            "count at which QueueFull turns on",
+        ),
+    ),
 ];
 const CAPTURE: &[MemberDef] = &[
-    hook(Hook::CaptureEnable, m("CaptureEnable", Bit, ReadWrite, "arm the capture; turning it off resets it")),
-    hook(Hook::CaptureActivate, m("CaptureActivate", Bit, ReadWrite, "the rising edge latches (usually assigned from a module input)")),
-    hook(Hook::CaptureClear, alias(m("CaptureClear", Bit, Action, "re-arm and clear CaptureTriggered"), &["CaptureReset"])),
-    m("CaptureTriggered", Bit, Read, "data latched, until CaptureClear"),
+    hook(
+        Hook::CaptureEnable,
+        m(
+            "CaptureEnable",
+            Bit,
+            ReadWrite,
+            "arm the capture; turning it off resets it",
+        ),
+    ),
+    hook(
+        Hook::CaptureActivate,
+        m(
+            "CaptureActivate",
+            Bit,
+            ReadWrite,
+            "the rising edge latches (usually assigned from a module input)",
+        ),
+    ),
+    hook(
+        Hook::CaptureClear,
+        alias(
+            m(
+                "CaptureClear",
+                Bit,
+                Action,
+                "re-arm and clear CaptureTriggered",
+            ),
+            &["CaptureReset"],
+        ),
+    ),
+    m(
+        "CaptureTriggered",
+        Bit,
+        Read,
+        "data latched, until CaptureClear",
+    ),
     m("CapturedTime", Real, ReadWrite, "time of the edge, seconds"),
-    m("CapturedPosnCommand", Real, ReadWrite, "motor command position at the edge"),
-    m("CapturedPosnFeedback", Real, ReadWrite, "motor feedback position at the edge"),
-    m("CapturedMasterPosition", Real, ReadWrite, "master position at the edge"),
+    m(
+        "CapturedPosnCommand",
+        Real,
+        ReadWrite,
+        "motor command position at the edge",
+    ),
+    m(
+        "CapturedPosnFeedback",
+        Real,
+        ReadWrite,
+        "motor feedback position at the edge",
+    ),
+    m(
+        "CapturedMasterPosition",
+        Real,
+        ReadWrite,
+        "master position at the edge",
+    ),
 ];
 const INDEX: &[MemberDef] = &[
-    hook(Hook::MotionStart, m("Initiate", Bit, Action, "start the index")),
-    hook(Hook::MotionStop, m("Stop", Bit, Action, "stop the index with its deceleration")),
-    hook(Hook::MotionInput, m("SensorTrigger", Bit, ReadWrite, "registration sensor (usually assigned from an input)")),
-    m("Distance", Real, ReadWrite, "distance (incremental), position (absolute), limit (registration)"),
+    hook(
+        Hook::MotionStart,
+        m("Initiate", Bit, Action, "start the index"),
+    ),
+    hook(
+        Hook::MotionStop,
+        m("Stop", Bit, Action, "stop the index with its deceleration"),
+    ),
+    hook(
+        Hook::MotionInput,
+        m(
+            "SensorTrigger",
+            Bit,
+            ReadWrite,
+            "registration sensor (usually assigned from an input)",
+        ),
+    ),
+    m(
+        "Distance",
+        Real,
+        ReadWrite,
+        "distance (incremental), position (absolute), limit (registration)",
+    ),
     m("Velocity", Real, ReadWrite, "velocity"),
     m("Acceleration", Real, ReadWrite, "acceleration"),
     m("Deceleration", Real, ReadWrite, "deceleration"),
     m("Time", Real, ReadWrite, "time of a timed index, seconds"),
-    m("RegistrationOffset", Real, ReadWrite, "distance after the sensor (registration index)"),
+    m(
+        "RegistrationOffset",
+        Real,
+        ReadWrite,
+        "distance after the sensor (registration index)",
+    ),
     m("CommandInProgress", Bit, Read, "moving"),
     m("AtVel", Bit, Read, "at velocity"),
     m("Decelerating", Bit, Read, "on the deceleration ramp"),
     m("CommandComplete", Bit, Read, "done, until initiated again"),
     m("PLSStatus", Bit, Read, "PLS window of the index"),
-    m("LimitDistHit", Bit, Read, "registration index reached its limit without a sensor"),
-    m("ProfileLimited", Bit, Read, "timed index could not meet its time within the maxima"),
+    m(
+        "LimitDistHit",
+        Bit,
+        Read,
+        "registration index reached its limit without a sensor",
+    ),
+    m(
+        "ProfileLimited",
+        Bit,
+        Read,
+        "timed index could not meet its time within the maxima",
+    ),
 ];
 const HOME: &[MemberDef] = &[
-    hook(Hook::MotionStart, m("Initiate", Bit, Action, "start homing")),
+    hook(
+        Hook::MotionStart,
+        m("Initiate", Bit, Action, "start homing"),
+    ),
     hook(Hook::MotionStop, m("Stop", Bit, Action, "stop homing")),
     m("Velocity", Real, ReadWrite, "home velocity"),
     m("Acceleration", Real, ReadWrite, "acceleration"),
     m("Deceleration", Real, ReadWrite, "deceleration"),
-    m("Offset", Real, ReadWrite, "specified offset after the reference"),
+    m(
+        "Offset",
+        Real,
+        ReadWrite,
+        "specified offset after the reference",
+    ),
     m("CommandInProgress", Bit, Read, "homing"),
     m("AtVel", Bit, Read, "at home velocity"),
     m("CommandComplete", Bit, Read, "homed"),
 ];
 const JOG: &[MemberDef] = &[
-    hook(Hook::MotionStart, m("PlusInitiate", Bit, Action, "jog in the plus direction")),
-    hook(Hook::MotionStart, m("MinusInitiate", Bit, Action, "jog in the minus direction")),
+    hook(
+        Hook::MotionStart,
+        m("PlusInitiate", Bit, Action, "jog in the plus direction"),
+    ),
+    hook(
+        Hook::MotionStart,
+        m("MinusInitiate", Bit, Action, "jog in the minus direction"),
+    ),
     hook(Hook::MotionStop, m("Stop", Bit, Action, "stop jogging")),
     m("Velocity", Real, ReadWrite, "jog velocity"),
     m("Acceleration", Real, ReadWrite, "acceleration"),
@@ -261,54 +480,303 @@ const JOG: &[MemberDef] = &[
     m("CommandInProgress", Bit, Read, "jogging"),
 ];
 const JOG_GLOBAL: &[MemberDef] = &[
-    m("Select", Bit, ReadWrite, "off: Jog.0 settings, on: Jog.1 settings"),
-    hook(Hook::MotionInput, m("PlusActivate", Bit, ReadWrite, "jog plus while on")),
-    hook(Hook::MotionInput, m("MinusActivate", Bit, ReadWrite, "jog minus while on")),
+    m(
+        "Select",
+        Bit,
+        ReadWrite,
+        "off: Jog.0 settings, on: Jog.1 settings",
+    ),
+    hook(
+        Hook::MotionInput,
+        m("PlusActivate", Bit, ReadWrite, "jog plus while on"),
+    ),
+    hook(
+        Hook::MotionInput,
+        m("MinusActivate", Bit, ReadWrite, "jog minus while on"),
+    ),
 ];
 const GEAR: &[MemberDef] = &[
-    hook(Hook::MotionStart, m("Initiate", Bit, Action, "start gearing")),
+    hook(
+        Hook::MotionStart,
+        m("Initiate", Bit, Action, "start gearing"),
+    ),
     hook(Hook::MotionStop, m("Stop", Bit, Action, "stop gearing")),
-    hook(Hook::MotionInput, m("Activate", Bit, ReadWrite, "gear while on")),
+    hook(
+        Hook::MotionInput,
+        m("Activate", Bit, ReadWrite, "gear while on"),
+    ),
     m("Ratio", Real, ReadWrite, "follower units per master unit"),
     m("CommandInProgress", Bit, Read, "gearing"),
 ];
 const PROFILE: &[MemberDef] = &[m("Busy", Bit, Read, "a motion object runs on this profile")];
 const PLS: &[MemberDef] = &[
     m("Enable", Bit, ReadWrite, "evaluate the window"),
-    m("OnPosn", Real, ReadWrite, "position where the output turns on"),
+    m(
+        "OnPosn",
+        Real,
+        ReadWrite,
+        "position where the output turns on",
+    ),
     m("OffPosn", Real, ReadWrite, "position where it turns off"),
-    m("Direction", Integer, ReadWrite, "0 both, 1 plus only, -1 minus only"),
+    m(
+        "Direction",
+        Integer,
+        ReadWrite,
+        "0 both, 1 plus only, -1 minus only",
+    ),
     m("Status", Bit, Read, "inside the window"),
 ];
 const MOTION: &[MemberDef] = &[
-    hook(Hook::StopAll, m("Stop", Bit, Action, "stop all programs and motion with StopDeceleration")),
-    hook(Hook::FeedRateOverride, m("FeedRateOverride", Fixed(2), ReadWrite, "percent; scales all motion in time")),
-    m("StopDeceleration", Real, ReadWrite, "deceleration used by Stop"),
-    continuous(m("FollowingError", Real, Read, "command minus feedback position")),
-    m("FollowingErrorLimit", Real, ReadWrite, "fault above this following error"),
-    continuous(m("FreeRunTime", Integer, Read, "microseconds since the start of the run")),
+    hook(
+        Hook::StopAll,
+        m(
+            "Stop",
+            Bit,
+            Action,
+            "stop all programs and motion with StopDeceleration",
+        ),
+    ),
+    hook(
+        Hook::FeedRateOverride,
+        m(
+            "FeedRateOverride",
+            Fixed(2),
+            ReadWrite,
+            "percent; scales all motion in time",
+        ),
+    ),
+    m(
+        "StopDeceleration",
+        Real,
+        ReadWrite,
+        "deceleration used by Stop",
+    ),
+    continuous(m(
+        "FollowingError",
+        Real,
+        Read,
+        "command minus feedback position",
+    )),
+    m(
+        "FollowingErrorLimit",
+        Real,
+        ReadWrite,
+        "fault above this following error",
+    ),
+    continuous(m(
+        "FreeRunTime",
+        Integer,
+        Read,
+        "microseconds since the start of the run",
+    )),
 ];
 
 /// Every object type, in the order the docs list them.
 pub static TYPES: &[TypeDef] = &[
-    t("DriveInput", Kind::DriveInput, Instances::Numbered { first: 1, default_count: 8 }, Some("Value"), INPUT, &[], "digital input of the drive"),
-    t("ModuleInput", Kind::ModuleInput, Instances::Numbered { first: 1, default_count: 8 }, Some("Value"), INPUT, &[], "digital input of the motion module (latches in hardware)"),
-    t("DriveIO", Kind::DriveIO, Instances::Numbered { first: 1, default_count: 4 }, None, DRIVE_IO, &[], "bidirectional drive I/O point"),
-    t("DriveOutput", Kind::DriveOutput, Instances::Numbered { first: 1, default_count: 4 }, Some("Value"), OUTPUT, &[], "digital output of the drive"),
-    t("ModuleOutput", Kind::ModuleOutput, Instances::Numbered { first: 1, default_count: 4 }, Some("Value"), OUTPUT, &[], "digital output of the motion module"),
-    t("Var", Kind::Var, Instances::Named, Some("Value"), VAR, &[], "user variable (machine.toml [variables])"),
-    t("Bit", Kind::Bit, Instances::Named, Some("Value"), BIT, &[], "user bit (machine.toml [bits])"),
-    t("Program", Kind::Program, Instances::Numbered { first: 0, default_count: 16 }, None, PROGRAM, &[], "user program"),
-    t("Timer", Kind::Timer, Instances::Numbered { first: 0, default_count: 8 }, None, TIMER, &[], "timer"),
-    t("Queue", Kind::Queue, Instances::Numbered { first: 0, default_count: 8 }, None, QUEUE, &[], "position queue"),
-    t("Capture", Kind::Capture, Instances::Numbered { first: 0, default_count: 4 }, None, CAPTURE, &[], "high-speed capture"),
-    t("Index", Kind::Index, Instances::Numbered { first: 0, default_count: 16 }, None, INDEX, &[], "index motion"),
-    t("Home", Kind::Home, Instances::Numbered { first: 0, default_count: 1 }, None, HOME, &[], "home motion"),
-    t("Jog", Kind::Jog, Instances::Numbered { first: 0, default_count: 2 }, None, JOG, JOG_GLOBAL, "jog motion"),
-    t("Gear", Kind::Gear, Instances::Global, None, GEAR, &[], "electronic gearing"),
-    t("Profile", Kind::Profile, Instances::Numbered { first: 0, default_count: 2 }, None, PROFILE, &[], "motion profile (motions on the two profiles add up)"),
-    t("PLS", Kind::Pls, Instances::Numbered { first: 0, default_count: 8 }, None, PLS, &[], "programmable limit switch"),
-    t("Motion", Kind::Motion, Instances::Global, None, MOTION, &[], "drive-wide motion members, also written without `Motion.`"),
+    t(
+        "DriveInput",
+        Kind::DriveInput,
+        Instances::Numbered {
+            first: 1,
+            default_count: 8,
+        },
+        Some("Value"),
+        INPUT,
+        &[],
+        "digital input of the drive",
+    ),
+    t(
+        "ModuleInput",
+        Kind::ModuleInput,
+        Instances::Numbered {
+            first: 1,
+            default_count: 8,
+        },
+        Some("Value"),
+        INPUT,
+        &[],
+        "digital input of the motion module (latches in hardware)",
+    ),
+    t(
+        "DriveIO",
+        Kind::DriveIO,
+        Instances::Numbered {
+            first: 1,
+            default_count: 4,
+        },
+        None,
+        DRIVE_IO,
+        &[],
+        "bidirectional drive I/O point",
+    ),
+    t(
+        "DriveOutput",
+        Kind::DriveOutput,
+        Instances::Numbered {
+            first: 1,
+            default_count: 4,
+        },
+        Some("Value"),
+        OUTPUT,
+        &[],
+        "digital output of the drive",
+    ),
+    t(
+        "ModuleOutput",
+        Kind::ModuleOutput,
+        Instances::Numbered {
+            first: 1,
+            default_count: 4,
+        },
+        Some("Value"),
+        OUTPUT,
+        &[],
+        "digital output of the motion module",
+    ),
+    t(
+        "Var",
+        Kind::Var,
+        Instances::Named,
+        Some("Value"),
+        VAR,
+        &[],
+        "user variable (machine.toml [variables])",
+    ),
+    t(
+        "Bit",
+        Kind::Bit,
+        Instances::Named,
+        Some("Value"),
+        BIT,
+        &[],
+        "user bit (machine.toml [bits])",
+    ),
+    t(
+        "Program",
+        Kind::Program,
+        Instances::Numbered {
+            first: 0,
+            default_count: 16,
+        },
+        None,
+        PROGRAM,
+        &[],
+        "user program",
+    ),
+    t(
+        "Timer",
+        Kind::Timer,
+        Instances::Numbered {
+            first: 0,
+            default_count: 8,
+        },
+        None,
+        TIMER,
+        &[],
+        "timer",
+    ),
+    t(
+        "Queue",
+        Kind::Queue,
+        Instances::Numbered {
+            first: 0,
+            default_count: 8,
+        },
+        None,
+        QUEUE,
+        &[],
+        "position queue",
+    ),
+    t(
+        "Capture",
+        Kind::Capture,
+        Instances::Numbered {
+            first: 0,
+            default_count: 4,
+        },
+        None,
+        CAPTURE,
+        &[],
+        "high-speed capture",
+    ),
+    t(
+        "Index",
+        Kind::Index,
+        Instances::Numbered {
+            first: 0,
+            default_count: 16,
+        },
+        None,
+        INDEX,
+        &[],
+        "index motion",
+    ),
+    t(
+        "Home",
+        Kind::Home,
+        Instances::Numbered {
+            first: 0,
+            default_count: 1,
+        },
+        None,
+        HOME,
+        &[],
+        "home motion",
+    ),
+    t(
+        "Jog",
+        Kind::Jog,
+        Instances::Numbered {
+            first: 0,
+            default_count: 2,
+        },
+        None,
+        JOG,
+        JOG_GLOBAL,
+        "jog motion",
+    ),
+    t(
+        "Gear",
+        Kind::Gear,
+        Instances::Global,
+        None,
+        GEAR,
+        &[],
+        "electronic gearing",
+    ),
+    t(
+        "Profile",
+        Kind::Profile,
+        Instances::Numbered {
+            first: 0,
+            default_count: 2,
+        },
+        None,
+        PROFILE,
+        &[],
+        "motion profile (motions on the two profiles add up)",
+    ),
+    t(
+        "PLS",
+        Kind::Pls,
+        Instances::Numbered {
+            first: 0,
+            default_count: 8,
+        },
+        None,
+        PLS,
+        &[],
+        "programmable limit switch",
+    ),
+    t(
+        "Motion",
+        Kind::Motion,
+        Instances::Global,
+        None,
+        MOTION,
+        &[],
+        "drive-wide motion members, also written without `Motion.`",
+    ),
 ];
 
 #[allow(clippy::too_many_arguments)]
@@ -322,7 +790,16 @@ const fn t(
     doc: &'static str,
 ) -> TypeDef {
     let referable = matches!(kind, Kind::Capture | Kind::Profile);
-    TypeDef { name, kind, instances, default_member, members, global_members, referable, doc }
+    TypeDef {
+        name,
+        kind,
+        instances,
+        default_member,
+        members,
+        global_members,
+        referable,
+        doc,
+    }
 }
 
 /// Members of the global `Motion` object may be written bare (`FeedRateOverride`, `Stop`).
@@ -335,7 +812,7 @@ pub fn find_type(name: &str) -> Option<&'static TypeDef> {
 
 /// Find a member by name or alias, ignoring case.
 pub fn find_member<'a>(members: &'a [MemberDef], name: &str) -> Option<&'a MemberDef> {
-    members
-        .iter()
-        .find(|m| m.name.eq_ignore_ascii_case(name) || m.aliases.iter().any(|a| a.eq_ignore_ascii_case(name)))
+    members.iter().find(|m| {
+        m.name.eq_ignore_ascii_case(name) || m.aliases.iter().any(|a| a.eq_ignore_ascii_case(name))
+    })
 }

@@ -12,6 +12,9 @@ use crate::config::span_of;
 use crate::diag::{nearest, Problem};
 use indexmap::IndexMap;
 
+/// Default update period: 1 ms.
+pub const DEFAULT_UPDATE_NS: u64 = 1_000_000;
+
 /// Index of a member's storage in the signal table.
 pub type SlotId = u32;
 
@@ -89,13 +92,21 @@ impl Registry {
                 match catalog::find_type(key) {
                     Some(def) if matches!(def.instances, Instances::Numbered { .. }) => {
                         let n = *value.get_ref();
-                        if n > MAX_INSTANCES || (def.kind == Kind::Queue && n > 8) || (def.kind == Kind::Profile && n != 2) {
+                        if n > MAX_INSTANCES
+                            || (def.kind == Kind::Queue && n > 8)
+                            || (def.kind == Kind::Profile && n != 2)
+                        {
                             let limit = match def.kind {
                                 Kind::Queue => "at most 8 queues".to_string(),
                                 Kind::Profile => "there are exactly 2 profiles".to_string(),
                                 _ => format!("at most {MAX_INSTANCES}"),
                             };
-                            problems.push(Problem::error("pacer::machine::count", span, format!("{n} is not a valid count of {}", def.name), limit));
+                            problems.push(Problem::error(
+                                "pacer::machine::count",
+                                span,
+                                format!("{n} is not a valid count of {}", def.name),
+                                limit,
+                            ));
                         } else {
                             counts.insert(def.name, n);
                         }
@@ -107,10 +118,20 @@ impl Registry {
                         "set in its own table",
                     )),
                     None => {
-                        let names = catalog::TYPES.iter().filter(|t| matches!(t.instances, Instances::Numbered { .. })).map(|t| t.name);
+                        let names = catalog::TYPES
+                            .iter()
+                            .filter(|t| matches!(t.instances, Instances::Numbered { .. }))
+                            .map(|t| t.name);
                         problems.push(
-                            Problem::error("pacer::machine::count", span, format!("unknown object type `{key}`"), "not an object type")
-                                .with_help_opt(nearest(key, names).map(|n| format!("did you mean `{n}`?"))),
+                            Problem::error(
+                                "pacer::machine::count",
+                                span,
+                                format!("unknown object type `{key}`"),
+                                "not an object type",
+                            )
+                            .with_help_opt(
+                                nearest(key, names).map(|n| format!("did you mean `{n}`?")),
+                            ),
                         )
                     }
                 }
@@ -123,7 +144,13 @@ impl Registry {
         for def in catalog::TYPES {
             let (first, mut count) = match def.instances {
                 Instances::Global => (0, 1),
-                Instances::Numbered { first, default_count } => (first, counts.get(def.name).copied().unwrap_or(default_count)),
+                Instances::Numbered {
+                    first,
+                    default_count,
+                } => (
+                    first,
+                    counts.get(def.name).copied().unwrap_or(default_count),
+                ),
                 Instances::Named => (0, 0),
             };
             if def.kind == Kind::Program {
@@ -139,10 +166,20 @@ impl Registry {
                         let d = decl.get_ref();
                         let span = span_of(decl);
                         if !valid_ident(name) {
-                            problems.push(Problem::error("pacer::machine::variable", span, format!("`{name}` is not a valid variable name"), "letters, digits and _; not starting with a digit"));
+                            problems.push(Problem::error(
+                                "pacer::machine::variable",
+                                span,
+                                format!("`{name}` is not a valid variable name"),
+                                "letters, digits and _; not starting with a digit",
+                            ));
                         }
                         if d.decimals > 9 {
-                            problems.push(Problem::error("pacer::machine::variable", span, format!("Var.{name}: {} decimal places is too many", d.decimals), "0 to 9"));
+                            problems.push(Problem::error(
+                                "pacer::machine::variable",
+                                span,
+                                format!("Var.{name}: {} decimal places is too many", d.decimals),
+                                "0 to 9",
+                            ));
                         }
                         let scaled = d.initial * 10f64.powi(i32::from(d.decimals.min(9)));
                         if !scaled.is_finite() || scaled.abs() > f64::from(i32::MAX) {
@@ -159,7 +196,12 @@ impl Registry {
                     count = machine.bits.count.as_ref().map_or(32, |c| *c.get_ref());
                     if count > MAX_INSTANCES {
                         if let Some(c) = &machine.bits.count {
-                            problems.push(Problem::error("pacer::machine::bits", span_of(c), format!("{count} bits is too many"), format!("at most {MAX_INSTANCES}")));
+                            problems.push(Problem::error(
+                                "pacer::machine::bits",
+                                span_of(c),
+                                format!("{count} bits is too many"),
+                                format!("at most {MAX_INSTANCES}"),
+                            ));
                         }
                         count = 32;
                     }
@@ -167,9 +209,19 @@ impl Registry {
                     for (name, number) in &machine.bits.names {
                         let n = *number.get_ref();
                         if n >= count {
-                            problems.push(Problem::error("pacer::machine::bits", span_of(number), format!("Bit.{n} does not exist"), format!("bits are 0 to {}", count.saturating_sub(1))));
+                            problems.push(Problem::error(
+                                "pacer::machine::bits",
+                                span_of(number),
+                                format!("Bit.{n} does not exist"),
+                                format!("bits are 0 to {}", count.saturating_sub(1)),
+                            ));
                         } else if !valid_ident(name) || name.chars().all(|c| c.is_ascii_digit()) {
-                            problems.push(Problem::error("pacer::machine::bits", span_of(number), format!("`{name}` is not a valid bit name"), "letters, digits and _"));
+                            problems.push(Problem::error(
+                                "pacer::machine::bits",
+                                span_of(number),
+                                format!("`{name}` is not a valid bit name"),
+                                "letters, digits and _",
+                            ));
                         } else {
                             names.insert(name.to_ascii_lowercase(), n);
                             display[n as usize] = name.clone();
@@ -178,10 +230,19 @@ impl Registry {
                     initial = vec![0.0; count as usize];
                     for on in &machine.bits.initially_on {
                         let key = on.get_ref();
-                        let idx = key.parse::<u32>().ok().filter(|n| *n < count).or_else(|| names.get(&key.to_ascii_lowercase()).copied());
+                        let idx = key
+                            .parse::<u32>()
+                            .ok()
+                            .filter(|n| *n < count)
+                            .or_else(|| names.get(&key.to_ascii_lowercase()).copied());
                         match idx {
                             Some(i) => initial[i as usize] = 1.0,
-                            None => problems.push(Problem::error("pacer::machine::bits", span_of(on), format!("no bit `{key}`"), "unknown bit")),
+                            None => problems.push(Problem::error(
+                                "pacer::machine::bits",
+                                span_of(on),
+                                format!("no bit `{key}`"),
+                                "unknown bit",
+                            )),
                         }
                     }
                 }
@@ -190,20 +251,47 @@ impl Registry {
             let base = slots.len() as SlotId;
             for i in 0..count {
                 for member in def.members {
-                    let ty = if def.kind == Kind::Var { ValueType::Fixed(decimals[i as usize]) } else { member.ty };
+                    let ty = if def.kind == Kind::Var {
+                        ValueType::Fixed(decimals[i as usize])
+                    } else {
+                        member.ty
+                    };
                     let init = match def.kind {
                         Kind::Var | Kind::Bit => initial[i as usize],
                         _ => default_value(def.kind, member),
                     };
                     let name = match (def.default_member, def.kind) {
-                        (Some(_), Kind::Var | Kind::Bit | Kind::DriveInput | Kind::ModuleInput | Kind::DriveOutput | Kind::ModuleOutput) => {
+                        (
+                            Some(_),
+                            Kind::Var
+                            | Kind::Bit
+                            | Kind::DriveInput
+                            | Kind::ModuleInput
+                            | Kind::DriveOutput
+                            | Kind::ModuleOutput,
+                        ) => {
                             format!("{}.{}", def.name, display[i as usize])
                         }
                         _ => format!("{}.{}.{}", def.name, display[i as usize], member.name),
                     };
-                    let name = if def.instances == Instances::Global { format!("{}.{}", def.name, member.name) } else { name };
-                    let name = if def.name == catalog::BARE_GLOBAL_TYPE { member.name.to_string() } else { name };
-                    slots.push(SlotInfo { name, ty, member, kind: def.kind, instance: i, initial: init });
+                    let name = if def.instances == Instances::Global {
+                        format!("{}.{}", def.name, member.name)
+                    } else {
+                        name
+                    };
+                    let name = if def.name == catalog::BARE_GLOBAL_TYPE {
+                        member.name.to_string()
+                    } else {
+                        name
+                    };
+                    slots.push(SlotInfo {
+                        name,
+                        ty,
+                        member,
+                        kind: def.kind,
+                        instance: i,
+                        initial: init,
+                    });
                 }
             }
             for member in def.global_members {
@@ -216,33 +304,69 @@ impl Registry {
                     initial: default_value(def.kind, member),
                 });
             }
-            types.push(TypeInstances { def, count, first, names, display, base });
+            types.push(TypeInstances {
+                def,
+                count,
+                first,
+                names,
+                display,
+                base,
+            });
         }
 
-        let queue_count = types.iter().find(|t| t.def.kind == Kind::Queue).map_or(0, |t| t.count);
+        let queue_count = types
+            .iter()
+            .find(|t| t.def.kind == Kind::Queue)
+            .map_or(0, |t| t.count);
         let mut queue_sizes = vec![(8u32, 8u32); queue_count as usize];
-        let mut registry = Registry { types, slots, queue_sizes: Vec::new() };
+        let mut registry = Registry {
+            types,
+            slots,
+            queue_sizes: Vec::new(),
+        };
         for (key, setup) in &machine.queue {
             let span = span_of(setup);
             let Some(n) = key.parse::<u32>().ok().filter(|n| *n < queue_count) else {
-                problems.push(Problem::error("pacer::machine::queue", span, format!("[queue.{key}]: no such queue"), format!("queues are 0 to {}", queue_count.saturating_sub(1))));
+                problems.push(Problem::error(
+                    "pacer::machine::queue",
+                    span,
+                    format!("[queue.{key}]: no such queue"),
+                    format!("queues are 0 to {}", queue_count.saturating_sub(1)),
+                ));
                 continue;
             };
             let s = setup.get_ref();
             let size = s.size.as_ref().map_or(8, |v| *v.get_ref());
             if size == 0 || size > 10_000 {
                 let sp = s.size.as_ref().map_or(span, span_of);
-                problems.push(Problem::error("pacer::machine::queue", sp, format!("queue size {size} is out of range"), "1 to 10000"));
+                problems.push(Problem::error(
+                    "pacer::machine::queue",
+                    sp,
+                    format!("queue size {size} is out of range"),
+                    "1 to 10000",
+                ));
             }
             let full = s.full_level.as_ref().map_or(size, |v| *v.get_ref());
             if full > size {
                 let sp = s.full_level.as_ref().map_or(span, span_of);
-                problems.push(Problem::error("pacer::machine::queue", sp, format!("full level {full} is above the queue size {size}"), "at most the size"));
+                problems.push(Problem::error(
+                    "pacer::machine::queue",
+                    sp,
+                    format!("full level {full} is above the queue size {size}"),
+                    "at most the size",
+                ));
             }
             if let Some(src) = &s.source {
-                let ok = ["MasterPosn", "FeedbackPosn", "CommandPosn"].iter().any(|v| v.eq_ignore_ascii_case(src.get_ref()));
+                let ok = ["MasterPosn", "FeedbackPosn", "CommandPosn"]
+                    .iter()
+                    .any(|v| v.eq_ignore_ascii_case(src.get_ref()));
                 if !ok {
-                    problems.push(Problem::error("pacer::machine::queue", span_of(src), format!("unknown queue source `{}`", src.get_ref()), "MasterPosn, FeedbackPosn or CommandPosn"));
+                    problems.push(Problem::error(
+                        "pacer::machine::queue",
+                        span_of(src),
+                        format!("unknown queue source `{}`", src.get_ref()),
+                        "MasterPosn, FeedbackPosn or CommandPosn",
+                    ));
                 }
             }
             queue_sizes[n as usize] = (size, full);
@@ -267,7 +391,10 @@ impl Registry {
     /// The instances of a type.
     pub fn of(&self, kind: Kind) -> &TypeInstances {
         // The registry holds every catalog type, so the lookup cannot fail.
-        self.types.iter().find(|t| t.def.kind == kind).unwrap_or(&self.types[0])
+        self.types
+            .iter()
+            .find(|t| t.def.kind == kind)
+            .unwrap_or(&self.types[0])
     }
 
     /// The slot of a member by name (for kernel code that knows its members).
@@ -306,7 +433,8 @@ fn default_value(kind: Kind, member: &MemberDef) -> f64 {
 
 fn valid_ident(s: &str) -> bool {
     let mut c = s.chars();
-    matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_') && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
+    matches!(c.next(), Some(ch) if ch.is_ascii_alphabetic() || ch == '_')
+        && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
 }
 
 /// Round to `decimals` places, as a fixed-point store does.

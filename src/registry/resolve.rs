@@ -47,8 +47,15 @@ impl Registry {
                 .filter(|t| t.name != catalog::BARE_GLOBAL_TYPE)
                 .map(|t| t.name)
                 .chain(motion.def.members.iter().map(|m| m.name));
-            return Err(Problem::error(CODE_OBJECT, first.span, format!("unknown object `{}`", first.text), "no such object")
-                .with_help_opt(nearest(&first.text, candidates).map(|n| format!("did you mean `{n}`?"))));
+            return Err(Problem::error(
+                CODE_OBJECT,
+                first.span,
+                format!("unknown object `{}`", first.text),
+                "no such object",
+            )
+            .with_help_opt(
+                nearest(&first.text, candidates).map(|n| format!("did you mean `{n}`?")),
+            ));
         };
         let t = self.of(def.kind);
         if def.instances == Instances::Global {
@@ -95,11 +102,22 @@ impl Registry {
         let t = self.of(kind);
         let segs = &name.segments;
         if !segs[0].text.eq_ignore_ascii_case(t.def.name) {
-            return Err(Problem::error(CODE_OBJECT, segs[0].span, format!("expected `{}.N` here", t.def.name), format!("not a {}", t.def.name))
-                .with_help(instance_help(t)));
+            return Err(Problem::error(
+                CODE_OBJECT,
+                segs[0].span,
+                format!("expected `{}.N` here", t.def.name),
+                format!("not a {}", t.def.name),
+            )
+            .with_help(instance_help(t)));
         }
         let Some(seg) = segs.get(1) else {
-            return Err(Problem::error(CODE_INSTANCE, name.span, format!("`{}` needs an instance number", t.def.name), "which one?").with_help(instance_help(t)));
+            return Err(Problem::error(
+                CODE_INSTANCE,
+                name.span,
+                format!("`{}` needs an instance number", t.def.name),
+                "which one?",
+            )
+            .with_help(instance_help(t)));
         };
         let i = self.instance(t, seg)?;
         self.no_extra(segs, 2)?;
@@ -107,10 +125,22 @@ impl Registry {
     }
 
     fn resolved(&self, t: &TypeInstances, instance: u32, idx: usize, global: bool) -> Resolved {
-        let member: &MemberDef = if global { &t.def.global_members[idx] } else { &t.def.members[idx] };
+        let member: &MemberDef = if global {
+            &t.def.global_members[idx]
+        } else {
+            &t.def.members[idx]
+        };
         let slot = t.slot(if global { 0 } else { instance }, idx, global);
         let info = &self.slots[slot as usize];
-        Resolved { slot, ty: info.ty, access: member.access, hook: member.hook, kind: t.def.kind, instance, name: info.name.clone() }
+        Resolved {
+            slot,
+            ty: info.ty,
+            access: member.access,
+            hook: member.hook,
+            kind: t.def.kind,
+            instance,
+            name: info.name.clone(),
+        }
     }
 
     fn instance(&self, t: &TypeInstances, seg: &Segment) -> Result<u32, Problem> {
@@ -119,14 +149,24 @@ impl Registry {
                 if n >= t.first && n - t.first < t.count {
                     return Ok(n - t.first);
                 }
-                return Err(Problem::error(CODE_INSTANCE, seg.span, format!("{}.{} does not exist", t.def.name, seg.text), "no such instance")
-                    .with_help(instance_help(t)));
+                return Err(Problem::error(
+                    CODE_INSTANCE,
+                    seg.span,
+                    format!("{}.{} does not exist", t.def.name, seg.text),
+                    "no such instance",
+                )
+                .with_help(instance_help(t)));
             }
         }
         if let Some(&i) = t.names.get(&seg.text.to_ascii_lowercase()) {
             return Ok(i);
         }
-        let candidates: Vec<&str> = t.display.iter().map(String::as_str).chain(t.def.global_members.iter().map(|m| m.name)).collect();
+        let candidates: Vec<&str> = t
+            .display
+            .iter()
+            .map(String::as_str)
+            .chain(t.def.global_members.iter().map(|m| m.name))
+            .collect();
         let near = nearest(&seg.text, candidates.iter().copied());
         let help = match (near, t.def.kind) {
             (Some(n), _) => format!("did you mean `{}.{n}`?", t.def.name),
@@ -134,17 +174,39 @@ impl Registry {
             (None, Kind::Bit) => "name it in machine.toml under [bits.names]".to_string(),
             _ => instance_help(t),
         };
-        Err(Problem::error(CODE_INSTANCE, seg.span, format!("unknown {} `{}`", instance_word(t), seg.text), "not declared").with_help(help))
+        Err(Problem::error(
+            CODE_INSTANCE,
+            seg.span,
+            format!("unknown {} `{}`", instance_word(t), seg.text),
+            "not declared",
+        )
+        .with_help(help))
     }
 
-    fn member(&self, members: &'static [MemberDef], seg: &Segment, type_name: &str) -> Result<usize, Problem> {
+    fn member(
+        &self,
+        members: &'static [MemberDef],
+        seg: &Segment,
+        type_name: &str,
+    ) -> Result<usize, Problem> {
         member_index(members, &seg.text).ok_or_else(|| {
-            Problem::error(CODE_MEMBER, seg.span, format!("{type_name} has no member `{}`", seg.text), "unknown member").with_help(
-                match nearest(&seg.text, members.iter().map(|m| m.name)) {
-                    Some(n) => format!("did you mean `{n}`?"),
-                    None => format!("members: {}", members.iter().map(|m| m.name).collect::<Vec<_>>().join(", ")),
-                },
+            Problem::error(
+                CODE_MEMBER,
+                seg.span,
+                format!("{type_name} has no member `{}`", seg.text),
+                "unknown member",
             )
+            .with_help(match nearest(&seg.text, members.iter().map(|m| m.name)) {
+                Some(n) => format!("did you mean `{n}`?"),
+                None => format!(
+                    "members: {}",
+                    members
+                        .iter()
+                        .map(|m| m.name)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            })
         })
     }
 
@@ -152,7 +214,12 @@ impl Registry {
         match segs.get(allowed) {
             Some(extra) => {
                 let last = segs.last().map_or(extra.span, |s| s.span);
-                Err(Problem::error(CODE_MEMBER, extra.span.to(last), "too many parts in this name", "unexpected"))
+                Err(Problem::error(
+                    CODE_MEMBER,
+                    extra.span.to(last),
+                    "too many parts in this name",
+                    "unexpected",
+                ))
             }
             None => Ok(()),
         }
@@ -174,16 +241,36 @@ fn instance_word(t: &TypeInstances) -> &'static str {
 
 fn instance_help(t: &TypeInstances) -> String {
     match t.def.kind {
-        Kind::Var => "user variables are written Var.Name and declared in machine.toml [variables]".into(),
+        Kind::Var => {
+            "user variables are written Var.Name and declared in machine.toml [variables]".into()
+        }
         Kind::Bit => format!("user bits are Bit.0 to Bit.{}", t.count.saturating_sub(1)),
         _ if t.count == 0 => format!("this machine has no {} instances", t.def.name),
-        _ => format!("this machine has {}.{} to {}.{}", t.def.name, t.first, t.def.name, t.first + t.count - 1),
+        _ => format!(
+            "this machine has {}.{} to {}.{}",
+            t.def.name,
+            t.first,
+            t.def.name,
+            t.first + t.count - 1
+        ),
     }
 }
 
 fn needs_member(name: &Name, t: &TypeInstances) -> Problem {
-    let list = t.def.members.iter().map(|m| m.name).collect::<Vec<_>>().join(", ");
-    Problem::error(CODE_MEMBER, name.span, format!("`{}` needs a member", name.text()), "which member?").with_help(format!("members: {list}"))
+    let list = t
+        .def
+        .members
+        .iter()
+        .map(|m| m.name)
+        .collect::<Vec<_>>()
+        .join(", ");
+    Problem::error(
+        CODE_MEMBER,
+        name.span,
+        format!("`{}` needs a member", name.text()),
+        "which member?",
+    )
+    .with_help(format!("members: {list}"))
 }
 
 #[allow(dead_code)]

@@ -26,15 +26,25 @@ impl Name {
         let mut segments = Vec::new();
         let mut pos = start;
         for part in text.split('.') {
-            segments.push(Segment { text: part.to_string(), span: Span::new(pos, pos + part.len()) });
+            segments.push(Segment {
+                text: part.to_string(),
+                span: Span::new(pos, pos + part.len()),
+            });
             pos += part.len() + 1;
         }
-        Name { segments, span: Span::new(start, start + text.len()) }
+        Name {
+            segments,
+            span: Span::new(start, start + text.len()),
+        }
     }
 
     /// The name as written, dots included.
     pub fn text(&self) -> String {
-        self.segments.iter().map(|s| s.text.as_str()).collect::<Vec<_>>().join(".")
+        self.segments
+            .iter()
+            .map(|s| s.text.as_str())
+            .collect::<Vec<_>>()
+            .join(".")
     }
 }
 
@@ -157,7 +167,11 @@ pub enum StmtKind {
     /// `target = value`.
     Assign { target: Name, value: Expr },
     /// A bare action, e.g. `Queue.0.QueueRemove`, `Index.0.Initiate Using Capture.1 On Profile.1`.
-    Action { target: Name, using: Option<Using>, profile: Option<Name> },
+    Action {
+        target: Name,
+        using: Option<Using>,
+        profile: Option<Name>,
+    },
     /// `Dwell For Time s`.
     DwellTime(Expr),
     /// `Dwell For Master Dist d`.
@@ -167,11 +181,21 @@ pub enum StmtKind {
     /// `Wait For expr`.
     WaitFor(Expr),
     /// `If c Then … [Else …] Endif`.
-    If { cond: Expr, then_body: Vec<Stmt>, else_body: Option<Vec<Stmt>> },
+    If {
+        cond: Expr,
+        then_body: Vec<Stmt>,
+        else_body: Option<Vec<Stmt>>,
+    },
     /// `Do While c … Loop`.
     DoWhile { cond: Expr, body: Vec<Stmt> },
     /// `For v = a To b [Step s] … Next [v]`.
-    For { var: Name, from: Expr, to: Expr, step: Option<Expr>, body: Vec<Stmt> },
+    For {
+        var: Name,
+        from: Expr,
+        to: Expr,
+        step: Option<Expr>,
+        body: Vec<Stmt>,
+    },
     /// `Call Program.N`: runs another program on this task and comes back.
     Call(Name),
     /// `label:`.

@@ -6,15 +6,35 @@ use super::span::Span;
 use crate::diag::Problem;
 
 enum Frame {
-    If { cond: super::ast::Expr, span: Span, then_body: Vec<Stmt>, else_body: Option<(Span, Vec<Stmt>)> },
-    Do { cond: super::ast::Expr, span: Span, body: Vec<Stmt> },
-    For { var: super::ast::Name, from: super::ast::Expr, to: super::ast::Expr, step: Option<super::ast::Expr>, span: Span, body: Vec<Stmt> },
+    If {
+        cond: super::ast::Expr,
+        span: Span,
+        then_body: Vec<Stmt>,
+        else_body: Option<(Span, Vec<Stmt>)>,
+    },
+    Do {
+        cond: super::ast::Expr,
+        span: Span,
+        body: Vec<Stmt>,
+    },
+    For {
+        var: super::ast::Name,
+        from: super::ast::Expr,
+        to: super::ast::Expr,
+        step: Option<super::ast::Expr>,
+        span: Span,
+        body: Vec<Stmt>,
+    },
 }
 
 impl Frame {
     fn body(&mut self) -> &mut Vec<Stmt> {
         match self {
-            Frame::If { then_body, else_body, .. } => match else_body {
+            Frame::If {
+                then_body,
+                else_body,
+                ..
+            } => match else_body {
                 Some((_, b)) => b,
                 None => then_body,
             },
@@ -31,6 +51,9 @@ impl Frame {
     }
 }
 
+/// Deepest nesting of blocks accepted (keeps every later pass's recursion shallow).
+pub const MAX_NESTING: usize = 64;
+
 /// Turn the lines of a file into its statement tree, reporting unbalanced blocks.
 pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>) -> Vec<Stmt> {
     let mut top: Vec<Stmt> = Vec::new();
@@ -38,68 +61,188 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>) -> Vec
     let line_no = |span: Span| super::span::line_col(src, span.start).0;
     for line in lines {
         let span = line.span;
+        let opens = matches!(
+            line.kind,
+            LineKind::If(_) | LineKind::DoWhile(_) | LineKind::For { .. }
+        );
+        if opens && stack.len() >= MAX_NESTING {
+            problems.push(
+                Problem::error(
+                    "pacer::syntax::nesting",
+                    span,
+                    format!("blocks nested deeper than {MAX_NESTING}"),
+                    "too deep",
+                )
+                .with_help("move the inner part into another program and `Call` it"),
+            );
+            return top;
+        }
         match line.kind {
             LineKind::Simple(kind) => push(&mut stack, &mut top, Stmt { kind, span }),
             LineKind::Action { target, modifiers } => {
                 let kind = action(target, modifiers, problems);
                 push(&mut stack, &mut top, Stmt { kind, span });
             }
-            LineKind::If(cond) => stack.push(Frame::If { cond, span, then_body: Vec::new(), else_body: None }),
-            LineKind::DoWhile(cond) => stack.push(Frame::Do { cond, span, body: Vec::new() }),
-            LineKind::For { var, from, to, step } => {
-                stack.push(Frame::For { var, from, to, step, span, body: Vec::new() })
-            }
+            LineKind::If(cond) => stack.push(Frame::If {
+                cond,
+                span,
+                then_body: Vec::new(),
+                else_body: None,
+            }),
+            LineKind::DoWhile(cond) => stack.push(Frame::Do {
+                cond,
+                span,
+                body: Vec::new(),
+            }),
+            LineKind::For {
+                var,
+                from,
+                to,
+                step,
+            } => stack.push(Frame::For {
+                var,
+                from,
+                to,
+                step,
+                span,
+                body: Vec::new(),
+            }),
             LineKind::Else => match stack.last_mut() {
-                Some(Frame::If { else_body: else_body @ None, .. }) => *else_body = Some((span, Vec::new())),
-                Some(Frame::If { else_body: Some((first, _)), .. }) => {
+                Some(Frame::If {
+                    else_body: else_body @ None,
+                    ..
+                }) => *else_body = Some((span, Vec::new())),
+                Some(Frame::If {
+                    else_body: Some((first, _)),
+                    ..
+                }) => {
                     let first_line = line_no(*first);
                     problems.push(
-                        Problem::error("pacer::syntax::else", span, "a second Else in the same If", "second Else")
-                            .with_help(format!("this If already has its Else at line {first_line}")),
+                        Problem::error(
+                            "pacer::syntax::else",
+                            span,
+                            "a second Else in the same If",
+                            "second Else",
+                        )
+                        .with_help(format!("this If already has its Else at line {first_line}")),
                     )
                 }
-                other => problems.push(mismatch("Else", "If", span, other.map(|f| f.describe()), &line_no)),
+                other => problems.push(mismatch(
+                    "Else",
+                    "If",
+                    span,
+                    other.map(|f| f.describe()),
+                    &line_no,
+                )),
             },
             LineKind::Endif => match stack.last() {
                 Some(Frame::If { .. }) => {
-                    if let Some(Frame::If { cond, span: s, then_body, else_body }) = stack.pop() {
+                    if let Some(Frame::If {
+                        cond,
+                        span: s,
+                        then_body,
+                        else_body,
+                    }) = stack.pop()
+                    {
                         let stmt = Stmt {
-                            kind: StmtKind::If { cond, then_body, else_body: else_body.map(|(_, b)| b) },
+                            kind: StmtKind::If {
+                                cond,
+                                then_body,
+                                else_body: else_body.map(|(_, b)| b),
+                            },
                             span: s,
                         };
                         push(&mut stack, &mut top, stmt);
                     }
                 }
-                other => problems.push(mismatch("Endif", "If", span, other.map(|f| f.describe()), &line_no)),
+                other => problems.push(mismatch(
+                    "Endif",
+                    "If",
+                    span,
+                    other.map(|f| f.describe()),
+                    &line_no,
+                )),
             },
             LineKind::Loop => match stack.last() {
                 Some(Frame::Do { .. }) => {
-                    if let Some(Frame::Do { cond, span: s, body }) = stack.pop() {
-                        push(&mut stack, &mut top, Stmt { kind: StmtKind::DoWhile { cond, body }, span: s });
+                    if let Some(Frame::Do {
+                        cond,
+                        span: s,
+                        body,
+                    }) = stack.pop()
+                    {
+                        push(
+                            &mut stack,
+                            &mut top,
+                            Stmt {
+                                kind: StmtKind::DoWhile { cond, body },
+                                span: s,
+                            },
+                        );
                     }
                 }
-                other => problems.push(mismatch("Loop", "Do While", span, other.map(|f| f.describe()), &line_no)),
+                other => problems.push(mismatch(
+                    "Loop",
+                    "Do While",
+                    span,
+                    other.map(|f| f.describe()),
+                    &line_no,
+                )),
             },
             LineKind::Next(name) => match stack.last() {
                 Some(Frame::For { .. }) => {
-                    if let Some(Frame::For { var, from, to, step, span: s, body }) = stack.pop() {
+                    if let Some(Frame::For {
+                        var,
+                        from,
+                        to,
+                        step,
+                        span: s,
+                        body,
+                    }) = stack.pop()
+                    {
                         if let Some(n) = &name {
                             if !n.text().eq_ignore_ascii_case(&var.text()) {
                                 problems.push(
                                     Problem::error(
                                         "pacer::syntax::next",
                                         n.span,
-                                        format!("Next {} closes the loop over {}", n.text(), var.text()),
+                                        format!(
+                                            "Next {} closes the loop over {}",
+                                            n.text(),
+                                            var.text()
+                                        ),
                                         "not the loop variable",
                                     )
-                                    .with_help(format!("write `Next {}` or just `Next`", var.text())),
+                                    .with_help(format!(
+                                        "write `Next {}` or just `Next`",
+                                        var.text()
+                                    )),
                                 );
                             }
                         }
-                        push(&mut stack, &mut top, Stmt { kind: StmtKind::For { var, from, to, step, body }, span: s });
+                        push(
+                            &mut stack,
+                            &mut top,
+                            Stmt {
+                                kind: StmtKind::For {
+                                    var,
+                                    from,
+                                    to,
+                                    step,
+                                    body,
+                                },
+                                span: s,
+                            },
+                        );
                     }
                 }
-                other => problems.push(mismatch("Next", "For", span, other.map(|f| f.describe()), &line_no)),
+                other => problems.push(mismatch(
+                    "Next",
+                    "For",
+                    span,
+                    other.map(|f| f.describe()),
+                    &line_no,
+                )),
             },
         }
     }
@@ -132,14 +275,28 @@ fn mismatch(
     open: Option<(&'static str, &'static str, Span)>,
     line_no: &dyn Fn(Span) -> usize,
 ) -> Problem {
-    let p = Problem::error("pacer::syntax::unbalanced", span, format!("{word} without a matching {opener}"), format!("no open {opener}"));
+    let p = Problem::error(
+        "pacer::syntax::unbalanced",
+        span,
+        format!("{word} without a matching {opener}"),
+        format!("no open {opener}"),
+    );
     match open {
-        Some((o, c, s)) => p.with_help(format!("the innermost open block is the {o} at line {}, closed by `{c}`", line_no(s))),
-        None => p.with_help(format!("remove this {word} or add the {opener} it belongs to")),
+        Some((o, c, s)) => p.with_help(format!(
+            "the innermost open block is the {o} at line {}, closed by `{c}`",
+            line_no(s)
+        )),
+        None => p.with_help(format!(
+            "remove this {word} or add the {opener} it belongs to"
+        )),
     }
 }
 
-fn action(target: super::ast::Name, modifiers: Vec<Modifier>, problems: &mut Vec<Problem>) -> StmtKind {
+fn action(
+    target: super::ast::Name,
+    modifiers: Vec<Modifier>,
+    problems: &mut Vec<Problem>,
+) -> StmtKind {
     let mut using: Option<Using> = None;
     let mut profile = None;
     for m in modifiers {
@@ -150,19 +307,33 @@ fn action(target: super::ast::Name, modifiers: Vec<Modifier>, problems: &mut Vec
                         Using::Last(s) => *s,
                         Using::Capture(n) => n.span,
                     };
-                    problems.push(Problem::error("pacer::syntax::modifier", span, "a second `Using`", "only one Using per initiate"));
+                    problems.push(Problem::error(
+                        "pacer::syntax::modifier",
+                        span,
+                        "a second `Using`",
+                        "only one Using per initiate",
+                    ));
                 } else {
                     using = Some(u);
                 }
             }
             Modifier::Profile(p) => {
                 if profile.is_some() {
-                    problems.push(Problem::error("pacer::syntax::modifier", p.span, "a second `On Profile`", "only one profile per initiate"));
+                    problems.push(Problem::error(
+                        "pacer::syntax::modifier",
+                        p.span,
+                        "a second `On Profile`",
+                        "only one profile per initiate",
+                    ));
                 } else {
                     profile = Some(p);
                 }
             }
         }
     }
-    StmtKind::Action { target, using, profile }
+    StmtKind::Action {
+        target,
+        using,
+        profile,
+    }
 }

@@ -27,7 +27,10 @@ pub enum LineKind {
     /// A statement that needs no block structure.
     Simple(StmtKind),
     /// A bare action with its modifiers in source order.
-    Action { target: Name, modifiers: Vec<Modifier> },
+    Action {
+        target: Name,
+        modifiers: Vec<Modifier>,
+    },
     /// `If c Then`.
     If(Expr),
     /// `Else`.
@@ -39,12 +42,20 @@ pub enum LineKind {
     /// `Loop`.
     Loop,
     /// `For v = a To b [Step s]`.
-    For { var: Name, from: Expr, to: Expr, step: Option<Expr> },
+    For {
+        var: Name,
+        from: Expr,
+        to: Expr,
+        step: Option<Expr>,
+    },
     /// `Next [v]`.
     Next(Option<Name>),
 }
 
 /// Build a binary expression spanning `l..r`.
 pub fn bin(op: BinOp, a: Expr, b: Expr, l: usize, r: usize) -> Expr {
-    Expr { kind: ExprKind::Binary(op, Box::new(a), Box::new(b)), span: Span::new(l, r) }
+    Expr {
+        kind: ExprKind::Binary(op, Box::new(a), Box::new(b)),
+        span: Span::new(l, r),
+    }
 }

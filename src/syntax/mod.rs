@@ -26,12 +26,46 @@ pub fn parse_powertools(src: &str, problems: &mut Vec<Problem>) -> ProgramAst {
         problems.push(syntax_problem(r.error, src));
     }
     match result {
-        Ok(lines) => ProgramAst { body: blocks::assemble(lines, src, problems) },
+        Ok(lines) => ProgramAst {
+            body: blocks::assemble(lines, src, problems),
+        },
         Err(e) => {
             problems.push(syntax_problem(e, src));
             ProgramAst::default()
         }
     }
+}
+
+/// Longest line accepted, in tokens: bounds expression depth, so no input can exhaust the stack.
+pub const MAX_LINE_TOKENS: usize = 512;
+
+/// Parse a program, after checking that no line is absurdly long.
+pub fn parse_program(src: &str, problems: &mut Vec<Problem>) -> ProgramAst {
+    let mut count = 0usize;
+    let mut line_start = 0usize;
+    for tok in token::lex(src) {
+        let Ok((l, t, r)) = tok else { continue };
+        if matches!(t, Tok::Newline) {
+            count = 0;
+            line_start = r;
+            continue;
+        }
+        count += 1;
+        if count > MAX_LINE_TOKENS {
+            let end = src[l..].find('\n').map_or(src.len(), |i| l + i);
+            problems.push(
+                Problem::error(
+                    "pacer::syntax::line_too_long",
+                    Span::new(line_start, end),
+                    format!("a line of more than {MAX_LINE_TOKENS} tokens"),
+                    "split this line",
+                )
+                .with_help("use intermediate variables"),
+            );
+            return ProgramAst::default();
+        }
+    }
+    parse_powertools(src, problems)
 }
 
 /// Parse one expression (for tests and the REPL).
@@ -48,9 +82,12 @@ pub fn parse_expr(src: &str) -> Result<ast::Expr, Problem> {
 fn syntax_problem(e: ParseError<usize, Tok<'_>, LexError>, src: &str) -> Problem {
     const CODE: &str = "pacer::syntax";
     match e {
-        ParseError::InvalidToken { location } => {
-            Problem::error(CODE, Span::new(location, location + 1), "invalid token", "here")
-        }
+        ParseError::InvalidToken { location } => Problem::error(
+            CODE,
+            Span::new(location, location + 1),
+            "invalid token",
+            "here",
+        ),
         ParseError::UnrecognizedEof { location, expected } => Problem::error(
             CODE,
             Span::new(location, location),
@@ -58,22 +95,39 @@ fn syntax_problem(e: ParseError<usize, Tok<'_>, LexError>, src: &str) -> Problem
             "statement incomplete",
         )
         .with_help_opt(expected_help(&expected)),
-        ParseError::UnrecognizedToken { token: (l, tok, r), expected } => {
-            let span = if matches!(tok, Tok::Newline) { Span::new(l, l) } else { Span::new(l, r) };
+        ParseError::UnrecognizedToken {
+            token: (l, tok, r),
+            expected,
+        } => {
+            let span = if matches!(tok, Tok::Newline) {
+                Span::new(l, l)
+            } else {
+                Span::new(l, r)
+            };
             let message = match tok {
                 Tok::Bad(_) => format!("{tok}"),
                 Tok::Newline => "the line ends too early".to_string(),
                 _ => format!("unexpected {tok}"),
             };
-            let label = if matches!(tok, Tok::Bad(_)) { "not part of the language" } else { "not expected here" };
+            let label = if matches!(tok, Tok::Bad(_)) {
+                "not part of the language"
+            } else {
+                "not expected here"
+            };
             Problem::error(CODE, span, message, label).with_help_opt(expected_help(&expected))
         }
-        ParseError::ExtraToken { token: (l, tok, r) } => {
-            Problem::error(CODE, Span::new(l, r), format!("unexpected {tok}"), "extra token")
-        }
-        ParseError::User { error: LexError } => {
-            Problem::error(CODE, Span::new(src.len(), src.len()), "unreadable input", "here")
-        }
+        ParseError::ExtraToken { token: (l, tok, r) } => Problem::error(
+            CODE,
+            Span::new(l, r),
+            format!("unexpected {tok}"),
+            "extra token",
+        ),
+        ParseError::User { error: LexError } => Problem::error(
+            CODE,
+            Span::new(src.len(), src.len()),
+            "unreadable input",
+            "here",
+        ),
     }
 }
 

@@ -185,6 +185,10 @@ impl std::fmt::Display for Tok<'_> {
 pub fn lex(src: &str) -> impl Iterator<Item = Result<(usize, Tok<'_>, usize), LexError>> {
     Tok::lexer(src).spanned().map(move |(res, span)| match res {
         Ok(tok) => Ok((span.start, tok, span.end)),
-        Err(LexError) => Ok((span.start, Tok::Bad(src.get(span.clone()).unwrap_or("?")), span.end)),
+        Err(LexError) => Ok((
+            span.start,
+            Tok::Bad(src.get(span.clone()).unwrap_or("?")),
+            span.end,
+        )),
     })
 }

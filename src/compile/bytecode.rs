@@ -1,0 +1,167 @@
+//! The bytecode: register instructions over one flat value array.
+//!
+//! Every operand is an index into the machine's value array, laid out as
+//! `[registry slots | temporaries | constants and loop limits]`. Names were resolved to slots at
+//! compile time, so the VM never looks a name up.
+
+use crate::check::functions::Func;
+use crate::registry::Hook;
+
+/// An index into the value array.
+pub type Reg = u32;
+
+/// Comparison operators, for fused compare-and-branch.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub enum Cmp {
+    Eq,
+    Ne,
+    Lt,
+    Le,
+    Gt,
+    Ge,
+}
+
+impl Cmp {
+    /// Compare two values.
+    #[inline(always)]
+    pub fn test(self, a: f64, b: f64) -> bool {
+        match self {
+            Cmp::Eq => a == b,
+            Cmp::Ne => a != b,
+            Cmp::Lt => a < b,
+            Cmp::Le => a <= b,
+            Cmp::Gt => a > b,
+            Cmp::Ge => a >= b,
+        }
+    }
+
+    /// As written.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            Cmp::Eq => "=",
+            Cmp::Ne => "<>",
+            Cmp::Lt => "<",
+            Cmp::Le => "<=",
+            Cmp::Gt => ">",
+            Cmp::Ge => ">=",
+        }
+    }
+}
+
+/// Where a motion initiate starts from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StartRef {
+    /// Now.
+    Now,
+    /// `Using Last`.
+    Last,
+    /// `Using Capture.N` (capture instance index).
+    Capture(u32),
+}
+
+/// Arithmetic and logic operators.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[allow(missing_docs)]
+pub enum BinaryOp {
+    Add,
+    Sub,
+    Mul,
+    Div,
+    Mod,
+    Pow,
+    /// Logical on ON/OFF values.
+    And,
+    Or,
+    Xor,
+    /// Bitwise on integers.
+    BitAnd,
+    BitOr,
+    BitXor,
+}
+
+/// One instruction.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Op {
+    /// `dst = src`.
+    Move { dst: Reg, src: Reg },
+    /// `dst = a + b` (the hot arithmetic ops get their own variants).
+    Add { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a - b`.
+    Sub { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a * b`.
+    Mul { dst: Reg, a: Reg, b: Reg },
+    /// Any other binary operator (division checks for zero).
+    Binary {
+        op: BinaryOp,
+        dst: Reg,
+        a: Reg,
+        b: Reg,
+    },
+    /// `dst = a cmp b` as 1/0.
+    Compare { cmp: Cmp, dst: Reg, a: Reg, b: Reg },
+    /// `dst = -a`.
+    Neg { dst: Reg, a: Reg },
+    /// Logical NOT of an ON/OFF value.
+    Not { dst: Reg, a: Reg },
+    /// Bitwise NOT of an integer.
+    BitNot { dst: Reg, a: Reg },
+    /// A math function.
+    Call {
+        func: Func,
+        dst: Reg,
+        a: Reg,
+        b: Reg,
+    },
+    /// Store into a fixed-point slot: round to `decimals`, fail outside 32 bits.
+    StoreFixed { dst: Reg, src: Reg, decimals: u8 },
+    /// Store a real quantity (must be finite).
+    StoreReal { dst: Reg, src: Reg },
+    /// Store an ON/OFF value.
+    StoreBit { dst: Reg, src: Reg },
+    /// Write a member whose object reacts (after the same rounding as a store).
+    Write {
+        hook: Hook,
+        slot: Reg,
+        src: Reg,
+        instance: u32,
+    },
+    /// Run an action member.
+    Act {
+        hook: Hook,
+        slot: Reg,
+        instance: u32,
+        start: StartRef,
+        profile: u8,
+    },
+    /// Go to `target`.
+    Jump { target: u32 },
+    /// Go to `target` backwards; the task may yield here when its budget is spent.
+    Loop { target: u32 },
+    /// Go to `target` when `cond` is OFF.
+    JumpIfFalse { cond: Reg, target: u32 },
+    /// Go to `target` unless `a cmp b`.
+    JumpUnless {
+        cmp: Cmp,
+        a: Reg,
+        b: Reg,
+        target: u32,
+    },
+    /// Block until `cond` is ON; the condition's code starts at `retry`.
+    WaitUntil { cond: Reg, retry: u32 },
+    /// Block for `src` seconds.
+    WaitTime { src: Reg },
+    /// A dwell motion on profile 0, for `src` seconds or master units.
+    Dwell { src: Reg, master: bool },
+    /// Leave the loop at `exit` when `var` is past `limit` in the direction of `step`.
+    ForCheck {
+        var: Reg,
+        limit: Reg,
+        step: Reg,
+        exit: u32,
+    },
+    /// Run another program on this task, then come back.
+    CallProgram { program: u32 },
+    /// End of this program (returns to a caller if called).
+    End,
+}

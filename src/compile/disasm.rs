@@ -1,0 +1,128 @@
+//! A readable listing of compiled bytecode (`pacer disasm`).
+
+use super::bytecode::{BinaryOp, Op, StartRef};
+use super::{Chunk, Layout};
+use crate::registry::Registry;
+use std::fmt::Write;
+
+/// Render a chunk: one instruction a line, with its source line and operand names.
+pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> String {
+    let r = |x: u32| layout.describe(x, registry);
+    let mut out = String::new();
+    let _ = writeln!(
+        out,
+        "; Program.{} ({}) — {} instructions",
+        chunk.program,
+        chunk.file,
+        chunk.ops.len()
+    );
+    let mut last_line = 0;
+    for (pc, op) in chunk.ops.iter().enumerate() {
+        let line = chunk.lines.get(pc).copied().unwrap_or(0);
+        let line_col = if line != last_line {
+            format!("{line:>4}")
+        } else {
+            "    ".to_string()
+        };
+        last_line = line;
+        let text = match *op {
+            Op::Move { dst, src } => format!("move      {} <- {}", r(dst), r(src)),
+            Op::Add { dst, a, b } => format!("add       {} <- {} + {}", r(dst), r(a), r(b)),
+            Op::Sub { dst, a, b } => format!("sub       {} <- {} - {}", r(dst), r(a), r(b)),
+            Op::Mul { dst, a, b } => format!("mul       {} <- {} * {}", r(dst), r(a), r(b)),
+            Op::Binary { op, dst, a, b } => {
+                let (name, sym) = match op {
+                    BinaryOp::Add => ("add", "+"),
+                    BinaryOp::Sub => ("sub", "-"),
+                    BinaryOp::Mul => ("mul", "*"),
+                    BinaryOp::Div => ("div", "/"),
+                    BinaryOp::Mod => ("mod", "MOD"),
+                    BinaryOp::Pow => ("pow", "^"),
+                    BinaryOp::And => ("and", "AND"),
+                    BinaryOp::Or => ("or", "OR"),
+                    BinaryOp::Xor => ("xor", "XOR"),
+                    BinaryOp::BitAnd => ("band", "AND"),
+                    BinaryOp::BitOr => ("bor", "OR"),
+                    BinaryOp::BitXor => ("bxor", "XOR"),
+                };
+                format!("{name:<9} {} <- {} {sym} {}", r(dst), r(a), r(b))
+            }
+            Op::Compare { cmp, dst, a, b } => {
+                format!("cmp       {} <- {} {} {}", r(dst), r(a), cmp.symbol(), r(b))
+            }
+            Op::Neg { dst, a } => format!("neg       {} <- -{}", r(dst), r(a)),
+            Op::Not { dst, a } => format!("not       {} <- NOT {}", r(dst), r(a)),
+            Op::BitNot { dst, a } => format!("bnot      {} <- NOT {}", r(dst), r(a)),
+            Op::Call { func, dst, a, b } => {
+                if a == b {
+                    format!("call      {} <- {}({})", r(dst), func.name(), r(a))
+                } else {
+                    format!(
+                        "call      {} <- {}({}, {})",
+                        r(dst),
+                        func.name(),
+                        r(a),
+                        r(b)
+                    )
+                }
+            }
+            Op::StoreFixed { dst, src, decimals } => {
+                format!("store.f{decimals}  {} <- {}", r(dst), r(src))
+            }
+            Op::StoreReal { dst, src } => format!("store.r   {} <- {}", r(dst), r(src)),
+            Op::StoreBit { dst, src } => format!("store.b   {} <- {}", r(dst), r(src)),
+            Op::Write {
+                hook, slot, src, ..
+            } => format!("write     {} <- {}   ; {hook:?}", r(slot), r(src)),
+            Op::Act {
+                hook,
+                slot,
+                start,
+                profile,
+                ..
+            } => {
+                let mut s = format!("act       {}", r(slot));
+                match start {
+                    StartRef::Now => {}
+                    StartRef::Last => s.push_str(" using last"),
+                    StartRef::Capture(c) => {
+                        let _ = write!(s, " using Capture.{c}");
+                    }
+                }
+                if profile != 0 {
+                    let _ = write!(s, " on Profile.{profile}");
+                }
+                let _ = write!(s, "   ; {hook:?}");
+                s
+            }
+            Op::Jump { target } => format!("jump      @{target}"),
+            Op::Loop { target } => format!("loop      @{target}"),
+            Op::JumpIfFalse { cond, target } => format!("jump.f    {} @{target}", r(cond)),
+            Op::JumpUnless { cmp, a, b, target } => {
+                format!("jump.not  {} {} {} @{target}", r(a), cmp.symbol(), r(b))
+            }
+            Op::WaitUntil { cond, retry } => format!("wait      {} (retry @{retry})", r(cond)),
+            Op::WaitTime { src } => format!("wait.time {} s", r(src)),
+            Op::Dwell { src, master } => format!(
+                "dwell     {} {}",
+                r(src),
+                if master { "master units" } else { "s" }
+            ),
+            Op::ForCheck {
+                var,
+                limit,
+                step,
+                exit,
+            } => format!(
+                "for.check {} to {} step {} exit @{exit}",
+                r(var),
+                r(limit),
+                r(step)
+            ),
+            Op::CallProgram { program } => format!("call      Program.{program}"),
+            Op::End => "end".to_string(),
+        };
+        let _ = writeln!(out, "{line_col} @{pc:<4} {text}");
+    }
+    out
+}

@@ -1,0 +1,587 @@
+//! The compiler: a checked program's AST to bytecode, names resolved to slots.
+
+pub mod bytecode;
+pub mod disasm;
+
+use crate::check::{expr_type, functions, Ty};
+use crate::diag::Problem;
+use crate::registry::{Access, Hook, Kind, Registry, ValueType};
+use crate::syntax::ast::{BinOp, Expr, ExprKind, Name, ProgramAst, Stmt, StmtKind, UnOp, Using};
+use crate::syntax::span::{line_col, Span};
+use bytecode::{BinaryOp, Cmp, Op, Reg, StartRef};
+use indexmap::IndexMap;
+use std::collections::BTreeMap;
+
+/// Most temporaries one expression may need (lines are limited to fewer tokens than this).
+pub const MAX_TEMPS: u32 = 1024;
+
+/// The value array shared by all programs of a machine.
+#[derive(Debug, Clone)]
+pub struct Layout {
+    /// Registry slots come first.
+    pub slot_count: u32,
+    /// Constants and loop limits after the temporaries, with their initial values.
+    pub extra: Vec<f64>,
+    const_index: BTreeMap<u64, Reg>,
+}
+
+impl Layout {
+    /// A layout after the registry's slots.
+    pub fn new(registry: &Registry) -> Layout {
+        Layout {
+            slot_count: registry.slot_count() as u32,
+            extra: Vec::new(),
+            const_index: BTreeMap::new(),
+        }
+    }
+
+    /// First temporary.
+    pub fn temp_base(&self) -> Reg {
+        self.slot_count
+    }
+
+    fn extra_base(&self) -> Reg {
+        self.slot_count + MAX_TEMPS
+    }
+
+    /// The register holding a constant.
+    pub fn constant(&mut self, v: f64) -> Reg {
+        let key = v.to_bits();
+        if let Some(r) = self.const_index.get(&key) {
+            return *r;
+        }
+        let r = self.extra_base() + self.extra.len() as Reg;
+        self.extra.push(v);
+        self.const_index.insert(key, r);
+        r
+    }
+
+    /// A fresh hidden register (loop limits and steps).
+    pub fn hidden(&mut self) -> Reg {
+        let r = self.extra_base() + self.extra.len() as Reg;
+        self.extra.push(0.0);
+        r
+    }
+
+    /// Initial contents of the whole value array.
+    pub fn initial_values(&self, registry: &Registry) -> Vec<f64> {
+        let mut v: Vec<f64> = registry.slots.iter().map(|s| s.initial).collect();
+        v.resize((self.slot_count + MAX_TEMPS) as usize, 0.0);
+        v.extend_from_slice(&self.extra);
+        v
+    }
+
+    /// What a register is, for the disassembler.
+    pub fn describe(&self, r: Reg, registry: &Registry) -> String {
+        if r < self.slot_count {
+            registry.slots[r as usize].name.clone()
+        } else if r < self.extra_base() {
+            format!("t{}", r - self.slot_count)
+        } else {
+            let i = (r - self.extra_base()) as usize;
+            match self.extra.get(i) {
+                Some(v) if self.const_index.get(&v.to_bits()) == Some(&r) => format_num(*v),
+                _ => format!("h{i}"),
+            }
+        }
+    }
+}
+
+fn format_num(v: f64) -> String {
+    if v.fract() == 0.0 && v.abs() < 1e15 {
+        format!("{}", v as i64)
+    } else {
+        format!("{v}")
+    }
+}
+
+/// One compiled program.
+#[derive(Debug, Clone)]
+pub struct Chunk {
+    /// Program number.
+    pub program: u32,
+    /// Source file name.
+    pub file: String,
+    /// The instructions.
+    pub ops: Vec<Op>,
+    /// Source line of each instruction.
+    pub lines: Vec<u32>,
+}
+
+/// Compile a program that checked without errors.
+pub fn compile(
+    ast: &ProgramAst,
+    src: &str,
+    file: &str,
+    program: u32,
+    registry: &Registry,
+    layout: &mut Layout,
+) -> Result<Chunk, Vec<Problem>> {
+    let mut c = Compiler {
+        registry,
+        layout,
+        src,
+        ops: Vec::new(),
+        lines: Vec::new(),
+        line: 1,
+        temp_top: 0,
+        labels: IndexMap::new(),
+        gotos: Vec::new(),
+        problems: Vec::new(),
+    };
+    c.block(&ast.body);
+    c.emit(Op::End);
+    for (at, label, span) in std::mem::take(&mut c.gotos) {
+        match c.labels.get(&label) {
+            Some(&target) => {
+                c.ops[at] = if target as usize <= at {
+                    Op::Loop { target }
+                } else {
+                    Op::Jump { target }
+                };
+            }
+            None => c.problems.push(Problem::error(
+                "pacer::check::label",
+                span,
+                format!("no label `{label}`"),
+                "unknown label",
+            )),
+        }
+    }
+    if c.problems.is_empty() {
+        Ok(Chunk {
+            program,
+            file: file.to_string(),
+            ops: c.ops,
+            lines: c.lines,
+        })
+    } else {
+        Err(c.problems)
+    }
+}
+
+struct Compiler<'a> {
+    registry: &'a Registry,
+    layout: &'a mut Layout,
+    src: &'a str,
+    ops: Vec<Op>,
+    lines: Vec<u32>,
+    line: u32,
+    temp_top: u32,
+    labels: IndexMap<String, u32>,
+    gotos: Vec<(usize, String, Span)>,
+    problems: Vec<Problem>,
+}
+
+impl Compiler<'_> {
+    fn emit(&mut self, op: Op) -> usize {
+        self.ops.push(op);
+        self.lines.push(self.line);
+        self.ops.len() - 1
+    }
+
+    fn here(&self) -> u32 {
+        self.ops.len() as u32
+    }
+
+    fn patch(&mut self, at: usize, target: u32) {
+        match &mut self.ops[at] {
+            Op::Jump { target: t }
+            | Op::JumpIfFalse { target: t, .. }
+            | Op::JumpUnless { target: t, .. }
+            | Op::ForCheck { exit: t, .. } => *t = target,
+            _ => {}
+        }
+    }
+
+    fn temp(&mut self, span: Span) -> Reg {
+        if self.temp_top >= MAX_TEMPS {
+            self.problems.push(Problem::error(
+                "pacer::compile::too_deep",
+                span,
+                "expression too deeply nested",
+                "simplify this expression",
+            ));
+            return self.layout.temp_base();
+        }
+        let r = self.layout.temp_base() + self.temp_top;
+        self.temp_top += 1;
+        r
+    }
+
+    fn block(&mut self, body: &[Stmt]) {
+        for s in body {
+            self.line = line_col(self.src, s.span.start).0 as u32;
+            self.temp_top = 0;
+            self.stmt(s);
+        }
+    }
+
+    fn resolve(&mut self, n: &Name) -> Option<crate::registry::Resolved> {
+        match self.registry.resolve(n) {
+            Ok(r) => Some(r),
+            Err(p) => {
+                self.problems.push(p);
+                None
+            }
+        }
+    }
+
+    fn stmt(&mut self, s: &Stmt) {
+        match &s.kind {
+            StmtKind::Assign { target, value } => {
+                let Some(r) = self.resolve(target) else {
+                    return;
+                };
+                if r.access == Access::Action {
+                    // `X=ON` triggers the action; `X=cond` triggers it when cond is ON.
+                    match value.kind {
+                        ExprKind::Bool(true) => {
+                            self.emit(Op::Act {
+                                hook: r.hook,
+                                slot: r.slot,
+                                instance: r.instance,
+                                start: StartRef::Now,
+                                profile: 0,
+                            });
+                        }
+                        ExprKind::Bool(false) => {}
+                        _ => {
+                            let skip = self.cond_jump(value);
+                            self.emit(Op::Act {
+                                hook: r.hook,
+                                slot: r.slot,
+                                instance: r.instance,
+                                start: StartRef::Now,
+                                profile: 0,
+                            });
+                            let end = self.here();
+                            self.patch(skip, end);
+                        }
+                    }
+                    return;
+                }
+                let v = self.expr(value);
+                self.store(&r, v);
+            }
+            StmtKind::Action {
+                target,
+                using,
+                profile,
+            } => {
+                let Some(r) = self.resolve(target) else {
+                    return;
+                };
+                let start = match using {
+                    None => StartRef::Now,
+                    Some(Using::Last(_)) => StartRef::Last,
+                    Some(Using::Capture(n)) => {
+                        match self.registry.resolve_instance(n, Kind::Capture) {
+                            Ok(i) => StartRef::Capture(i),
+                            Err(p) => {
+                                self.problems.push(p);
+                                StartRef::Now
+                            }
+                        }
+                    }
+                };
+                let profile = match profile {
+                    None => 0,
+                    Some(p) => match self.registry.resolve_instance(p, Kind::Profile) {
+                        Ok(i) => i as u8,
+                        Err(p) => {
+                            self.problems.push(p);
+                            0
+                        }
+                    },
+                };
+                self.emit(Op::Act {
+                    hook: r.hook,
+                    slot: r.slot,
+                    instance: r.instance,
+                    start,
+                    profile,
+                });
+            }
+            StmtKind::DwellTime(e) | StmtKind::DwellMaster(e) => {
+                let src = self.expr(e);
+                self.emit(Op::Dwell {
+                    src,
+                    master: matches!(s.kind, StmtKind::DwellMaster(_)),
+                });
+            }
+            StmtKind::WaitTime(e) => {
+                let src = self.expr(e);
+                self.emit(Op::WaitTime { src });
+            }
+            StmtKind::WaitFor(e) => {
+                let retry = self.here();
+                let cond = self.expr(e);
+                self.emit(Op::WaitUntil { cond, retry });
+            }
+            StmtKind::If {
+                cond,
+                then_body,
+                else_body,
+            } => {
+                let to_else = self.cond_jump(cond);
+                self.block(then_body);
+                match else_body {
+                    None => {
+                        let end = self.here();
+                        self.patch(to_else, end);
+                    }
+                    Some(else_body) => {
+                        let to_end = self.emit(Op::Jump { target: 0 });
+                        let else_start = self.here();
+                        self.patch(to_else, else_start);
+                        self.block(else_body);
+                        let end = self.here();
+                        self.patch(to_end, end);
+                    }
+                }
+            }
+            StmtKind::DoWhile { cond, body } => {
+                let top = self.here();
+                let exit = self.cond_jump(cond);
+                self.block(body);
+                self.line = line_col(self.src, s.span.start).0 as u32;
+                self.emit(Op::Loop { target: top });
+                let end = self.here();
+                self.patch(exit, end);
+            }
+            StmtKind::For {
+                var,
+                from,
+                to,
+                step,
+                body,
+            } => {
+                let Some(r) = self.resolve(var) else { return };
+                let v = self.expr(from);
+                self.store(&r, v);
+                self.temp_top = 0;
+                let limit = self.layout.hidden();
+                let l = self.expr(to);
+                self.emit(Op::Move { dst: limit, src: l });
+                self.temp_top = 0;
+                let step_reg = match step {
+                    None => self.layout.constant(1.0),
+                    Some(st) => {
+                        let h = self.layout.hidden();
+                        let sv = self.expr(st);
+                        self.emit(Op::Move { dst: h, src: sv });
+                        h
+                    }
+                };
+                self.temp_top = 0;
+                let top = self.here();
+                let check = self.emit(Op::ForCheck {
+                    var: r.slot,
+                    limit,
+                    step: step_reg,
+                    exit: 0,
+                });
+                self.block(body);
+                self.line = line_col(self.src, s.span.start).0 as u32;
+                self.temp_top = 0;
+                let t = self.temp(s.span);
+                self.emit(Op::Add {
+                    dst: t,
+                    a: r.slot,
+                    b: step_reg,
+                });
+                self.store(&r, t);
+                self.emit(Op::Loop { target: top });
+                let end = self.here();
+                self.patch(check, end);
+            }
+            StmtKind::Call(n) => match self.registry.resolve_instance(n, Kind::Program) {
+                Ok(program) => {
+                    self.emit(Op::CallProgram { program });
+                }
+                Err(p) => self.problems.push(p),
+            },
+            StmtKind::Label(seg) => {
+                let pc = self.here();
+                self.labels.insert(seg.text.to_ascii_lowercase(), pc);
+            }
+            StmtKind::Goto(seg) => {
+                let at = self.emit(Op::Jump { target: 0 });
+                self.gotos
+                    .push((at, seg.text.to_ascii_lowercase(), seg.span));
+            }
+            StmtKind::End => {
+                self.emit(Op::End);
+            }
+        }
+    }
+
+    fn store(&mut self, r: &crate::registry::Resolved, src: Reg) {
+        if r.hook != Hook::Store {
+            self.emit(Op::Write {
+                hook: r.hook,
+                slot: r.slot,
+                src,
+                instance: r.instance,
+            });
+            return;
+        }
+        let op = match r.ty {
+            ValueType::Bit => Op::StoreBit { dst: r.slot, src },
+            ValueType::Integer => Op::StoreFixed {
+                dst: r.slot,
+                src,
+                decimals: 0,
+            },
+            ValueType::Fixed(d) => Op::StoreFixed {
+                dst: r.slot,
+                src,
+                decimals: d,
+            },
+            ValueType::Real => Op::StoreReal { dst: r.slot, src },
+        };
+        self.emit(op);
+    }
+
+    /// Emit a jump taken when `cond` is false; returns the jump to patch.
+    fn cond_jump(&mut self, cond: &Expr) -> usize {
+        match &cond.kind {
+            ExprKind::Paren(inner) => self.cond_jump(inner),
+            ExprKind::Binary(op, a, b) if cmp_of(*op).is_some() => {
+                let cmp = cmp_of(*op).unwrap_or(Cmp::Eq);
+                let ra = self.expr(a);
+                let rb = self.expr(b);
+                self.emit(Op::JumpUnless {
+                    cmp,
+                    a: ra,
+                    b: rb,
+                    target: 0,
+                })
+            }
+            _ => {
+                let r = self.expr(cond);
+                self.emit(Op::JumpIfFalse { cond: r, target: 0 })
+            }
+        }
+    }
+
+    fn ty(&self, e: &Expr) -> Ty {
+        expr_type(e, self.registry).unwrap_or(Ty::Num)
+    }
+
+    fn expr(&mut self, e: &Expr) -> Reg {
+        match &e.kind {
+            ExprKind::Number(v) => self.layout.constant(*v),
+            ExprKind::Bool(b) => self.layout.constant(if *b { 1.0 } else { 0.0 }),
+            ExprKind::Name(n) => self.resolve(n).map_or(0, |r| r.slot),
+            ExprKind::Paren(inner) => self.expr(inner),
+            ExprKind::Unary(op, inner) => {
+                let mark = self.temp_top;
+                let a = self.expr(inner);
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
+                let op = match (op, self.ty(inner)) {
+                    (UnOp::Neg, _) => Op::Neg { dst, a },
+                    (UnOp::Not, Ty::Bool) => Op::Not { dst, a },
+                    (UnOp::Not, Ty::Num) => Op::BitNot { dst, a },
+                };
+                self.emit(op);
+                dst
+            }
+            ExprKind::Binary(op, l, r) => {
+                let mark = self.temp_top;
+                let a = self.expr(l);
+                let b = self.expr(r);
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
+                let boolean = self.ty(l) == Ty::Bool;
+                let op = match op {
+                    BinOp::Add => Op::Add { dst, a, b },
+                    BinOp::Sub => Op::Sub { dst, a, b },
+                    BinOp::Mul => Op::Mul { dst, a, b },
+                    BinOp::Div => Op::Binary {
+                        op: BinaryOp::Div,
+                        dst,
+                        a,
+                        b,
+                    },
+                    BinOp::Mod => Op::Binary {
+                        op: BinaryOp::Mod,
+                        dst,
+                        a,
+                        b,
+                    },
+                    BinOp::Pow => Op::Binary {
+                        op: BinaryOp::Pow,
+                        dst,
+                        a,
+                        b,
+                    },
+                    BinOp::And => Op::Binary {
+                        op: if boolean {
+                            BinaryOp::And
+                        } else {
+                            BinaryOp::BitAnd
+                        },
+                        dst,
+                        a,
+                        b,
+                    },
+                    BinOp::Or => Op::Binary {
+                        op: if boolean {
+                            BinaryOp::Or
+                        } else {
+                            BinaryOp::BitOr
+                        },
+                        dst,
+                        a,
+                        b,
+                    },
+                    BinOp::Xor => Op::Binary {
+                        op: if boolean {
+                            BinaryOp::Xor
+                        } else {
+                            BinaryOp::BitXor
+                        },
+                        dst,
+                        a,
+                        b,
+                    },
+                    cmp => Op::Compare {
+                        cmp: cmp_of(*cmp).unwrap_or(Cmp::Eq),
+                        dst,
+                        a,
+                        b,
+                    },
+                };
+                self.emit(op);
+                dst
+            }
+            ExprKind::Call(f, args) => {
+                let Some((func, _)) = functions::find(&f.text) else {
+                    return 0;
+                };
+                let mark = self.temp_top;
+                let a = args.first().map_or(0, |x| self.expr(x));
+                let b = args.get(1).map_or(a, |x| self.expr(x));
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
+                self.emit(Op::Call { func, dst, a, b });
+                dst
+            }
+        }
+    }
+}
+
+fn cmp_of(op: BinOp) -> Option<Cmp> {
+    Some(match op {
+        BinOp::Eq => Cmp::Eq,
+        BinOp::Ne => Cmp::Ne,
+        BinOp::Lt => Cmp::Lt,
+        BinOp::Le => Cmp::Le,
+        BinOp::Gt => Cmp::Gt,
+        BinOp::Ge => Cmp::Ge,
+        _ => return None,
+    })
+}

@@ -1,0 +1,102 @@
+//! The Queue object: entries, offset and exit position, status bits.
+
+use crate::registry::{Kind, Registry, SlotId};
+use crate::trace::{number, Trace};
+use std::collections::VecDeque;
+
+/// Slots of one queue's members.
+#[derive(Debug, Clone)]
+struct Slots {
+    data_out: SlotId,
+    offset: SlotId,
+    exit_position: SlotId,
+    exit: SlotId,
+    empty: SlotId,
+    full: SlotId,
+    overflow: SlotId,
+    count: SlotId,
+    full_level: SlotId,
+}
+
+/// One queue.
+#[derive(Debug, Clone)]
+pub struct Queue {
+    index: u32,
+    entries: VecDeque<f64>,
+    size: usize,
+    s: Slots,
+}
+
+impl Queue {
+    /// Queue `index` as set up in the registry.
+    pub fn new(registry: &Registry, index: u32) -> Queue {
+        let slot = |m: &str| super::slot(registry, Kind::Queue, index, m);
+        let size = registry.queue_sizes.get(index as usize).map_or(8, |s| s.0) as usize;
+        Queue {
+            index,
+            entries: VecDeque::with_capacity(size),
+            size,
+            s: Slots {
+                data_out: slot("DataOut"),
+                offset: slot("QueueOffset"),
+                exit_position: slot("ExitPosition"),
+                exit: slot("QueueExit"),
+                empty: slot("QueueEmpty"),
+                full: slot("QueueFull"),
+                overflow: slot("QueueOverflow"),
+                count: slot("QueueCount"),
+                full_level: slot("FullLevel"),
+            },
+        }
+    }
+
+    /// `DataIn = value`: store the value, or set QueueOverflow when full.
+    pub fn data_in(&mut self, value: f64, v: &mut [f64], trace: &mut Trace, tick: u64) {
+        if self.entries.len() >= self.size {
+            v[self.s.overflow as usize] = 1.0;
+        } else {
+            self.entries.push_back(value);
+            if trace.enabled() {
+                let exit = value + v[self.s.offset as usize];
+                trace.event(
+                    tick,
+                    "queue_in",
+                    &[
+                        ("object", format!("Queue.{}", self.index).into()),
+                        ("value", number(value)),
+                        ("exit", number(exit)),
+                    ],
+                );
+            }
+        }
+        self.refresh(v);
+    }
+
+    /// `QueueRemove`: drop the oldest entry and clear QueueExit.
+    pub fn remove(&mut self, v: &mut [f64]) {
+        self.entries.pop_front();
+        v[self.s.exit as usize] = 0.0;
+        self.refresh(v);
+    }
+
+    /// `QueueClear`: empty the queue and clear its status.
+    pub fn clear(&mut self, v: &mut [f64]) {
+        self.entries.clear();
+        v[self.s.exit as usize] = 0.0;
+        v[self.s.overflow as usize] = 0.0;
+        self.refresh(v);
+    }
+
+    /// Recompute the derived members after any change (entries, offset, full level).
+    pub fn refresh(&self, v: &mut [f64]) {
+        let n = self.entries.len();
+        let front = self.entries.front().copied();
+        v[self.s.count as usize] = n as f64;
+        v[self.s.empty as usize] = f64::from(n == 0);
+        v[self.s.full as usize] = f64::from(n as f64 >= v[self.s.full_level as usize]);
+        v[self.s.data_out as usize] = front.unwrap_or(0.0);
+        v[self.s.exit_position as usize] = front.map_or(0.0, |d| {
+            crate::registry::round_to(d + v[self.s.offset as usize], 4)
+        });
+    }
+}

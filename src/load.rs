@@ -1,0 +1,629 @@
+//! Loading a machine project (a folder, or program files) into a runnable image: every file
+//! read, parsed, checked and compiled, and every problem of every file reported together.
+
+use crate::check::{check_program, CheckEnv};
+use crate::compile::{compile, Layout};
+use crate::config::machine::MachineFile;
+use crate::config::scenario::ScenarioFile;
+use crate::config::{parse_toml, span_of};
+use crate::diag::{nearest, Diagnostics, Problem, SourceFile};
+use crate::registry::{Access, Kind, Registry, DEFAULT_UPDATE_NS};
+use crate::syntax::ast::Name;
+use crate::syntax::span::Span;
+use crate::vm::{Assignment, MachineImage};
+use crate::world::Edge;
+use indexmap::IndexMap;
+use std::path::{Path, PathBuf};
+
+/// What to load.
+#[derive(Debug, Clone, Default)]
+pub struct LoadRequest {
+    /// A folder, or program files.
+    pub paths: Vec<PathBuf>,
+    /// Machine file (default: `machine.toml` in the folder, if any).
+    pub machine: Option<PathBuf>,
+    /// Scenario file (default: `scenario.toml` in the folder, if any).
+    pub scenario: Option<PathBuf>,
+}
+
+/// A loaded project: the image, plus the warnings found on the way.
+pub struct Loaded {
+    /// Ready to run.
+    pub image: MachineImage,
+    /// Warnings (no errors).
+    pub warnings: Diagnostics,
+    /// The program sources, by program number.
+    pub sources: IndexMap<u32, SourceFile>,
+    /// Compilation layout (for the disassembler).
+    pub layout: Layout,
+}
+
+struct ProgramFile {
+    number: u32,
+    path: PathBuf,
+    autostart: bool,
+    span: Option<Span>,
+}
+
+/// Default update period, nanoseconds.
+pub const UPDATE_NS: u64 = DEFAULT_UPDATE_NS;
+
+/// Load, check and compile. On any error, every problem found is returned.
+pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
+    let mut diags = Diagnostics::new();
+    let (folder, files) = split_paths(&req.paths, &mut diags)?;
+    let machine_path = req.machine.clone().or_else(|| {
+        folder
+            .as_ref()
+            .map(|f| f.join("machine.toml"))
+            .filter(|p| p.exists())
+    });
+    let scenario_path = req.scenario.clone().or_else(|| {
+        folder
+            .as_ref()
+            .map(|f| f.join("scenario.toml"))
+            .filter(|p| p.exists())
+    });
+
+    let (machine, machine_src) = match &machine_path {
+        Some(p) => {
+            let src = read(p, &mut diags)?;
+            match parse_toml::<MachineFile>(&src.text, "machine file") {
+                Ok(m) => (m, Some(src)),
+                Err(problem) => {
+                    diags.extend_file(&src, vec![problem]);
+                    return Err(diags);
+                }
+            }
+        }
+        None => (MachineFile::default(), None),
+    };
+    let machine_file = machine_src
+        .clone()
+        .unwrap_or_else(|| SourceFile::new("machine.toml (defaults)", ""));
+    let base_dir = machine_path
+        .as_ref()
+        .and_then(|p| p.parent().map(Path::to_path_buf))
+        .or(folder.clone())
+        .unwrap_or_default();
+
+    // Which programs, with which numbers.
+    let mut programs: Vec<ProgramFile> = Vec::new();
+    let mut machine_problems: Vec<Problem> = Vec::new();
+    if !machine.programs.is_empty() && files.is_empty() {
+        for e in &machine.programs {
+            let number = *e.number.get_ref();
+            if programs.iter().any(|p| p.number == number) {
+                machine_problems.push(Problem::error(
+                    "pacer::machine::program",
+                    span_of(&e.number),
+                    format!("Program.{number} is listed twice"),
+                    "duplicate",
+                ));
+                continue;
+            }
+            programs.push(ProgramFile {
+                number,
+                path: base_dir.join(e.file.get_ref()),
+                autostart: e.autostart,
+                span: Some(span_of(&e.file)),
+            });
+        }
+    } else {
+        let list = if files.is_empty() {
+            folder
+                .as_ref()
+                .map(|f| program_files_in(f, &mut diags))
+                .unwrap_or_default()
+        } else {
+            files
+        };
+        let mut used: Vec<u32> = list.iter().filter_map(|p| number_in_name(p)).collect();
+        for path in list {
+            let number = match number_in_name(&path) {
+                Some(n) if programs.iter().all(|p| p.number != n) => n,
+                _ => {
+                    let n = (0..).find(|n| !used.contains(n)).unwrap_or(0);
+                    used.push(n);
+                    n
+                }
+            };
+            programs.push(ProgramFile {
+                number,
+                path,
+                autostart: false,
+                span: None,
+            });
+        }
+        programs.sort_by_key(|p| p.number);
+    }
+    if programs.is_empty() {
+        diags.extend_file(
+            &machine_file,
+            vec![Problem::error(
+                "pacer::load::no_programs",
+                Span::new(0, 0),
+                "no programs to run",
+                "nothing here",
+            )
+            .with_help(
+                "give .pt files, a folder holding them, or [[program]] entries in machine.toml",
+            )],
+        );
+        return Err(diags);
+    }
+    let numbers: Vec<u32> = programs.iter().map(|p| p.number).collect();
+    let registry = match Registry::build(&machine, &numbers) {
+        Ok(r) => Some(r),
+        Err(problems) => {
+            machine_problems.extend(problems);
+            None
+        }
+    };
+
+    // Read, parse and check every program, collecting every problem.
+    let mut sources: IndexMap<u32, SourceFile> = IndexMap::new();
+    let mut asts = Vec::new();
+    for p in &programs {
+        let text = match std::fs::read_to_string(&p.path) {
+            Ok(t) => t,
+            Err(e) => {
+                let span = p.span.unwrap_or_default();
+                machine_problems.push(Problem::error(
+                    "pacer::load::read",
+                    span,
+                    format!("cannot read {}: {e}", p.path.display()),
+                    "this program file",
+                ));
+                continue;
+            }
+        };
+        let file = SourceFile::new(p.path.display().to_string(), text.as_str());
+        let mut problems = Vec::new();
+        let ast = crate::syntax::parse_program(&text, &mut problems);
+        if let Some(reg) = &registry {
+            let env = CheckEnv {
+                registry: reg,
+                loaded_programs: &numbers,
+            };
+            problems.extend(check_program(&ast, &env));
+        }
+        diags.extend_file(&file, problems);
+        sources.insert(p.number, file);
+        asts.push((p.number, ast));
+    }
+
+    let update_ns = machine
+        .machine
+        .update
+        .as_ref()
+        .map_or(UPDATE_NS, |u| u.get_ref().0);
+    if let Some(u) = &machine.machine.update {
+        if !(1_000..=1_000_000_000).contains(&u.get_ref().0) {
+            machine_problems.push(Problem::error(
+                "pacer::machine::update",
+                span_of(u),
+                "the update period must be between 1 µs and 1 s",
+                "out of range",
+            ));
+        }
+    }
+    let budget = machine
+        .machine
+        .budget
+        .as_ref()
+        .map_or(crate::vm::DEFAULT_BUDGET, |b| *b.get_ref());
+    if let Some(b) = &machine.machine.budget {
+        if *b.get_ref() == 0 {
+            machine_problems.push(Problem::error(
+                "pacer::machine::budget",
+                span_of(b),
+                "a budget of 0 instructions lets no program run",
+                "must be at least 1",
+            ));
+        }
+    }
+    let tasks = machine.machine.tasks.as_ref().map_or(4, |t| *t.get_ref()) as usize;
+    if let Some(t) = &machine.machine.tasks {
+        if !(1..=64).contains(t.get_ref()) {
+            machine_problems.push(Problem::error(
+                "pacer::machine::tasks",
+                span_of(t),
+                "tasks must be 1 to 64",
+                "out of range",
+            ));
+        }
+    }
+
+    let mut assignments = Vec::new();
+    if let Some(reg) = &registry {
+        for a in &machine.assignments {
+            let src = resolve_text(reg, &a.source, &mut machine_problems);
+            let dst = resolve_text(reg, &a.destination, &mut machine_problems);
+            let active_off = match &a.polarity {
+                None => false,
+                Some(p) => match p
+                    .get_ref()
+                    .to_ascii_lowercase()
+                    .replace([' ', '_'], "")
+                    .as_str()
+                {
+                    "activeon" => false,
+                    "activeoff" => true,
+                    _ => {
+                        machine_problems.push(Problem::error(
+                            "pacer::machine::assignment",
+                            span_of(p),
+                            format!("unknown polarity `{}`", p.get_ref()),
+                            "ActiveOn or ActiveOff",
+                        ));
+                        false
+                    }
+                },
+            };
+            if let (Some(s), Some(d)) = (src, dst) {
+                if !s.ty.is_bit() || matches!(s.access, Access::Action | Access::Input) {
+                    machine_problems.push(
+                        Problem::error(
+                            "pacer::machine::assignment",
+                            span_of(&a.source),
+                            format!("{} cannot be an assignment source", s.name),
+                            "not a readable bit",
+                        )
+                        .with_help("sources are bits: inputs, status bits, user bits"),
+                    );
+                } else if !d.ty.is_bit() || d.access == Access::Read || d.access == Access::Input {
+                    machine_problems.push(Problem::error("pacer::machine::assignment", span_of(&a.destination), format!("{} cannot be an assignment destination", d.name), "not a writable bit or action")
+                        .with_help("destinations are actions (Program.1.Initiate) or writable bits (DriveIO.1.Out, Capture.0.CaptureActivate)"));
+                } else {
+                    if d.hook == crate::registry::Hook::ProgramInitiate
+                        && !numbers.contains(&d.instance)
+                    {
+                        machine_problems.push(Problem::error(
+                            "pacer::machine::assignment",
+                            span_of(&a.destination),
+                            format!("Program.{} is not loaded", d.instance),
+                            "no such program",
+                        ));
+                    }
+                    assignments.push(Assignment {
+                        source: s.slot,
+                        active_off,
+                        dest: d,
+                    });
+                }
+            }
+        }
+    }
+    let mut autostart: Vec<u32> = programs
+        .iter()
+        .filter(|p| p.autostart)
+        .map(|p| p.number)
+        .collect();
+    let started_by_assignment = assignments
+        .iter()
+        .any(|a| a.dest.hook == crate::registry::Hook::ProgramInitiate);
+    if autostart.is_empty() && !started_by_assignment {
+        autostart.push(programs[0].number);
+    }
+    diags.extend_file(&machine_file, machine_problems);
+
+    // The scenario.
+    let mut edges = Vec::new();
+    let mut duration_ns = None;
+    if let Some(p) = &scenario_path {
+        let src = read(p, &mut diags)?;
+        match parse_toml::<ScenarioFile>(&src.text, "scenario") {
+            Err(problem) => diags.extend_file(&src, vec![problem]),
+            Ok(sc) => {
+                let mut problems = Vec::new();
+                if let Some(reg) = &registry {
+                    edges = scenario_edges(&sc, reg, &mut problems);
+                }
+                duration_ns = sc.run.duration.as_ref().map(|d| d.get_ref().0);
+                diags.extend_file(&src, problems);
+            }
+        }
+    }
+
+    if diags.has_errors() {
+        return Err(diags);
+    }
+    let Some(registry) = registry else {
+        return Err(diags);
+    };
+
+    let mut layout = Layout::new(&registry);
+    let mut chunks = Vec::new();
+    let mut program_chunks = IndexMap::new();
+    for (number, ast) in &asts {
+        let Some(file) = sources.get(number) else {
+            continue;
+        };
+        match compile(ast, &file.text, &file.name, *number, &registry, &mut layout) {
+            Ok(chunk) => {
+                program_chunks.insert(*number, chunks.len());
+                chunks.push(chunk);
+            }
+            Err(problems) => diags.extend_file(file, problems),
+        }
+    }
+    if diags.has_errors() {
+        return Err(diags);
+    }
+    let initial = layout.initial_values(&registry);
+    let name = machine.machine.name.clone().unwrap_or_else(|| {
+        folder
+            .as_ref()
+            .and_then(|f| f.canonicalize().ok())
+            .and_then(|f| f.file_name().map(|n| n.to_string_lossy().into_owned()))
+            .unwrap_or_else(|| "machine".into())
+    });
+    let image = MachineImage {
+        name,
+        tick_ns: update_ns,
+        budget,
+        tasks,
+        registry,
+        initial,
+        chunks,
+        programs: program_chunks,
+        autostart,
+        assignments,
+        edges,
+        duration_ns,
+    };
+    Ok(Loaded {
+        image,
+        warnings: diags,
+        sources,
+        layout,
+    })
+}
+
+fn read(path: &Path, diags: &mut Diagnostics) -> Result<SourceFile, Diagnostics> {
+    match std::fs::read_to_string(path) {
+        Ok(t) => Ok(SourceFile::new(path.display().to_string(), t)),
+        Err(e) => {
+            let f = SourceFile::new(path.display().to_string(), "");
+            diags.extend_file(
+                &f,
+                vec![Problem::error(
+                    "pacer::load::read",
+                    Span::new(0, 0),
+                    format!("cannot read {}: {e}", path.display()),
+                    "missing or unreadable",
+                )],
+            );
+            Err(std::mem::take(diags))
+        }
+    }
+}
+
+fn split_paths(
+    paths: &[PathBuf],
+    diags: &mut Diagnostics,
+) -> Result<(Option<PathBuf>, Vec<PathBuf>), Diagnostics> {
+    let mut folder = None;
+    let mut files = Vec::new();
+    for p in paths {
+        if p.is_dir() {
+            if folder.is_some() {
+                let f = SourceFile::new(p.display().to_string(), "");
+                diags.extend_file(
+                    &f,
+                    vec![Problem::error(
+                        "pacer::load::paths",
+                        Span::new(0, 0),
+                        "give one machine folder at a time",
+                        "second folder",
+                    )],
+                );
+                return Err(std::mem::take(diags));
+            }
+            folder = Some(p.clone());
+        } else {
+            files.push(p.clone());
+        }
+    }
+    if folder.is_none() {
+        // Files in one folder that has a machine.toml use it.
+        if let Some(parent) = files.first().and_then(|f| f.parent()) {
+            if parent.join("machine.toml").exists()
+                && files.iter().all(|f| f.parent() == Some(parent))
+            {
+                folder = Some(parent.to_path_buf());
+            }
+        }
+    }
+    Ok((folder, files))
+}
+
+fn program_files_in(folder: &Path, diags: &mut Diagnostics) -> Vec<PathBuf> {
+    let mut files: Vec<PathBuf> = match std::fs::read_dir(folder) {
+        Ok(rd) => rd
+            .filter_map(Result::ok)
+            .map(|e| e.path())
+            .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("pt")))
+            .collect(),
+        Err(e) => {
+            let f = SourceFile::new(folder.display().to_string(), "");
+            diags.extend_file(
+                &f,
+                vec![Problem::error(
+                    "pacer::load::read",
+                    Span::new(0, 0),
+                    format!("cannot list {}: {e}", folder.display()),
+                    "here",
+                )],
+            );
+            Vec::new()
+        }
+    };
+    files.sort();
+    files
+}
+
+/// `program2.pt` → 2.
+fn number_in_name(p: &Path) -> Option<u32> {
+    let stem = p.file_stem()?.to_string_lossy();
+    let digits: String = stem
+        .chars()
+        .rev()
+        .take_while(char::is_ascii_digit)
+        .collect::<Vec<_>>()
+        .into_iter()
+        .rev()
+        .collect();
+    if digits.is_empty() {
+        None
+    } else {
+        digits.parse().ok()
+    }
+}
+
+/// Resolve a member name written as a TOML string; spans point inside the string.
+fn resolve_text(
+    reg: &Registry,
+    text: &toml::Spanned<String>,
+    problems: &mut Vec<Problem>,
+) -> Option<crate::registry::Resolved> {
+    let span = span_of(text);
+    let s = text.get_ref();
+    let valid = !s.is_empty()
+        && s.split('.').all(|seg| {
+            !seg.is_empty() && seg.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        });
+    if !valid {
+        problems.push(Problem::error(
+            "pacer::machine::name",
+            span,
+            format!("`{s}` is not a member name"),
+            "expected e.g. ModuleInput.2 or Capture.0.CaptureActivate",
+        ));
+        return None;
+    }
+    // The span starts at the opening quote.
+    let name = Name::from_token(s, span.start + 1);
+    match reg.resolve(&name) {
+        Ok(r) => Some(r),
+        Err(p) => {
+            problems.push(p);
+            None
+        }
+    }
+}
+
+fn scenario_edges(sc: &ScenarioFile, reg: &Registry, problems: &mut Vec<Problem>) -> Vec<Edge> {
+    let mut edges = Vec::new();
+    let input = |name: &toml::Spanned<String>, problems: &mut Vec<Problem>| -> Option<u32> {
+        let r = resolve_text(reg, name, problems)?;
+        let is_input = matches!(r.kind, Kind::DriveInput | Kind::ModuleInput)
+            || (r.kind == Kind::DriveIO && r.name.ends_with(".In"));
+        if !is_input {
+            let inputs = ["DriveInput.1", "ModuleInput.1", "DriveIO.1.In"];
+            problems.push(
+                Problem::error(
+                    "pacer::scenario::input",
+                    span_of(name),
+                    format!("{} is not an input the world can drive", r.name),
+                    "not an input",
+                )
+                .with_help_opt(
+                    nearest(name.get_ref(), inputs).map(|n| format!("inputs look like `{n}`")),
+                ),
+            );
+            return None;
+        }
+        Some(r.slot)
+    };
+    for c in &sc.inputs {
+        if let Some(slot) = input(&c.name, problems) {
+            edges.push(Edge {
+                time_ns: c.at.get_ref().0,
+                slot,
+                on: c.value.get_ref().0,
+            });
+        }
+    }
+    let mut presses: Vec<(u32, u64, u64, Span)> = Vec::new();
+    for p in &sc.presses {
+        let Some(slot) = input(&p.name, problems) else {
+            continue;
+        };
+        let (at, len) = (p.at.get_ref().0, p.length.get_ref().0);
+        if len == 0 {
+            problems.push(Problem::error(
+                "pacer::scenario::press",
+                span_of(&p.length),
+                "a press of length 0 never happens",
+                "must be longer than 0",
+            ));
+            continue;
+        }
+        presses.push((slot, at, at + len, span_of(&p.at)));
+    }
+    for p in &sc.pulses {
+        let Some(slot) = input(&p.name, problems) else {
+            continue;
+        };
+        let (start, period, width, count) = (
+            p.start.get_ref().0,
+            p.period.get_ref().0,
+            p.width.get_ref().0,
+            *p.count.get_ref(),
+        );
+        if width == 0 || width >= period {
+            problems.push(Problem::error(
+                "pacer::scenario::pulses",
+                span_of(&p.width),
+                "the pulse width must be above 0 and below the period",
+                "invalid width",
+            ));
+            continue;
+        }
+        if count > 10_000_000 {
+            problems.push(Problem::error(
+                "pacer::scenario::pulses",
+                span_of(&p.count),
+                "at most 10,000,000 pulses per train",
+                "too many",
+            ));
+            continue;
+        }
+        for k in 0..u64::from(count) {
+            let at = start + k * period;
+            presses.push((slot, at, at + width, span_of(&p.start)));
+        }
+    }
+    presses.sort_by_key(|p| (p.0, p.1));
+    for w in presses.windows(2) {
+        if w[0].0 == w[1].0 && w[1].1 <= w[0].2 {
+            problems.push(
+                Problem::error(
+                    "pacer::scenario::overlap",
+                    w[1].3,
+                    "this press overlaps (or touches) the previous press of the same input",
+                    "overlaps",
+                )
+                .with_help(format!(
+                    "the previous press lasts until {} s",
+                    w[0].2 as f64 / 1e9
+                )),
+            );
+        }
+    }
+    for (slot, on, off, _) in presses {
+        edges.push(Edge {
+            time_ns: on,
+            slot,
+            on: true,
+        });
+        edges.push(Edge {
+            time_ns: off,
+            slot,
+            on: false,
+        });
+    }
+    edges
+}

@@ -1,0 +1,344 @@
+//! The interpreter loop: runs one task's instructions until it ends, blocks, calls, or spends
+//! its budget.
+
+use crate::compile::bytecode::{BinaryOp, Op};
+use crate::compile::Chunk;
+use crate::kernel::{ActOutcome, Kernel, Now};
+use crate::registry::{Hook, Registry, POW10};
+use crate::trace::value_json;
+
+/// Why the interpreter stopped.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Exit {
+    /// Budget spent; resume at `pc`.
+    Yield(u32),
+    /// `Wait For` false: block.
+    Wait { retry: u32, resume: u32 },
+    /// In probe mode: the condition's value, and where to resume.
+    Probed { value: bool, resume: u32 },
+    /// `Wait For Time`: sleep for this many updates, then resume at `pc`.
+    Sleep { ticks: u64, pc: u32 },
+    /// Motion busy on the profile: retry the instruction at `pc`.
+    MotionBusy { profile: u8, pc: u32 },
+    /// End of this program.
+    End,
+    /// Call another program; come back to `pc`.
+    Call { program: u32, pc: u32 },
+    /// Program control (initiate/stop a program, stop all); go on at `pc`.
+    Control { hook: Hook, instance: u32, pc: u32 },
+    /// A run-time error at instruction `pc`.
+    Fault { message: String, pc: u32 },
+}
+
+/// What the interpreter needs besides the values.
+pub struct Ctx<'a, 'b> {
+    /// The kernel objects.
+    pub kernel: &'a mut Kernel,
+    /// The registry (names for trace events).
+    pub registry: &'a Registry,
+    /// Current values of registry slots as last traced, so a program write is not traced twice.
+    pub snapshot: &'a mut [f64],
+    /// The moment.
+    pub now: Now<'b>,
+    /// Slots below this are registry members.
+    pub slot_count: u32,
+}
+
+/// Run `chunk` from `pc` on `v`. `executed` counts instructions against `budget`.
+/// In probe mode the first `WaitUntil` reached returns its condition instead of blocking.
+pub fn run(
+    chunk: &Chunk,
+    mut pc: u32,
+    v: &mut [f64],
+    ctx: &mut Ctx<'_, '_>,
+    budget: u64,
+    executed: &mut u64,
+    probe: bool,
+) -> Exit {
+    let ops = &chunk.ops[..];
+    let trace_on = ctx.now.trace.enabled();
+    let mut n: u64 = *executed;
+    macro_rules! fault {
+        ($($arg:tt)*) => {{
+            *executed = n;
+            return Exit::Fault { message: format!($($arg)*), pc };
+        }};
+    }
+    loop {
+        let Some(op) = ops.get(pc as usize) else {
+            *executed = n;
+            return Exit::End;
+        };
+        n += 1;
+        let here = pc;
+        pc += 1;
+        match *op {
+            Op::Move { dst, src } => v[dst as usize] = v[src as usize],
+            Op::Add { dst, a, b } => v[dst as usize] = v[a as usize] + v[b as usize],
+            Op::Sub { dst, a, b } => v[dst as usize] = v[a as usize] - v[b as usize],
+            Op::Mul { dst, a, b } => v[dst as usize] = v[a as usize] * v[b as usize],
+            Op::Binary { op, dst, a, b } => {
+                let (x, y) = (v[a as usize], v[b as usize]);
+                v[dst as usize] = match op {
+                    BinaryOp::Add => x + y,
+                    BinaryOp::Sub => x - y,
+                    BinaryOp::Mul => x * y,
+                    BinaryOp::Div => {
+                        if y == 0.0 {
+                            pc = here;
+                            fault!("division by zero");
+                        }
+                        x / y
+                    }
+                    BinaryOp::Mod => {
+                        if y == 0.0 {
+                            pc = here;
+                            fault!("MOD by zero");
+                        }
+                        x % y
+                    }
+                    BinaryOp::Pow => x.powf(y),
+                    BinaryOp::And => f64::from(x != 0.0 && y != 0.0),
+                    BinaryOp::Or => f64::from(x != 0.0 || y != 0.0),
+                    BinaryOp::Xor => f64::from((x != 0.0) != (y != 0.0)),
+                    BinaryOp::BitAnd => ((x as i64) & (y as i64)) as f64,
+                    BinaryOp::BitOr => ((x as i64) | (y as i64)) as f64,
+                    BinaryOp::BitXor => ((x as i64) ^ (y as i64)) as f64,
+                }
+            }
+            Op::Compare { cmp, dst, a, b } => {
+                v[dst as usize] = f64::from(cmp.test(v[a as usize], v[b as usize]))
+            }
+            Op::Neg { dst, a } => v[dst as usize] = -v[a as usize],
+            Op::Not { dst, a } => v[dst as usize] = f64::from(v[a as usize] == 0.0),
+            Op::BitNot { dst, a } => v[dst as usize] = !(v[a as usize] as i64) as f64,
+            Op::Call { func, dst, a, b } => {
+                v[dst as usize] = func.apply(v[a as usize], v[b as usize])
+            }
+            Op::StoreFixed { dst, src, decimals } => {
+                let x = v[src as usize];
+                let scaled = x * POW10[decimals as usize];
+                let whole = scaled as i64;
+                let r = if whole as f64 == scaled {
+                    scaled
+                } else {
+                    scaled.round()
+                };
+                if !(r.abs() <= f64::from(i32::MAX)) {
+                    pc = here;
+                    let limit = f64::from(i32::MAX) / POW10[decimals as usize];
+                    let name = name_of(ctx, dst);
+                    if x.is_finite() {
+                        fault!("overflow: {x} does not fit {name} (32-bit with {decimals} decimal places: at most ±{limit})");
+                    }
+                    fault!("{name} cannot take {x}: the result is not a number");
+                }
+                let val = r / POW10[decimals as usize];
+                v[dst as usize] = val;
+                if trace_on && dst < ctx.slot_count {
+                    traced_write(ctx, dst, val);
+                }
+            }
+            Op::StoreReal { dst, src } => {
+                let x = v[src as usize];
+                if !x.is_finite() {
+                    pc = here;
+                    let name = name_of(ctx, dst);
+                    fault!("{name} cannot take {x}: the result is not a finite number");
+                }
+                v[dst as usize] = x;
+                if trace_on && dst < ctx.slot_count {
+                    traced_write(ctx, dst, x);
+                }
+            }
+            Op::StoreBit { dst, src } => {
+                let x = f64::from(v[src as usize] != 0.0);
+                v[dst as usize] = x;
+                if trace_on && dst < ctx.slot_count {
+                    traced_write(ctx, dst, x);
+                }
+            }
+            Op::Write {
+                hook,
+                slot,
+                src,
+                instance,
+            } => {
+                let ty = ctx.registry.slots[slot as usize].ty;
+                let raw = v[src as usize];
+                let x = match ty {
+                    crate::registry::ValueType::Bit => f64::from(raw != 0.0),
+                    crate::registry::ValueType::Integer => raw.round(),
+                    crate::registry::ValueType::Fixed(d) => crate::registry::round_to(raw, d),
+                    crate::registry::ValueType::Real => raw,
+                };
+                if !x.is_finite()
+                    || (ty != crate::registry::ValueType::Real && x.abs() > f64::from(i32::MAX))
+                {
+                    pc = here;
+                    let name = name_of(ctx, slot);
+                    fault!("{name} cannot take {raw}: out of range");
+                }
+                if trace_on {
+                    traced_write(ctx, slot, x);
+                }
+                if let Err(message) = ctx.kernel.write(hook, instance, slot, x, v, &mut ctx.now) {
+                    pc = here;
+                    let name = name_of(ctx, slot);
+                    fault!("{name}: {message}");
+                }
+                sync_snapshot(ctx, v);
+            }
+            // Where a motion starts from (`Using …`) matters once motion objects run.
+            Op::Act {
+                hook,
+                slot,
+                instance,
+                start: _,
+                profile,
+            } => {
+                match hook {
+                    Hook::ProgramInitiate | Hook::ProgramStop | Hook::StopAll => {
+                        *executed = n;
+                        return Exit::Control { hook, instance, pc };
+                    }
+                    Hook::MotionStart if ctx.kernel.profile_busy(profile as usize) => {
+                        *executed = n;
+                        return Exit::MotionBusy { profile, pc: here };
+                    }
+                    _ => {}
+                }
+                match ctx.kernel.act(hook, instance, v, &mut ctx.now) {
+                    Ok(ActOutcome::Done) => sync_snapshot(ctx, v),
+                    Ok(ActOutcome::ProfileBusy) => {
+                        *executed = n;
+                        return Exit::MotionBusy { profile, pc: here };
+                    }
+                    Err(message) => {
+                        pc = here;
+                        let name = name_of(ctx, slot);
+                        fault!("{name}: {message}");
+                    }
+                }
+            }
+            Op::Jump { target } => pc = target,
+            Op::Loop { target } => {
+                pc = target;
+                if n >= budget {
+                    *executed = n;
+                    return Exit::Yield(pc);
+                }
+            }
+            Op::JumpIfFalse { cond, target } => {
+                if v[cond as usize] == 0.0 {
+                    pc = target;
+                }
+            }
+            Op::JumpUnless { cmp, a, b, target } => {
+                if !cmp.test(v[a as usize], v[b as usize]) {
+                    pc = target;
+                }
+            }
+            Op::WaitUntil { cond, retry } => {
+                let value = v[cond as usize] != 0.0;
+                *executed = n;
+                if probe {
+                    return Exit::Probed { value, resume: pc };
+                }
+                if !value {
+                    return Exit::Wait { retry, resume: pc };
+                }
+            }
+            Op::WaitTime { src } => {
+                let secs = v[src as usize];
+                let ns = match crate::config::values::seconds_to_ns(secs) {
+                    Ok(ns) => ns,
+                    Err(e) => {
+                        pc = here;
+                        fault!("Wait For Time: {e}");
+                    }
+                };
+                let ticks = ns.div_ceil(ctx.now.tick_ns.max(1));
+                if ticks > 0 {
+                    *executed = n;
+                    return Exit::Sleep { ticks, pc };
+                }
+            }
+            Op::Dwell { src, master } => {
+                if master {
+                    pc = here;
+                    fault!("Dwell For Master Dist needs the master axis, which this build of pacer does not simulate yet");
+                }
+                match ctx.kernel.dwell_time(v[src as usize], v, &ctx.now) {
+                    Ok(ActOutcome::Done) => sync_snapshot(ctx, v),
+                    Ok(ActOutcome::ProfileBusy) => {
+                        *executed = n;
+                        return Exit::MotionBusy {
+                            profile: 0,
+                            pc: here,
+                        };
+                    }
+                    Err(message) => {
+                        pc = here;
+                        fault!("{message}");
+                    }
+                }
+            }
+            Op::ForCheck {
+                var,
+                limit,
+                step,
+                exit,
+            } => {
+                let (x, l, s) = (v[var as usize], v[limit as usize], v[step as usize]);
+                if s == 0.0 {
+                    pc = here;
+                    fault!("For loop with a Step of 0 never ends");
+                }
+                if (s > 0.0 && x > l) || (s < 0.0 && x < l) {
+                    pc = exit;
+                }
+            }
+            Op::CallProgram { program } => {
+                *executed = n;
+                return Exit::Call { program, pc };
+            }
+            Op::End => {
+                *executed = n;
+                return Exit::End;
+            }
+        }
+    }
+}
+
+fn name_of(ctx: &Ctx<'_, '_>, slot: u32) -> String {
+    ctx.registry
+        .slots
+        .get(slot as usize)
+        .map_or_else(|| "a loop variable".to_string(), |s| s.name.clone())
+}
+
+/// Trace a program's write to a registry slot, whether or not the value changed.
+fn traced_write(ctx: &mut Ctx<'_, '_>, slot: u32, value: f64) {
+    let info = &ctx.registry.slots[slot as usize];
+    if info.member.continuous {
+        return;
+    }
+    ctx.snapshot[slot as usize] = value;
+    ctx.now.trace.event(
+        ctx.now.tick,
+        "change",
+        &[
+            ("name", info.name.clone().into()),
+            ("value", value_json(info.ty, value)),
+        ],
+    );
+}
+
+/// After a kernel write or action, trace the members it changed, right away and in slot order.
+fn sync_snapshot(ctx: &mut Ctx<'_, '_>, v: &[f64]) {
+    if !ctx.now.trace.enabled() {
+        return;
+    }
+    super::trace_changes(ctx.registry, v, ctx.snapshot, ctx.now.trace, ctx.now.tick);
+}

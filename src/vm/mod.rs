@@ -1,0 +1,773 @@
+//! The machine at run time: the value array, kernel objects, world, tasks and the per-update
+//! schedule.
+//!
+//! Each update, in this fixed order: the world advances (inputs sampled, edges timed) →
+//! assignments → kernel objects (timers, profiles) → blocked tasks re-examined (`Wait For`
+//! conditions evaluated every update, timed waits, motion waits) → one task runs, round robin
+//! over the tasks that are not blocked, until it blocks, ends or spends its instruction budget →
+//! the changes of the update are traced.
+
+pub mod exec;
+pub mod task;
+
+use crate::compile::Chunk;
+use crate::kernel::{Kernel, Now};
+use crate::registry::{Access, Hook, Registry, Resolved, SlotId};
+use crate::trace::{value_json, Trace};
+use crate::world::{Edge, InputActivity, World};
+use exec::{Ctx, Exit};
+use indexmap::IndexMap;
+use task::{Frame, Task, TaskState};
+
+/// Instructions a task may run in one update unless machine.toml says otherwise.
+pub const DEFAULT_BUDGET: u64 = 10_000;
+
+/// Deepest nesting of `Call Program.N`.
+pub const MAX_CALL_DEPTH: usize = 16;
+
+/// Upper bound on a run with no duration whose programs never end (simulated seconds).
+pub const DEFAULT_MAX_SECONDS: u64 = 3600;
+
+/// An assignment: a bit source drives a destination member every update.
+#[derive(Debug, Clone)]
+pub struct Assignment {
+    /// Source slot (a bit).
+    pub source: SlotId,
+    /// Active Off: the destination is on while the source is off.
+    pub active_off: bool,
+    /// The destination member.
+    pub dest: Resolved,
+}
+
+/// Everything a run needs, loaded and compiled.
+pub struct MachineImage {
+    /// Machine name.
+    pub name: String,
+    /// Update period, ns.
+    pub tick_ns: u64,
+    /// Instructions per task turn.
+    pub budget: u64,
+    /// Number of tasks.
+    pub tasks: usize,
+    /// The objects.
+    pub registry: Registry,
+    /// Initial values of the whole value array.
+    pub initial: Vec<f64>,
+    /// Compiled programs.
+    pub chunks: Vec<Chunk>,
+    /// Program number → chunk.
+    pub programs: IndexMap<u32, usize>,
+    /// Programs started at the beginning, in order.
+    pub autostart: Vec<u32>,
+    /// Assignments in machine-file order.
+    pub assignments: Vec<Assignment>,
+    /// Scenario input edges.
+    pub edges: Vec<Edge>,
+    /// Scenario duration, if set.
+    pub duration_ns: Option<u64>,
+}
+
+/// A run-time error in a program.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunError {
+    /// Task number.
+    pub task: usize,
+    /// Program number.
+    pub program: u32,
+    /// Program file.
+    pub file: String,
+    /// Source line.
+    pub line: u32,
+    /// What went wrong.
+    pub message: String,
+    /// Time of the error, seconds.
+    pub time: f64,
+}
+
+impl std::fmt::Display for RunError {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "run-time error at t={} s: task {}, Program.{} ({}) line {}: {}",
+            self.time, self.task, self.program, self.file, self.line, self.message
+        )
+    }
+}
+
+/// How a run went.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunSummary {
+    /// Updates computed.
+    pub ticks: u64,
+    /// Simulated seconds.
+    pub seconds: f64,
+    /// Instructions executed.
+    pub instructions: u64,
+    /// Trace events by kind.
+    pub events: Vec<(String, u64)>,
+    /// The error that ended the run, if any.
+    pub error: Option<RunError>,
+    /// Why the run stopped.
+    pub stop_reason: String,
+}
+
+/// A machine running.
+pub struct Machine {
+    image: MachineImage,
+    values: Vec<f64>,
+    snapshot: Vec<f64>,
+    kernel: Kernel,
+    world: World,
+    tasks: Vec<Task>,
+    trace: Trace,
+    tick: u64,
+    rr: usize,
+    activity: Vec<InputActivity>,
+    assign_last: Vec<Option<bool>>,
+    instructions: u64,
+    error: Option<RunError>,
+    running_slots: Vec<(SlotId, SlotId)>,
+}
+
+/// Trace every registry slot whose value differs from the snapshot, in slot order.
+pub(crate) fn trace_changes(
+    registry: &Registry,
+    v: &[f64],
+    snapshot: &mut [f64],
+    trace: &mut Trace,
+    tick: u64,
+) {
+    for (i, info) in registry.slots.iter().enumerate() {
+        let x = v[i];
+        if x.to_bits() != snapshot[i].to_bits() {
+            snapshot[i] = x;
+            if !info.member.continuous && info.member.access != Access::Action {
+                trace.event(
+                    tick,
+                    "change",
+                    &[
+                        ("name", info.name.clone().into()),
+                        ("value", value_json(info.ty, x)),
+                    ],
+                );
+            }
+        }
+    }
+}
+
+impl Machine {
+    /// A machine ready to run, writing its trace to `trace`.
+    pub fn new(image: MachineImage, trace: Trace) -> Machine {
+        let values = image.initial.clone();
+        let kernel = Kernel::new(&image.registry);
+        let world = World::new(image.edges.clone());
+        let tasks = (0..image.tasks).map(|_| Task::free()).collect();
+        let slot_count = image.registry.slot_count();
+        let running_slots = (0..image.registry.of(crate::registry::Kind::Program).count)
+            .map(|i| {
+                (
+                    crate::kernel::slot(
+                        &image.registry,
+                        crate::registry::Kind::Program,
+                        i,
+                        "Running",
+                    ),
+                    crate::kernel::slot(&image.registry, crate::registry::Kind::Program, i, "Task"),
+                )
+            })
+            .collect();
+        let assign_last = vec![None; image.assignments.len()];
+        let mut m = Machine {
+            snapshot: Vec::new(),
+            values,
+            kernel,
+            world,
+            tasks,
+            trace,
+            tick: 0,
+            rr: 0,
+            activity: Vec::new(),
+            assign_last,
+            instructions: 0,
+            error: None,
+            running_slots,
+            image,
+        };
+        m.kernel.start(&mut m.values);
+        m.snapshot = m.values[..slot_count].to_vec();
+        m
+    }
+
+    /// The value array (registry slots first).
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
+    /// The registry.
+    pub fn registry(&self) -> &Registry {
+        &self.image.registry
+    }
+
+    /// Current value of a member by name, e.g. `Queue.0.QueueOffset` (for tests and tools).
+    pub fn value_of(&self, name: &str) -> Option<f64> {
+        let n = crate::syntax::ast::Name::from_token(name, 0);
+        let r = self.image.registry.resolve(&n).ok()?;
+        self.values.get(r.slot as usize).copied()
+    }
+
+    /// Run until the duration, the end of all programs, or an error.
+    pub fn run(&mut self, duration_ns: Option<u64>) -> RunSummary {
+        let tick_ns = self.image.tick_ns;
+        let limit_ns = duration_ns.or(self.image.duration_ns);
+        let last_tick = limit_ns.map(|d| d / tick_ns);
+        let max_tick = DEFAULT_MAX_SECONDS * 1_000_000_000 / tick_ns;
+        self.trace.event(
+            0,
+            "start",
+            &[
+                ("machine", self.image.name.clone().into()),
+                ("update", crate::trace::number(tick_ns as f64 / 1e9)),
+                ("tasks", self.image.tasks.into()),
+            ],
+        );
+        let autostart = self.image.autostart.clone();
+        for p in autostart {
+            if let Err(message) = self.start_program(p) {
+                self.error = Some(RunError {
+                    task: 0,
+                    program: p,
+                    file: String::new(),
+                    line: 0,
+                    message,
+                    time: 0.0,
+                });
+            }
+        }
+        let stop_reason;
+        loop {
+            if self.error.is_none() {
+                self.step();
+            }
+            if let Some(e) = &self.error {
+                stop_reason = format!("error in Program.{}", e.program);
+                break;
+            }
+            if let Some(last) = last_tick {
+                if self.tick >= last {
+                    stop_reason = "duration reached".to_string();
+                    break;
+                }
+            } else {
+                let idle = self.tasks.iter().all(|t| !t.busy());
+                let world_done = self
+                    .world
+                    .last_edge_ns()
+                    .is_none_or(|t| t <= self.tick * tick_ns);
+                if idle && world_done {
+                    stop_reason = "all programs ended".to_string();
+                    break;
+                }
+                if self.tick >= max_tick {
+                    stop_reason = format!("stopped after {DEFAULT_MAX_SECONDS} s simulated (no duration set and programs still running)");
+                    self.trace.event(
+                        self.tick,
+                        "warning",
+                        &[
+                            ("task", serde_json::Value::Null),
+                            ("line", serde_json::Value::Null),
+                            ("message", stop_reason.clone().into()),
+                        ],
+                    );
+                    break;
+                }
+            }
+            self.tick += 1;
+        }
+        self.trace.event(
+            self.tick,
+            "end",
+            &[
+                ("reason", stop_reason.clone().into()),
+                ("instructions", self.instructions.into()),
+            ],
+        );
+        RunSummary {
+            ticks: self.tick + 1,
+            seconds: self.tick as f64 * tick_ns as f64 / 1e9,
+            instructions: self.instructions,
+            events: self
+                .trace
+                .counts
+                .iter()
+                .map(|(k, v)| (k.to_string(), *v))
+                .collect(),
+            error: self.error.clone(),
+            stop_reason,
+        }
+    }
+
+    /// Flush the trace.
+    pub fn finish(&mut self) -> std::io::Result<()> {
+        self.trace.finish()
+    }
+
+    /// Compute one update.
+    pub fn step(&mut self) {
+        let time_ns = self.tick * self.image.tick_ns;
+        let mut activity = std::mem::take(&mut self.activity);
+        self.world.advance(time_ns, &mut self.values, &mut activity);
+        self.activity = activity;
+        self.assignments();
+        if self.error.is_some() {
+            return;
+        }
+        {
+            let tick = self.tick;
+            let tick_ns = self.image.tick_ns;
+            let now = Now {
+                tick,
+                time_ns,
+                tick_ns,
+                trace: &mut self.trace,
+            };
+            self.kernel.update(&mut self.values, &now);
+        }
+        self.unblock();
+        if self.error.is_none() {
+            self.run_one_task();
+        }
+        if self.trace.enabled() {
+            trace_changes(
+                &self.image.registry,
+                &self.values,
+                &mut self.snapshot,
+                &mut self.trace,
+                self.tick,
+            );
+        }
+    }
+
+    fn assignments(&mut self) {
+        for i in 0..self.image.assignments.len() {
+            let a = self.image.assignments[i].clone();
+            let on = (self.values[a.source as usize] != 0.0) != a.active_off;
+            let last = self.assign_last[i];
+            self.assign_last[i] = Some(on);
+            let rise_ns = self
+                .activity
+                .iter()
+                .find(|x| x.slot == a.source)
+                .and_then(|x| x.first_rise_ns);
+            let result = match (a.dest.access, a.dest.hook) {
+                (Access::Action, _) => {
+                    if on && last == Some(false) || (on && last.is_none()) {
+                        self.control_or_act(a.dest.hook, a.dest.instance, a.dest.slot)
+                    } else {
+                        Ok(())
+                    }
+                }
+                (_, Hook::CaptureActivate) => {
+                    if last != Some(on) {
+                        let edge = if on && !a.active_off {
+                            rise_ns.unwrap_or(self.tick * self.image.tick_ns)
+                        } else {
+                            self.tick * self.image.tick_ns
+                        };
+                        let (tick, tick_ns) = (self.tick, self.image.tick_ns);
+                        let mut now = Now {
+                            tick,
+                            time_ns: tick * tick_ns,
+                            tick_ns,
+                            trace: &mut self.trace,
+                        };
+                        self.kernel.capture_edge(
+                            a.dest.instance,
+                            on,
+                            edge,
+                            &mut self.values,
+                            &mut now,
+                        );
+                    }
+                    Ok(())
+                }
+                _ => {
+                    if last != Some(on) {
+                        let (tick, tick_ns) = (self.tick, self.image.tick_ns);
+                        let mut now = Now {
+                            tick,
+                            time_ns: tick * tick_ns,
+                            tick_ns,
+                            trace: &mut self.trace,
+                        };
+                        self.kernel.write(
+                            a.dest.hook,
+                            a.dest.instance,
+                            a.dest.slot,
+                            f64::from(on),
+                            &mut self.values,
+                            &mut now,
+                        )
+                    } else {
+                        Ok(())
+                    }
+                }
+            };
+            if let Err(message) = result {
+                self.fail_assignment(&a, message);
+                return;
+            }
+        }
+    }
+
+    fn fail_assignment(&mut self, a: &Assignment, message: String) {
+        let time = self.trace.seconds(self.tick);
+        let message = format!("assignment to {}: {message}", a.dest.name);
+        self.trace.event(
+            self.tick,
+            "error",
+            &[
+                ("task", serde_json::Value::Null),
+                ("line", serde_json::Value::Null),
+                ("message", message.clone().into()),
+            ],
+        );
+        self.error = Some(RunError {
+            task: 0,
+            program: 0,
+            file: "machine.toml".into(),
+            line: 0,
+            message,
+            time,
+        });
+    }
+
+    fn control_or_act(&mut self, hook: Hook, instance: u32, _slot: SlotId) -> Result<(), String> {
+        match hook {
+            Hook::ProgramInitiate => self.start_program(instance),
+            Hook::ProgramStop => {
+                self.stop_program(instance);
+                Ok(())
+            }
+            Hook::StopAll => {
+                self.stop_all();
+                Ok(())
+            }
+            _ => {
+                let (tick, tick_ns) = (self.tick, self.image.tick_ns);
+                let mut now = Now {
+                    tick,
+                    time_ns: tick * tick_ns,
+                    tick_ns,
+                    trace: &mut self.trace,
+                };
+                self.kernel
+                    .act(hook, instance, &mut self.values, &mut now)
+                    .map(|_| ())
+            }
+        }
+    }
+
+    /// Start a program on a free task (no effect, with a warning, when it already runs).
+    fn start_program(&mut self, program: u32) -> Result<(), String> {
+        let Some(&chunk) = self.image.programs.get(&program) else {
+            return Err(format!("Program.{program} is not loaded"));
+        };
+        if self.tasks.iter().any(|t| {
+            t.busy()
+                && t.frames
+                    .iter()
+                    .any(|f| self.image.chunks[f.chunk].program == program)
+        }) {
+            self.trace.event(
+                self.tick,
+                "warning",
+                &[
+                    ("task", serde_json::Value::Null),
+                    ("line", serde_json::Value::Null),
+                    (
+                        "message",
+                        format!("Program.{program}.Initiate: the program is already running")
+                            .into(),
+                    ),
+                ],
+            );
+            return Ok(());
+        }
+        let Some(ti) = self.tasks.iter().position(|t| !t.busy()) else {
+            return Err(format!(
+                "Program.{program}.Initiate: all {} tasks are busy",
+                self.tasks.len()
+            ));
+        };
+        self.tasks[ti] = Task {
+            state: TaskState::Ready,
+            frames: vec![Frame { chunk, pc: 0 }],
+            program,
+        };
+        self.set_running(program, Some(ti));
+        self.trace.event(
+            self.tick,
+            "program",
+            &[
+                ("program", program.into()),
+                ("task", ti.into()),
+                ("event", "start".into()),
+            ],
+        );
+        Ok(())
+    }
+
+    fn set_running(&mut self, program: u32, task: Option<usize>) {
+        if let Some(&(running, task_slot)) = self.running_slots.get(program as usize) {
+            self.values[running as usize] = f64::from(task.is_some());
+            self.values[task_slot as usize] = task.map_or(-1.0, |t| t as f64);
+        }
+    }
+
+    fn end_task(&mut self, ti: usize, event: &'static str) {
+        let program = self.tasks[ti].program;
+        self.tasks[ti] = Task::free();
+        self.set_running(program, None);
+        self.trace.event(
+            self.tick,
+            "program",
+            &[
+                ("program", program.into()),
+                ("task", ti.into()),
+                ("event", event.into()),
+            ],
+        );
+    }
+
+    fn stop_program(&mut self, program: u32) {
+        let found: Vec<usize> = (0..self.tasks.len())
+            .filter(|&i| {
+                self.tasks[i].busy()
+                    && self.tasks[i]
+                        .frames
+                        .iter()
+                        .any(|f| self.image.chunks[f.chunk].program == program)
+            })
+            .collect();
+        for ti in found {
+            self.end_task(ti, "stop");
+        }
+    }
+
+    fn stop_all(&mut self) {
+        for ti in 0..self.tasks.len() {
+            if self.tasks[ti].busy() {
+                self.end_task(ti, "stop");
+            }
+        }
+    }
+
+    /// Re-examine blocked tasks: timed waits, motion waits, and `Wait For` conditions.
+    fn unblock(&mut self) {
+        for ti in 0..self.tasks.len() {
+            match self.tasks[ti].state {
+                TaskState::Sleeping { until } if self.tick >= until => {
+                    self.tasks[ti].state = TaskState::Ready
+                }
+                TaskState::MotionWait { profile }
+                    if !self.kernel.profile_busy(profile as usize) =>
+                {
+                    self.tasks[ti].state = TaskState::Ready
+                }
+                TaskState::Waiting { retry, resume } => {
+                    let Some(frame) = self.tasks[ti].frames.last().copied() else {
+                        continue;
+                    };
+                    match self.exec(ti, frame.chunk, retry, true, u64::MAX) {
+                        Exit::Probed { value: true, .. } => {
+                            self.tasks[ti].state = TaskState::Ready;
+                            if let Some(f) = self.tasks[ti].frames.last_mut() {
+                                f.pc = resume;
+                            }
+                        }
+                        Exit::Probed { value: false, .. } => {}
+                        Exit::Fault { message, pc } => {
+                            self.fault(ti, frame.chunk, pc, message);
+                            return;
+                        }
+                        other => {
+                            self.fault(
+                                ti,
+                                frame.chunk,
+                                retry,
+                                format!("internal: a Wait For condition ended with {other:?}"),
+                            );
+                            return;
+                        }
+                    }
+                }
+                _ => {}
+            }
+        }
+    }
+
+    fn exec(&mut self, _ti: usize, chunk: usize, pc: u32, probe: bool, budget: u64) -> Exit {
+        let slot_count = self.image.registry.slot_count() as u32;
+        let (tick, tick_ns) = (self.tick, self.image.tick_ns);
+        let mut ctx = Ctx {
+            kernel: &mut self.kernel,
+            registry: &self.image.registry,
+            snapshot: &mut self.snapshot,
+            now: Now {
+                tick,
+                time_ns: tick * tick_ns,
+                tick_ns,
+                trace: &mut self.trace,
+            },
+            slot_count,
+        };
+        let mut executed = self.instructions;
+        let exit = exec::run(
+            &self.image.chunks[chunk],
+            pc,
+            &mut self.values,
+            &mut ctx,
+            budget,
+            &mut executed,
+            probe,
+        );
+        self.instructions = executed;
+        exit
+    }
+
+    fn fault(&mut self, ti: usize, chunk: usize, pc: u32, message: String) {
+        let c = &self.image.chunks[chunk];
+        let line = c.lines.get(pc as usize).copied().unwrap_or(0);
+        let program = c.program;
+        let file = c.file.clone();
+        let time = self.trace.seconds(self.tick);
+        self.trace.event(
+            self.tick,
+            "error",
+            &[
+                ("task", ti.into()),
+                ("program", program.into()),
+                ("line", line.into()),
+                ("message", message.clone().into()),
+            ],
+        );
+        self.error = Some(RunError {
+            task: ti,
+            program,
+            file,
+            line,
+            message,
+            time,
+        });
+        self.end_task(ti, "error");
+    }
+
+    /// Pick the next ready task after the last one run, and run it for this update.
+    fn run_one_task(&mut self) {
+        let n = self.tasks.len();
+        let Some(ti) = (0..n)
+            .map(|k| (self.rr + k) % n)
+            .find(|&i| self.tasks[i].state == TaskState::Ready)
+        else {
+            return;
+        };
+        self.rr = (ti + 1) % n;
+        let budget_end = self.instructions.saturating_add(self.image.budget);
+        loop {
+            let Some(frame) = self.tasks[ti].frames.last().copied() else {
+                self.end_task(ti, "end");
+                return;
+            };
+            let exit = self.exec(ti, frame.chunk, frame.pc, false, budget_end);
+            let set_pc = |m: &mut Machine, pc: u32| {
+                if let Some(f) = m.tasks[ti].frames.last_mut() {
+                    f.pc = pc;
+                }
+            };
+            match exit {
+                Exit::Yield(pc) => {
+                    set_pc(self, pc);
+                    return;
+                }
+                Exit::Wait { retry, resume } => {
+                    set_pc(self, retry);
+                    self.tasks[ti].state = TaskState::Waiting { retry, resume };
+                    return;
+                }
+                Exit::Sleep { ticks, pc } => {
+                    set_pc(self, pc);
+                    self.tasks[ti].state = TaskState::Sleeping {
+                        until: self.tick + ticks,
+                    };
+                    return;
+                }
+                Exit::MotionBusy { profile, pc } => {
+                    set_pc(self, pc);
+                    self.tasks[ti].state = TaskState::MotionWait { profile };
+                    return;
+                }
+                Exit::End => {
+                    self.tasks[ti].frames.pop();
+                    if self.tasks[ti].frames.is_empty() {
+                        self.end_task(ti, "end");
+                        return;
+                    }
+                }
+                Exit::Call { program, pc } => {
+                    set_pc(self, pc);
+                    let Some(&chunk) = self.image.programs.get(&program) else {
+                        self.fault(
+                            ti,
+                            frame.chunk,
+                            pc.saturating_sub(1),
+                            format!("Program.{program} is not loaded"),
+                        );
+                        return;
+                    };
+                    let running_elsewhere = self
+                        .tasks
+                        .iter()
+                        .any(|t| t.busy() && t.frames.iter().any(|f| f.chunk == chunk));
+                    if running_elsewhere {
+                        self.fault(
+                            ti,
+                            frame.chunk,
+                            pc.saturating_sub(1),
+                            format!("Call Program.{program}: the program is already running"),
+                        );
+                        return;
+                    }
+                    if self.tasks[ti].frames.len() >= MAX_CALL_DEPTH {
+                        self.fault(
+                            ti,
+                            frame.chunk,
+                            pc.saturating_sub(1),
+                            format!("calls nested deeper than {MAX_CALL_DEPTH}"),
+                        );
+                        return;
+                    }
+                    self.tasks[ti].frames.push(Frame { chunk, pc: 0 });
+                    if self.instructions >= budget_end {
+                        return;
+                    }
+                }
+                Exit::Control { hook, instance, pc } => {
+                    set_pc(self, pc);
+                    let r = self.control_or_act(hook, instance, 0);
+                    if let Err(message) = r {
+                        self.fault(ti, frame.chunk, pc.saturating_sub(1), message);
+                        return;
+                    }
+                    if !self.tasks[ti].busy() {
+                        return;
+                    }
+                }
+                Exit::Fault { message, pc } => {
+                    self.fault(ti, frame.chunk, pc, message);
+                    return;
+                }
+                Exit::Probed { .. } => return,
+            }
+        }
+    }
+}
