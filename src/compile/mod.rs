@@ -12,6 +12,9 @@ use bytecode::{BinaryOp, Cmp, Op, Reg, StartRef};
 use indexmap::IndexMap;
 use std::collections::BTreeMap;
 
+/// `cond_jump`'s answer for a condition that is always ON.
+const NO_JUMP: usize = usize::MAX;
+
 /// Most temporaries one expression may need (lines are limited to fewer tokens than this).
 pub const MAX_TEMPS: u32 = 1024;
 
@@ -185,7 +188,8 @@ impl Compiler<'_> {
     }
 
     fn patch(&mut self, at: usize, target: u32) {
-        match &mut self.ops[at] {
+        let Some(op) = self.ops.get_mut(at) else { return };
+        match op {
             Op::Jump { target: t }
             | Op::JumpIfFalse { target: t, .. }
             | Op::JumpUnless { target: t, .. }
@@ -444,9 +448,11 @@ impl Compiler<'_> {
         self.emit(op);
     }
 
-    /// Emit a jump taken when `cond` is false; returns the jump to patch.
+    /// Emit a jump taken when `cond` is false; returns the jump to patch
+    /// (`NO_JUMP` when the condition is the constant ON and no jump is needed).
     fn cond_jump(&mut self, cond: &Expr) -> usize {
         match &cond.kind {
+            ExprKind::Bool(true) => NO_JUMP,
             ExprKind::Paren(inner) => self.cond_jump(inner),
             ExprKind::Binary(op, a, b) if cmp_of(*op).is_some() => {
                 let cmp = cmp_of(*op).unwrap_or(Cmp::Eq);

@@ -155,7 +155,7 @@ fn pretty_expected(e: &str) -> String {
         "\\n" => "end of line".into(),
         "num" => "a number".into(),
         "name" => "a name".into(),
-        "true" => "ON".into(),
+        "true" | "on" => "ON".into(),
         "false" => "OFF".into(),
         "bad" => "?".into(),
         other if other.chars().all(|c| c.is_ascii_alphabetic()) => {

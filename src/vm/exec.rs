@@ -124,7 +124,9 @@ pub fn run(
                 } else {
                     scaled.round()
                 };
-                if !(r.abs() <= f64::from(i32::MAX)) {
+                // NaN fails this test too.
+                let fits = r.abs() <= f64::from(i32::MAX);
+                if !fits {
                     pc = here;
                     let limit = f64::from(i32::MAX) / POW10[decimals as usize];
                     let name = name_of(ctx, dst);

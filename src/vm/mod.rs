@@ -360,7 +360,7 @@ impl Machine {
                 .and_then(|x| x.first_rise_ns);
             let result = match (a.dest.access, a.dest.hook) {
                 (Access::Action, _) => {
-                    if on && last == Some(false) || (on && last.is_none()) {
+                    if on && last != Some(true) {
                         self.control_or_act(a.dest.hook, a.dest.instance, a.dest.slot)
                     } else {
                         Ok(())

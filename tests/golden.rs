@@ -1,0 +1,89 @@
+//! Golden traces: every machine folder under `programs/` runs with its own scenario, and its
+//! JSON-lines trace must equal `tests/golden/<folder>.jsonl` byte for byte.
+//! Bless (rewrite) them deliberately with `PACER_BLESS=1 cargo test --test golden`.
+
+use pacer::load::{load, LoadRequest};
+use pacer::trace::Trace;
+use pacer::vm::Machine;
+use std::path::{Path, PathBuf};
+use std::sync::{Arc, Mutex};
+
+/// A trace sink the test can read back.
+#[derive(Clone, Default)]
+struct Shared(Arc<Mutex<Vec<u8>>>);
+
+impl std::io::Write for Shared {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0.lock().map_err(|_| std::io::Error::other("poisoned"))?.extend_from_slice(buf);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+fn run_folder(folder: &Path) -> String {
+    let loaded = match load(&LoadRequest { paths: vec![folder.to_path_buf()], ..Default::default() }) {
+        Ok(l) => l,
+        Err(d) => panic!("{} does not load:\n{}", folder.display(), d.render_plain()),
+    };
+    let sink = Shared::default();
+    let tick = loaded.image.tick_ns;
+    let mut m = Machine::new(loaded.image, Trace::new(Some(Box::new(sink.clone())), tick));
+    let summary = m.run(None);
+    m.finish().expect("in-memory trace");
+    assert!(summary.error.is_none(), "{}: {:?}", folder.display(), summary.error);
+    let bytes = sink.0.lock().expect("trace buffer").clone();
+    String::from_utf8(bytes).expect("the trace is UTF-8")
+}
+
+fn program_folders() -> Vec<PathBuf> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("programs");
+    let mut folders: Vec<PathBuf> = std::fs::read_dir(&root)
+        .expect("programs/ exists")
+        .filter_map(Result::ok)
+        .map(|e| e.path())
+        .filter(|p| p.is_dir())
+        .collect();
+    folders.sort();
+    folders
+}
+
+#[test]
+fn every_program_folder_matches_its_golden_trace() {
+    let bless = std::env::var_os("PACER_BLESS").is_some();
+    let folders = program_folders();
+    assert!(!folders.is_empty(), "programs/ holds no machine folders");
+    let mut failures = Vec::new();
+    for folder in folders {
+        let name = folder.file_name().expect("folder name").to_string_lossy().into_owned();
+        let golden = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden").join(format!("{name}.jsonl"));
+        let trace = run_folder(&folder);
+        if bless {
+            std::fs::write(&golden, &trace).expect("write golden");
+            continue;
+        }
+        let expected = std::fs::read_to_string(&golden).unwrap_or_else(|_| panic!("no golden trace {} (bless with PACER_BLESS=1)", golden.display()));
+        if expected != trace {
+            let first = expected.lines().zip(trace.lines()).position(|(a, b)| a != b).unwrap_or(expected.lines().count().min(trace.lines().count()));
+            failures.push(format!(
+                "{name}: trace differs from {} at line {}:\n  golden: {}\n  now:    {}",
+                golden.display(),
+                first + 1,
+                expected.lines().nth(first).unwrap_or("<end>"),
+                trace.lines().nth(first).unwrap_or("<end>")
+            ));
+        }
+    }
+    assert!(failures.is_empty(), "{}\n(if the change is intended: PACER_BLESS=1 cargo test --test golden, then review the diff)", failures.join("\n"));
+}
+
+#[test]
+fn the_same_run_twice_gives_byte_identical_traces() {
+    for folder in program_folders() {
+        let a = run_folder(&folder);
+        let b = run_folder(&folder);
+        assert!(!a.is_empty());
+        assert!(a == b, "{}: two runs differ", folder.display());
+    }
+}
