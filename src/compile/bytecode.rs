@@ -10,6 +10,9 @@ use crate::registry::Hook;
 /// An index into the value array.
 pub type Reg = u32;
 
+/// `ForNext.decimals` for a loop variable kept as a real.
+pub const REAL_STORE: u8 = u8::MAX;
+
 /// Comparison operators, for fused compare-and-branch.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[allow(missing_docs)]
@@ -91,6 +94,19 @@ pub enum Op {
     Sub { dst: Reg, a: Reg, b: Reg },
     /// `dst = a * b`.
     Mul { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a / b` (fails on division by zero).
+    Div { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a MOD b` (fails on zero).
+    Mod { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a op b` stored straight into a fixed-point slot (an arithmetic op fused with
+    /// the `StoreFixed` that followed it).
+    ArithFixed {
+        op: BinaryOp,
+        dst: Reg,
+        a: Reg,
+        b: Reg,
+        decimals: u8,
+    },
     /// Any other binary operator (division checks for zero).
     Binary {
         op: BinaryOp,
@@ -140,6 +156,15 @@ pub enum Op {
     Loop { target: u32 },
     /// Go to `target` when `cond` is OFF.
     JumpIfFalse { cond: Reg, target: u32 },
+    /// Go to `target` when `cond` is ON.
+    JumpIfTrue { cond: Reg, target: u32 },
+    /// Go to `target` when `a cmp b`.
+    JumpWhen {
+        cmp: Cmp,
+        a: Reg,
+        b: Reg,
+        target: u32,
+    },
     /// Go to `target` unless `a cmp b`.
     JumpUnless {
         cmp: Cmp,
@@ -159,6 +184,15 @@ pub enum Op {
         limit: Reg,
         step: Reg,
         exit: u32,
+    },
+    /// The end of a `For` body: `var += step` (stored as `decimals`, or as a real when
+    /// [`REAL_STORE`]), then back to `body` unless past `limit`; the task may yield there.
+    ForNext {
+        var: Reg,
+        limit: Reg,
+        step: Reg,
+        body: u32,
+        decimals: u8,
     },
     /// Run another program on this task, then come back.
     CallProgram { program: u32 },

@@ -30,21 +30,25 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::Add { dst, a, b } => format!("add       {} <- {} + {}", r(dst), r(a), r(b)),
             Op::Sub { dst, a, b } => format!("sub       {} <- {} - {}", r(dst), r(a), r(b)),
             Op::Mul { dst, a, b } => format!("mul       {} <- {} * {}", r(dst), r(a), r(b)),
+            Op::Div { dst, a, b } => format!("div       {} <- {} / {}", r(dst), r(a), r(b)),
+            Op::Mod { dst, a, b } => format!("mod       {} <- {} MOD {}", r(dst), r(a), r(b)),
+            Op::ArithFixed {
+                op,
+                dst,
+                a,
+                b,
+                decimals,
+            } => {
+                let (name, sym) = op_names(op);
+                format!(
+                    "{name}.f{decimals:<3} {} <- {} {sym} {}",
+                    r(dst),
+                    r(a),
+                    r(b)
+                )
+            }
             Op::Binary { op, dst, a, b } => {
-                let (name, sym) = match op {
-                    BinaryOp::Add => ("add", "+"),
-                    BinaryOp::Sub => ("sub", "-"),
-                    BinaryOp::Mul => ("mul", "*"),
-                    BinaryOp::Div => ("div", "/"),
-                    BinaryOp::Mod => ("mod", "MOD"),
-                    BinaryOp::Pow => ("pow", "^"),
-                    BinaryOp::And => ("and", "AND"),
-                    BinaryOp::Or => ("or", "OR"),
-                    BinaryOp::Xor => ("xor", "XOR"),
-                    BinaryOp::BitAnd => ("band", "AND"),
-                    BinaryOp::BitOr => ("bor", "OR"),
-                    BinaryOp::BitXor => ("bxor", "XOR"),
-                };
+                let (name, sym) = op_names(op);
                 format!("{name:<9} {} <- {} {sym} {}", r(dst), r(a), r(b))
             }
             Op::Compare { cmp, dst, a, b } => {
@@ -98,6 +102,22 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::Jump { target } => format!("jump      @{target}"),
             Op::Loop { target } => format!("loop      @{target}"),
             Op::JumpIfFalse { cond, target } => format!("jump.f    {} @{target}", r(cond)),
+            Op::JumpIfTrue { cond, target } => format!("jump.t    {} @{target}", r(cond)),
+            Op::JumpWhen { cmp, a, b, target } => {
+                format!("jump.if   {} {} {} @{target}", r(a), cmp.symbol(), r(b))
+            }
+            Op::ForNext {
+                var,
+                limit,
+                step,
+                body,
+                ..
+            } => format!(
+                "for.next  {} += {} to {} body @{body}",
+                r(var),
+                r(step),
+                r(limit)
+            ),
             Op::JumpUnless { cmp, a, b, target } => {
                 format!("jump.not  {} {} {} @{target}", r(a), cmp.symbol(), r(b))
             }
@@ -125,4 +145,21 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
         let _ = writeln!(out, "{line_col} @{pc:<4} {text}");
     }
     out
+}
+
+fn op_names(op: BinaryOp) -> (&'static str, &'static str) {
+    match op {
+        BinaryOp::Add => ("add", "+"),
+        BinaryOp::Sub => ("sub", "-"),
+        BinaryOp::Mul => ("mul", "*"),
+        BinaryOp::Div => ("div", "/"),
+        BinaryOp::Mod => ("mod", "MOD"),
+        BinaryOp::Pow => ("pow", "^"),
+        BinaryOp::And => ("and", "AND"),
+        BinaryOp::Or => ("or", "OR"),
+        BinaryOp::Xor => ("xor", "XOR"),
+        BinaryOp::BitAnd => ("band", "AND"),
+        BinaryOp::BitOr => ("bor", "OR"),
+        BinaryOp::BitXor => ("bxor", "XOR"),
+    }
 }

@@ -8,12 +8,9 @@ use crate::diag::Problem;
 use crate::registry::{Access, Hook, Kind, Registry, ValueType};
 use crate::syntax::ast::{BinOp, Expr, ExprKind, Name, ProgramAst, Stmt, StmtKind, UnOp, Using};
 use crate::syntax::span::{line_col, Span};
-use bytecode::{BinaryOp, Cmp, Op, Reg, StartRef};
+use bytecode::{BinaryOp, Cmp, Op, Reg, StartRef, REAL_STORE};
 use indexmap::IndexMap;
 use std::collections::BTreeMap;
-
-/// `cond_jump`'s answer for a condition that is always ON.
-const NO_JUMP: usize = usize::MAX;
 
 /// Most temporaries one expression may need (lines are limited to fewer tokens than this).
 pub const MAX_TEMPS: u32 = 1024;
@@ -128,6 +125,7 @@ pub fn compile(
         lines: Vec::new(),
         line: 1,
         temp_top: 0,
+        stmt_start: 0,
         labels: IndexMap::new(),
         gotos: Vec::new(),
         problems: Vec::new(),
@@ -171,6 +169,7 @@ struct Compiler<'a> {
     lines: Vec<u32>,
     line: u32,
     temp_top: u32,
+    stmt_start: usize,
     labels: IndexMap<String, u32>,
     gotos: Vec<(usize, String, Span)>,
     problems: Vec<Problem>,
@@ -188,11 +187,15 @@ impl Compiler<'_> {
     }
 
     fn patch(&mut self, at: usize, target: u32) {
-        let Some(op) = self.ops.get_mut(at) else { return };
+        let Some(op) = self.ops.get_mut(at) else {
+            return;
+        };
         match op {
             Op::Jump { target: t }
             | Op::JumpIfFalse { target: t, .. }
+            | Op::JumpIfTrue { target: t, .. }
             | Op::JumpUnless { target: t, .. }
+            | Op::JumpWhen { target: t, .. }
             | Op::ForCheck { exit: t, .. } => *t = target,
             _ => {}
         }
@@ -217,6 +220,7 @@ impl Compiler<'_> {
         for s in body {
             self.line = line_col(self.src, s.span.start).0 as u32;
             self.temp_top = 0;
+            self.stmt_start = self.ops.len();
             self.stmt(s);
         }
     }
@@ -260,7 +264,7 @@ impl Compiler<'_> {
                                 profile: 0,
                             });
                             let end = self.here();
-                            self.patch(skip, end);
+                            self.patch_all(skip, end);
                         }
                     }
                     return;
@@ -333,12 +337,12 @@ impl Compiler<'_> {
                 match else_body {
                     None => {
                         let end = self.here();
-                        self.patch(to_else, end);
+                        self.patch_all(to_else, end);
                     }
                     Some(else_body) => {
                         let to_end = self.emit(Op::Jump { target: 0 });
                         let else_start = self.here();
-                        self.patch(to_else, else_start);
+                        self.patch_all(to_else, else_start);
                         self.block(else_body);
                         let end = self.here();
                         self.patch(to_end, end);
@@ -352,7 +356,7 @@ impl Compiler<'_> {
                 self.line = line_col(self.src, s.span.start).0 as u32;
                 self.emit(Op::Loop { target: top });
                 let end = self.here();
-                self.patch(exit, end);
+                self.patch_all(exit, end);
             }
             StmtKind::For {
                 var,
@@ -389,14 +393,18 @@ impl Compiler<'_> {
                 self.block(body);
                 self.line = line_col(self.src, s.span.start).0 as u32;
                 self.temp_top = 0;
-                let t = self.temp(s.span);
-                self.emit(Op::Add {
-                    dst: t,
-                    a: r.slot,
-                    b: step_reg,
+                let decimals = match r.ty {
+                    ValueType::Fixed(d) => d,
+                    ValueType::Integer => 0,
+                    _ => REAL_STORE,
+                };
+                self.emit(Op::ForNext {
+                    var: r.slot,
+                    limit,
+                    step: step_reg,
+                    body: top + 1,
+                    decimals,
                 });
-                self.store(&r, t);
-                self.emit(Op::Loop { target: top });
                 let end = self.here();
                 self.patch(check, end);
             }
@@ -422,6 +430,32 @@ impl Compiler<'_> {
     }
 
     fn store(&mut self, r: &crate::registry::Resolved, src: Reg) {
+        if let (Hook::Store, ValueType::Fixed(_) | ValueType::Integer) = (r.hook, r.ty) {
+            let decimals = if let ValueType::Fixed(d) = r.ty { d } else { 0 };
+            // The value was just computed into a temporary by this statement: compute it
+            // straight into the variable instead.
+            if self.ops.len() > self.stmt_start {
+                let fused = match self.ops.last() {
+                    Some(&Op::Add { dst, a, b }) if dst == src => Some((BinaryOp::Add, a, b)),
+                    Some(&Op::Sub { dst, a, b }) if dst == src => Some((BinaryOp::Sub, a, b)),
+                    Some(&Op::Mul { dst, a, b }) if dst == src => Some((BinaryOp::Mul, a, b)),
+                    Some(&Op::Div { dst, a, b }) if dst == src => Some((BinaryOp::Div, a, b)),
+                    Some(&Op::Mod { dst, a, b }) if dst == src => Some((BinaryOp::Mod, a, b)),
+                    Some(&Op::Binary { op, dst, a, b }) if dst == src => Some((op, a, b)),
+                    _ => None,
+                };
+                if let (Some((op, a, b)), Some(last)) = (fused, self.ops.last_mut()) {
+                    *last = Op::ArithFixed {
+                        op,
+                        dst: r.slot,
+                        a,
+                        b,
+                        decimals,
+                    };
+                    return;
+                }
+            }
+        }
         if r.hook != Hook::Store {
             self.emit(Op::Write {
                 hook: r.hook,
@@ -448,27 +482,84 @@ impl Compiler<'_> {
         self.emit(op);
     }
 
-    /// Emit a jump taken when `cond` is false; returns the jump to patch
-    /// (`NO_JUMP` when the condition is the constant ON and no jump is needed).
-    fn cond_jump(&mut self, cond: &Expr) -> usize {
+    /// Emit the jumps taken when `cond` is OFF; returns them, to be patched to the target.
+    /// ON/OFF `AND`/`OR` short-circuit when the skipped side cannot fail (no division or MOD by
+    /// a variable), which gives the same result as evaluating both sides.
+    fn cond_jump(&mut self, cond: &Expr) -> Vec<usize> {
+        self.jumps(cond, false)
+    }
+
+    /// Jumps taken when `cond` equals `when`.
+    fn jumps(&mut self, cond: &Expr, when: bool) -> Vec<usize> {
         match &cond.kind {
-            ExprKind::Bool(true) => NO_JUMP,
-            ExprKind::Paren(inner) => self.cond_jump(inner),
+            ExprKind::Bool(b) => {
+                if *b == when {
+                    vec![self.emit(Op::Jump { target: 0 })]
+                } else {
+                    Vec::new()
+                }
+            }
+            ExprKind::Paren(inner) => self.jumps(inner, when),
+            ExprKind::Unary(UnOp::Not, inner) if self.ty(inner) == Ty::Bool => {
+                self.jumps(inner, !when)
+            }
+            ExprKind::Binary(op @ (BinOp::And | BinOp::Or), a, b)
+                if self.ty(a) == Ty::Bool && fault_free(b) =>
+            {
+                // AND jumps on OFF as soon as one side is OFF; OR jumps on ON as soon as one is ON.
+                let short = (*op == BinOp::Or) == when;
+                if short {
+                    let mut j = self.jumps(a, when);
+                    j.extend(self.jumps(b, when));
+                    j
+                } else {
+                    let decided = self.jumps(a, !when);
+                    let j = self.jumps(b, when);
+                    let here = self.here();
+                    self.patch_all(decided, here);
+                    j
+                }
+            }
             ExprKind::Binary(op, a, b) if cmp_of(*op).is_some() => {
                 let cmp = cmp_of(*op).unwrap_or(Cmp::Eq);
+                let mark = self.temp_top;
                 let ra = self.expr(a);
                 let rb = self.expr(b);
-                self.emit(Op::JumpUnless {
-                    cmp,
-                    a: ra,
-                    b: rb,
-                    target: 0,
-                })
+                self.temp_top = mark;
+                let op = if when {
+                    Op::JumpWhen {
+                        cmp,
+                        a: ra,
+                        b: rb,
+                        target: 0,
+                    }
+                } else {
+                    Op::JumpUnless {
+                        cmp,
+                        a: ra,
+                        b: rb,
+                        target: 0,
+                    }
+                };
+                vec![self.emit(op)]
             }
             _ => {
+                let mark = self.temp_top;
                 let r = self.expr(cond);
-                self.emit(Op::JumpIfFalse { cond: r, target: 0 })
+                self.temp_top = mark;
+                let op = if when {
+                    Op::JumpIfTrue { cond: r, target: 0 }
+                } else {
+                    Op::JumpIfFalse { cond: r, target: 0 }
+                };
+                vec![self.emit(op)]
             }
+        }
+    }
+
+    fn patch_all(&mut self, jumps: Vec<usize>, target: u32) {
+        for j in jumps {
+            self.patch(j, target);
         }
     }
 
@@ -506,18 +597,8 @@ impl Compiler<'_> {
                     BinOp::Add => Op::Add { dst, a, b },
                     BinOp::Sub => Op::Sub { dst, a, b },
                     BinOp::Mul => Op::Mul { dst, a, b },
-                    BinOp::Div => Op::Binary {
-                        op: BinaryOp::Div,
-                        dst,
-                        a,
-                        b,
-                    },
-                    BinOp::Mod => Op::Binary {
-                        op: BinaryOp::Mod,
-                        dst,
-                        a,
-                        b,
-                    },
+                    BinOp::Div => Op::Div { dst, a, b },
+                    BinOp::Mod => Op::Mod { dst, a, b },
                     BinOp::Pow => Op::Binary {
                         op: BinaryOp::Pow,
                         dst,
@@ -577,6 +658,19 @@ impl Compiler<'_> {
                 dst
             }
         }
+    }
+}
+
+/// True when evaluating `e` can never fail at run time (division and MOD by a variable can).
+fn fault_free(e: &Expr) -> bool {
+    match &e.kind {
+        ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Name(_) => true,
+        ExprKind::Paren(x) | ExprKind::Unary(_, x) => fault_free(x),
+        ExprKind::Binary(BinOp::Div | BinOp::Mod, a, b) => {
+            fault_free(a) && matches!(b.kind, ExprKind::Number(v) if v != 0.0)
+        }
+        ExprKind::Binary(_, a, b) => fault_free(a) && fault_free(b),
+        ExprKind::Call(_, args) => args.iter().all(fault_free),
     }
 }
 

@@ -259,11 +259,40 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>) -> Vec
             .with_help(format!("add `{close}` where the block ends")),
         );
         let stmt = match frame {
-            Frame::If { cond, span, then_body, else_body } => {
-                Stmt { kind: StmtKind::If { cond, then_body, else_body: else_body.map(|(_, b)| b) }, span }
-            }
-            Frame::Do { cond, span, body } => Stmt { kind: StmtKind::DoWhile { cond, body }, span },
-            Frame::For { var, from, to, step, span, body } => Stmt { kind: StmtKind::For { var, from, to, step, body }, span },
+            Frame::If {
+                cond,
+                span,
+                then_body,
+                else_body,
+            } => Stmt {
+                kind: StmtKind::If {
+                    cond,
+                    then_body,
+                    else_body: else_body.map(|(_, b)| b),
+                },
+                span,
+            },
+            Frame::Do { cond, span, body } => Stmt {
+                kind: StmtKind::DoWhile { cond, body },
+                span,
+            },
+            Frame::For {
+                var,
+                from,
+                to,
+                step,
+                span,
+                body,
+            } => Stmt {
+                kind: StmtKind::For {
+                    var,
+                    from,
+                    to,
+                    step,
+                    body,
+                },
+                span,
+            },
         };
         push(&mut stack, &mut top, stmt);
     }
