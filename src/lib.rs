@@ -5,6 +5,7 @@ pub mod check;
 pub mod compile;
 pub mod config;
 pub mod diag;
+pub mod fixed;
 pub mod kernel;
 pub mod load;
 pub mod registry;

@@ -4,11 +4,19 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
 fn pacer(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pacer")).args(args).current_dir(env!("CARGO_MANIFEST_DIR")).output().expect("pacer runs")
+    Command::new(env!("CARGO_BIN_EXE_pacer"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("pacer runs")
 }
 
 fn text(o: &Output) -> String {
-    format!("{}{}", String::from_utf8_lossy(&o.stdout), String::from_utf8_lossy(&o.stderr))
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
 }
 
 fn scratch(name: &str) -> PathBuf {
@@ -20,7 +28,12 @@ fn scratch(name: &str) -> PathBuf {
 
 #[test]
 fn every_labeling_program_of_the_spec_checks_unchanged() {
-    let o = pacer(&["check", "tests/fixtures/labeling/program0.pt", "tests/fixtures/labeling/program1.pt", "tests/fixtures/labeling/program2.pt"]);
+    let o = pacer(&[
+        "check",
+        "tests/fixtures/labeling/program0.pt",
+        "tests/fixtures/labeling/program1.pt",
+        "tests/fixtures/labeling/program2.pt",
+    ]);
     assert!(o.status.success(), "{}", text(&o));
     assert!(text(&o).contains("3 program(s) checked"));
 }
@@ -31,12 +44,20 @@ fn the_labeling_fixtures_are_the_spec_listings_verbatim() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../shared/spec/labeling.md");
     let spec = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     for n in 0..3 {
-        let fixture = std::fs::read_to_string(Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("tests/fixtures/labeling/program{n}.pt"))).expect("fixture");
+        let fixture = std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join(format!("tests/fixtures/labeling/program{n}.pt")),
+        )
+        .expect("fixture");
         let heading = format!("## Program {n}");
         let after = &spec[spec.find(&heading).expect("heading")..];
         let start = after.find("```\n").expect("listing") + 4;
         let end = after[start..].find("```").expect("end of listing") + start;
-        assert_eq!(&after[start..end], fixture, "program{n}.pt differs from the spec listing");
+        assert_eq!(
+            &after[start..end],
+            fixture,
+            "program{n}.pt differs from the spec listing"
+        );
     }
 }
 
@@ -44,7 +65,11 @@ fn the_labeling_fixtures_are_the_spec_listings_verbatim() {
 fn check_reports_every_error_with_file_line_and_column() {
     let d = scratch("errors");
     let f = d.join("bad.pt");
-    std::fs::write(&f, "Queue.0.QueueEmpy = ON\nBit.1 = 1\nWait For Queu.0.QueueEmpty\n").expect("write");
+    std::fs::write(
+        &f,
+        "Queue.0.QueueEmpy = ON\nBit.1 = 1\nWait For Queu.0.QueueEmpty\n",
+    )
+    .expect("write");
     let o = pacer(&["check", f.to_str().expect("utf-8 path")]);
     assert_eq!(o.status.code(), Some(1));
     let t = text(&o);
@@ -58,16 +83,41 @@ fn check_reports_every_error_with_file_line_and_column() {
 #[test]
 fn a_runtime_error_names_task_program_and_line_and_keeps_the_trace() {
     let d = scratch("runtime");
-    std::fs::write(d.join("program0.pt"), "Var.A = 1\nVar.B = 0\nVar.A = Var.A / Var.B\n").expect("write");
-    std::fs::write(d.join("machine.toml"), "[variables.A]\ndecimals = 2\n[variables.B]\ndecimals = 0\n").expect("write");
+    std::fs::write(
+        d.join("program0.pt"),
+        "Var.A = 1\nVar.B = 0\nVar.A = Var.A / Var.B\n",
+    )
+    .expect("write");
+    std::fs::write(
+        d.join("machine.toml"),
+        "[variables.A]\ndecimals = 2\n[variables.B]\ndecimals = 0\n",
+    )
+    .expect("write");
     let trace = d.join("t.jsonl");
-    let o = pacer(&["run", d.to_str().expect("path"), "--trace", trace.to_str().expect("path")]);
+    let o = pacer(&[
+        "run",
+        d.to_str().expect("path"),
+        "--trace",
+        trace.to_str().expect("path"),
+    ]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     let t = text(&o);
-    assert!(t.contains("task 0, Program.0") && t.contains("line 3") && t.contains("division by zero"), "{t}");
+    assert!(
+        t.contains("task 0, Program.0") && t.contains("line 3") && t.contains("division by zero"),
+        "{t}"
+    );
     let lines = std::fs::read_to_string(&trace).expect("trace");
-    assert!(lines.contains("\"kind\":\"error\"") && lines.contains("division by zero"), "{lines}");
-    assert!(lines.lines().last().is_some_and(|l| l.contains("\"kind\":\"end\"")), "trace is flushed to its end");
+    assert!(
+        lines.contains("\"kind\":\"error\"") && lines.contains("division by zero"),
+        "{lines}"
+    );
+    assert!(
+        lines
+            .lines()
+            .last()
+            .is_some_and(|l| l.contains("\"kind\":\"end\"")),
+        "trace is flushed to its end"
+    );
 }
 
 #[test]
@@ -78,18 +128,28 @@ fn a_bad_machine_file_points_at_the_value() {
     let o = pacer(&["run", d.to_str().expect("path")]);
     assert_eq!(o.status.code(), Some(1));
     let t = text(&o);
-    assert!(t.contains("machine.toml:2:14") && t.contains("DriveInput"), "{t}");
+    assert!(
+        t.contains("machine.toml:2:14") && t.contains("DriveInput"),
+        "{t}"
+    );
 }
 
 #[test]
 fn a_bad_scenario_points_at_the_value() {
     let d = scratch("scenario");
     std::fs::write(d.join("program0.pt"), "End\n").expect("write");
-    std::fs::write(d.join("scenario.toml"), "[[press]]\nname = \"DriveOutput.1\"\nat = 0.1\nlength = \"5 parsecs\"\n").expect("write");
+    std::fs::write(
+        d.join("scenario.toml"),
+        "[[press]]\nname = \"DriveOutput.1\"\nat = 0.1\nlength = \"5 parsecs\"\n",
+    )
+    .expect("write");
     let o = pacer(&["run", d.to_str().expect("path")]);
     assert_eq!(o.status.code(), Some(1));
     let t = text(&o);
-    assert!(t.contains("scenario.toml:4:10") && t.contains("parsecs"), "{t}");
+    assert!(
+        t.contains("scenario.toml:4:10") && t.contains("parsecs"),
+        "{t}"
+    );
 }
 
 #[test]
@@ -97,7 +157,12 @@ fn two_runs_write_byte_identical_trace_files() {
     let d = scratch("twice");
     let (a, b) = (d.join("a.jsonl"), d.join("b.jsonl"));
     for f in [&a, &b] {
-        let o = pacer(&["run", "programs/operator-offset", "--trace", f.to_str().expect("path")]);
+        let o = pacer(&[
+            "run",
+            "programs/operator-offset",
+            "--trace",
+            f.to_str().expect("path"),
+        ]);
         assert!(o.status.success(), "{}", text(&o));
     }
     let (x, y) = (std::fs::read(&a).expect("a"), std::fs::read(&b).expect("b"));

@@ -14,7 +14,10 @@ struct Shared(Arc<Mutex<Vec<u8>>>);
 
 impl std::io::Write for Shared {
     fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.0.lock().map_err(|_| std::io::Error::other("poisoned"))?.extend_from_slice(buf);
+        self.0
+            .lock()
+            .map_err(|_| std::io::Error::other("poisoned"))?
+            .extend_from_slice(buf);
         Ok(buf.len())
     }
     fn flush(&mut self) -> std::io::Result<()> {
@@ -23,7 +26,10 @@ impl std::io::Write for Shared {
 }
 
 fn run_folder(folder: &Path) -> String {
-    let loaded = match load(&LoadRequest { paths: vec![folder.to_path_buf()], ..Default::default() }) {
+    let loaded = match load(&LoadRequest {
+        paths: vec![folder.to_path_buf()],
+        ..Default::default()
+    }) {
         Ok(l) => l,
         Err(d) => panic!("{} does not load:\n{}", folder.display(), d.render_plain()),
     };
@@ -32,7 +38,12 @@ fn run_folder(folder: &Path) -> String {
     let mut m = Machine::new(loaded.image, Trace::new(Some(Box::new(sink.clone())), tick));
     let summary = m.run(None);
     m.finish().expect("in-memory trace");
-    assert!(summary.error.is_none(), "{}: {:?}", folder.display(), summary.error);
+    assert!(
+        summary.error.is_none(),
+        "{}: {:?}",
+        folder.display(),
+        summary.error
+    );
     let bytes = sink.0.lock().expect("trace buffer").clone();
     String::from_utf8(bytes).expect("the trace is UTF-8")
 }
@@ -56,16 +67,31 @@ fn every_program_folder_matches_its_golden_trace() {
     assert!(!folders.is_empty(), "programs/ holds no machine folders");
     let mut failures = Vec::new();
     for folder in folders {
-        let name = folder.file_name().expect("folder name").to_string_lossy().into_owned();
-        let golden = Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/golden").join(format!("{name}.jsonl"));
+        let name = folder
+            .file_name()
+            .expect("folder name")
+            .to_string_lossy()
+            .into_owned();
+        let golden = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("tests/golden")
+            .join(format!("{name}.jsonl"));
         let trace = run_folder(&folder);
         if bless {
             std::fs::write(&golden, &trace).expect("write golden");
             continue;
         }
-        let expected = std::fs::read_to_string(&golden).unwrap_or_else(|_| panic!("no golden trace {} (bless with PACER_BLESS=1)", golden.display()));
+        let expected = std::fs::read_to_string(&golden).unwrap_or_else(|_| {
+            panic!(
+                "no golden trace {} (bless with PACER_BLESS=1)",
+                golden.display()
+            )
+        });
         if expected != trace {
-            let first = expected.lines().zip(trace.lines()).position(|(a, b)| a != b).unwrap_or(expected.lines().count().min(trace.lines().count()));
+            let first = expected
+                .lines()
+                .zip(trace.lines())
+                .position(|(a, b)| a != b)
+                .unwrap_or(expected.lines().count().min(trace.lines().count()));
             failures.push(format!(
                 "{name}: trace differs from {} at line {}:\n  golden: {}\n  now:    {}",
                 golden.display(),

@@ -5,7 +5,10 @@
 use serde_json::Value;
 
 fn golden() -> Vec<Value> {
-    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/tests/golden/operator-offset.jsonl");
+    let path = concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/golden/operator-offset.jsonl"
+    );
     std::fs::read_to_string(path)
         .expect("golden trace of programs/operator-offset")
         .lines()
@@ -15,8 +18,16 @@ fn golden() -> Vec<Value> {
 
 #[test]
 fn program2_is_verbatim_from_the_spec() {
-    let spec = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/tests/fixtures/labeling/program2.pt")).expect("fixture");
-    let ours = std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/programs/operator-offset/program2.pt")).expect("program");
+    let spec = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/tests/fixtures/labeling/program2.pt"
+    ))
+    .expect("fixture");
+    let ours = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/programs/operator-offset/program2.pt"
+    ))
+    .expect("program");
     assert_eq!(spec, ours);
     assert!(ours.contains("Queue.0.QueueOffset=Queue.0.QueueOffset + 0.10"));
 }
@@ -27,16 +38,40 @@ fn the_offset_moves_once_per_press_by_exactly_the_step() {
     let offsets: Vec<(f64, f64)> = events
         .iter()
         .filter(|e| e["kind"] == "change" && e["name"] == "Queue.0.QueueOffset")
-        .map(|e| (e["t"].as_f64().expect("t"), e["value"].as_f64().expect("value")))
+        .map(|e| {
+            (
+                e["t"].as_f64().expect("t"),
+                e["value"].as_f64().expect("value"),
+            )
+        })
         .collect();
     // (time of the press, expected change): see programs/operator-offset/scenario.toml.
-    let expected = [(0.100, 0.01), (0.350, 0.10), (0.500, -0.10), (0.700, -0.01), (0.800, 0.01), (2.501, 0.01), (2.701, -0.01), (2.901, 0.10)];
-    assert_eq!(offsets.len(), expected.len(), "one change per press: {offsets:?}");
+    let expected = [
+        (0.100, 0.01),
+        (0.350, 0.10),
+        (0.500, -0.10),
+        (0.700, -0.01),
+        (0.800, 0.01),
+        (2.501, 0.01),
+        (2.701, -0.01),
+        (2.901, 0.10),
+    ];
+    assert_eq!(
+        offsets.len(),
+        expected.len(),
+        "one change per press: {offsets:?}"
+    );
     let mut previous = 10.0;
     for ((t, value), (press_t, step)) in offsets.iter().zip(expected) {
-        assert!((t - press_t).abs() < 1e-9, "change at {t}, press at {press_t}");
+        assert!(
+            (t - press_t).abs() < 1e-9,
+            "change at {t}, press at {press_t}"
+        );
         let delta = value - previous;
-        assert!((delta - step).abs() < 1e-9, "at {t}: changed by {delta}, expected {step}");
+        assert!(
+            (delta - step).abs() < 1e-9,
+            "at {t}: changed by {delta}, expected {step}"
+        );
         // Fixed point with 4 decimals: the stored value is exact to the decimal.
         assert_eq!((value * 10_000.0).round() / 10_000.0, *value);
         previous = *value;
@@ -51,7 +86,11 @@ fn presses_shorter_than_one_update_are_seen() {
     let at = |name: &str, t: f64| {
         events
             .iter()
-            .filter(|e| e["kind"] == "change" && e["name"] == name && (e["t"].as_f64().unwrap_or(-1.0) - t).abs() < 1e-9)
+            .filter(|e| {
+                e["kind"] == "change"
+                    && e["name"] == name
+                    && (e["t"].as_f64().unwrap_or(-1.0) - t).abs() < 1e-9
+            })
             .map(|e| e["value"].clone())
             .collect::<Vec<_>>()
     };

@@ -31,7 +31,11 @@ fn parse_err(src: &str) -> (ProgramAst, Vec<Problem>) {
 /// The one statement of a one-statement program.
 fn single(src: &str) -> Stmt {
     let ast = parse_ok(src);
-    assert_eq!(ast.body.len(), 1, "expected one statement in {src:?}: {ast:#?}");
+    assert_eq!(
+        ast.body.len(),
+        1,
+        "expected one statement in {src:?}: {ast:#?}"
+    );
     ast.body.into_iter().next().unwrap()
 }
 
@@ -155,7 +159,9 @@ fn bare_action() {
 
     // A bare global action.
     let s = single("Gear.Initiate");
-    assert!(matches!(s.kind, StmtKind::Action { ref target, .. } if target.text() == "Gear.Initiate"));
+    assert!(
+        matches!(s.kind, StmtKind::Action { ref target, .. } if target.text() == "Gear.Initiate")
+    );
 }
 
 fn action_parts(src: &str) -> (Name, Option<Using>, Option<Name>) {
@@ -474,13 +480,17 @@ fn end_statement() {
 
 #[test]
 fn every_boolean_word() {
-    for word in ["ON", "TRUE", "YES", "SET", "ENABLE", "on", "True", "yes", "Set", "enable"] {
+    for word in [
+        "ON", "TRUE", "YES", "SET", "ENABLE", "on", "True", "yes", "Set", "enable",
+    ] {
         let (_, e) = expr_of(word);
         assert_eq!(e.kind, ExprKind::Bool(true), "{word}");
         let src = format!("Bit.1 = {word}");
         assert_eq!(e.span, at(&src, word), "{word}");
     }
-    for word in ["OFF", "FALSE", "NO", "CLEAR", "DISABLE", "off", "False", "no", "Clear", "disable"] {
+    for word in [
+        "OFF", "FALSE", "NO", "CLEAR", "DISABLE", "off", "False", "no", "Clear", "disable",
+    ] {
         let (_, e) = expr_of(word);
         assert_eq!(e.kind, ExprKind::Bool(false), "{word}");
     }
@@ -538,6 +548,10 @@ fn keywords_are_case_insensitive() {
     assert_eq!(
         shape_of("not Bit.1 and Bit.2 Or Bit.3 xor Bit.4"),
         "(XOR (OR (AND (NOT Bit.1) Bit.2) Bit.3) Bit.4)"
+    );
+    assert_eq!(
+        shape_of("Bit.1 AND Bit.2 oR Bit.3"),
+        "(OR (AND Bit.1 Bit.2) Bit.3)"
     );
     assert_eq!(shape_of("7 mod 2"), "(MOD 7 2)");
 }
@@ -711,12 +725,30 @@ fn precedence_of_logic() {
         shape_of("Var.A = 1 AND Var.B = 2 OR Var.C = 3"),
         "(OR (AND (= Var.A 1) (= Var.B 2)) (= Var.C 3))"
     );
-    assert_eq!(shape_of("Bit.1 OR Bit.2 AND Bit.3"), "(OR Bit.1 (AND Bit.2 Bit.3))");
-    assert_eq!(shape_of("Bit.1 AND Bit.2 OR Bit.3"), "(OR (AND Bit.1 Bit.2) Bit.3)");
-    assert_eq!(shape_of("Bit.1 XOR Bit.2 AND Bit.3"), "(XOR Bit.1 (AND Bit.2 Bit.3))");
-    // OR and XOR share a level, left to right.
-    assert_eq!(shape_of("Bit.1 XOR Bit.2 OR Bit.3"), "(OR (XOR Bit.1 Bit.2) Bit.3)");
-    assert_eq!(shape_of("Bit.1 OR Bit.2 XOR Bit.3"), "(XOR (OR Bit.1 Bit.2) Bit.3)");
+    assert_eq!(
+        shape_of("Bit.1 OR Bit.2 AND Bit.3"),
+        "(OR Bit.1 (AND Bit.2 Bit.3))"
+    );
+    assert_eq!(
+        shape_of("Bit.1 AND Bit.2 OR Bit.3"),
+        "(OR (AND Bit.1 Bit.2) Bit.3)"
+    );
+    assert_eq!(
+        shape_of("Bit.1 XOR Bit.2 AND Bit.3"),
+        "(XOR Bit.1 (AND Bit.2 Bit.3))"
+    );
+    assert_eq!(
+        shape_of("Bit.1 OR Bit.2 XOR Bit.3"),
+        "(XOR (OR Bit.1 Bit.2) Bit.3)"
+    );
+    assert_eq!(
+        shape_of("Bit.1 XOR Bit.2 XOR Bit.3"),
+        "(XOR (XOR Bit.1 Bit.2) Bit.3)"
+    );
+    assert_eq!(
+        shape_of("Bit.1 OR Bit.2 OR Bit.3"),
+        "(OR (OR Bit.1 Bit.2) Bit.3)"
+    );
     // NOT binds tighter than AND, looser than comparisons.
     assert_eq!(shape_of("NOT Bit.1 AND Bit.2"), "(AND (NOT Bit.1) Bit.2)");
     assert_eq!(shape_of("NOT Var.A = 1"), "(NOT (= Var.A 1))");
@@ -731,11 +763,31 @@ fn precedence_of_logic() {
 }
 
 #[test]
+fn or_binds_tighter_than_xor() {
+    // Conventional BASIC (QBasic, Visual Basic): NOT, then AND, then OR, then XOR.
+    // With ON for all three, XOR-first gives ON while BASIC gives OFF.
+    assert_eq!(
+        shape_of("Bit.1 XOR Bit.2 OR Bit.3"),
+        "(XOR Bit.1 (OR Bit.2 Bit.3))"
+    );
+    assert_eq!(
+        shape_of("Bit.1 XOR Bit.2 OR Bit.3 AND Bit.4"),
+        "(XOR Bit.1 (OR Bit.2 (AND Bit.3 Bit.4)))"
+    );
+}
+
+#[test]
 fn function_calls() {
     assert_eq!(shape_of("ABS(Var.A - 1)"), "ABS[(- Var.A 1)]");
     assert_eq!(shape_of("MAX(1, 2)"), "MAX[1, 2]");
-    assert_eq!(shape_of("ATAN2(Var.Y, Var.X) * 2"), "(* ATAN2[Var.Y, Var.X] 2)");
-    assert_eq!(shape_of("MIN(ABS(-1), 2 + 3)"), "MIN[ABS[(neg 1)], (+ 2 3)]");
+    assert_eq!(
+        shape_of("ATAN2(Var.Y, Var.X) * 2"),
+        "(* ATAN2[Var.Y, Var.X] 2)"
+    );
+    assert_eq!(
+        shape_of("MIN(ABS(-1), 2 + 3)"),
+        "MIN[ABS[(neg 1)], (+ 2 3)]"
+    );
     assert_eq!(shape_of("-sqrt(4)"), "(neg sqrt[4])");
     let (src, e) = expr_of("1 + ABS(Var.A)");
     let ExprKind::Binary(_, _, call) = &e.kind else {
@@ -765,7 +817,8 @@ fn expression_spans() {
 
 #[test]
 fn every_syntax_error_of_a_file_is_reported() {
-    let src = "Var.A = 1\nVar.B = = 2\nVar.C = 3\nIf Var.A > Then\nVar.D = 4\nWait For Time\nVar.E = 5\n";
+    let src =
+        "Var.A = 1\nVar.B = = 2\nVar.C = 3\nIf Var.A > Then\nVar.D = 4\nWait For Time\nVar.E = 5\n";
     let (ast, problems) = parse_err(src);
     assert_eq!(problems.len(), 3, "{problems:#?}");
     assert!(problems.iter().all(|p| p.code == "pacer::syntax"));
@@ -773,13 +826,23 @@ fn every_syntax_error_of_a_file_is_reported() {
     spans.sort_by_key(|s| s.start);
     // The second `=` of line 2, `Then` on line 4, the end of line 6.
     assert_eq!(spans[0], at_nth(src, "=", 2));
-    assert_eq!(problems.iter().find(|p| p.span == spans[0]).unwrap().message, "unexpected `=`");
+    assert_eq!(
+        problems
+            .iter()
+            .find(|p| p.span == spans[0])
+            .unwrap()
+            .message,
+        "unexpected `=`"
+    );
     assert_eq!(spans[1], at(src, "Then"));
     let eol = at(src, "Wait For Time").end;
     assert_eq!(spans[2], Span::new(eol, eol));
     let p = problems.iter().find(|p| p.span == spans[2]).unwrap();
     assert_eq!(p.message, "the line ends too early");
-    assert!(p.help.as_deref().unwrap_or("").contains("a number"), "{p:?}");
+    assert!(
+        p.help.as_deref().unwrap_or("").contains("a number"),
+        "{p:?}"
+    );
     // The good lines are all kept.
     assert_eq!(assigned(&ast), ["Var.A", "Var.C", "Var.D", "Var.E"]);
 }
@@ -793,7 +856,10 @@ fn syntax_and_block_errors_reported_together() {
     assert!(codes.contains(&"pacer::syntax"));
     assert!(codes.contains(&"pacer::syntax::unbalanced"));
     assert!(codes.contains(&"pacer::syntax::unclosed"));
-    let extra = problems.iter().find(|p| p.span == at(src, "3")).expect("the extra `3`");
+    let extra = problems
+        .iter()
+        .find(|p| p.span == at(src, "3"))
+        .expect("the extra `3`");
     assert_eq!(extra.message, "unexpected `3`");
 }
 
@@ -826,7 +892,10 @@ fn else_without_if() {
     assert_eq!(p.code, "pacer::syntax::unbalanced");
     assert_eq!(p.message, "Else without a matching If");
     assert_eq!(p.span, at(src, "Else"));
-    assert_eq!(p.help.as_deref(), Some("remove this Else or add the If it belongs to"));
+    assert_eq!(
+        p.help.as_deref(),
+        Some("remove this Else or add the If it belongs to")
+    );
 }
 
 #[test]
@@ -889,15 +958,24 @@ fn missing_loop_and_next() {
     let src = "Do While TRUE\nFor Var.I = 1 To 2\nVar.A = 1\n";
     let (_, problems) = parse_err(src);
     assert_eq!(problems.len(), 2, "{problems:#?}");
-    let for_p = problems.iter().find(|p| p.message == "this For is never closed").unwrap();
+    let for_p = problems
+        .iter()
+        .find(|p| p.message == "this For is never closed")
+        .unwrap();
     assert_eq!(for_p.span, at(src, "For Var.I = 1 To 2"));
-    assert_eq!(for_p.help.as_deref(), Some("add `Next` where the block ends"));
+    assert_eq!(
+        for_p.help.as_deref(),
+        Some("add `Next` where the block ends")
+    );
     let do_p = problems
         .iter()
         .find(|p| p.message == "this Do While is never closed")
         .unwrap();
     assert_eq!(do_p.span, at(src, "Do While TRUE"));
-    assert_eq!(do_p.help.as_deref(), Some("add `Loop` where the block ends"));
+    assert_eq!(
+        do_p.help.as_deref(),
+        Some("add `Loop` where the block ends")
+    );
 }
 
 #[test]
@@ -920,7 +998,10 @@ fn second_else() {
     let p = &problems[0];
     assert_eq!(p.code, "pacer::syntax::else");
     assert_eq!(p.span, at_nth(src, "Else", 1));
-    assert_eq!(p.help.as_deref(), Some("this If already has its Else at line 2"));
+    assert_eq!(
+        p.help.as_deref(),
+        Some("this If already has its Else at line 2")
+    );
 }
 
 #[test]

@@ -50,7 +50,7 @@ pub fn check_program(ast: &ProgramAst, env: &CheckEnv<'_>) -> Vec<Problem> {
 struct Checker<'a, 'b> {
     env: &'a CheckEnv<'b>,
     problems: Vec<Problem>,
-    labels: IndexMap<String, Span>,
+    labels: IndexMap<String, (Span, String)>,
 }
 
 /// The type of an expression, with names resolved; shared with the compiler.
@@ -217,7 +217,7 @@ impl Checker<'_, '_> {
                             .with_help("labels must be unique in a program; rename one of them"),
                         );
                     } else {
-                        self.labels.insert(key, seg.span);
+                        self.labels.insert(key, (seg.span, seg.text.clone()));
                     }
                 }
                 StmtKind::If {
@@ -338,8 +338,11 @@ impl Checker<'_, '_> {
             }
             StmtKind::Goto(seg) => {
                 if !self.labels.contains_key(&seg.text.to_ascii_lowercase()) {
-                    let near = nearest(&seg.text, self.labels.keys().map(String::as_str))
-                        .map(|n| format!("did you mean `{n}`?"));
+                    let near = nearest(
+                        &seg.text,
+                        self.labels.values().map(|(_, text)| text.as_str()),
+                    )
+                    .map(|n| format!("did you mean `{n}`?"));
                     self.problems.push(
                         Problem::error(
                             "pacer::check::label",

@@ -44,7 +44,7 @@ pub struct MachineSection {
     pub name: Option<String>,
     /// The trajectory update period (default 1 ms).
     pub update: Option<Spanned<Duration>>,
-    /// Instructions a task may run in one update before it must yield (default 1000).
+    /// Instructions a task may run in one update before it must yield (default 10000).
     pub budget: Option<Spanned<u64>>,
     /// Number of tasks (default 4).
     pub tasks: Option<Spanned<u32>>,

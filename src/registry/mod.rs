@@ -181,8 +181,7 @@ impl Registry {
                                 "0 to 9",
                             ));
                         }
-                        let scaled = d.initial * 10f64.powi(i32::from(d.decimals.min(9)));
-                        if !scaled.is_finite() || scaled.abs() > f64::from(i32::MAX) {
+                        if crate::fixed::to_fixed(d.initial, d.decimals.min(9)).is_none() {
                             problems.push(Problem::error("pacer::machine::variable", span, format!("Var.{name}: initial value {} does not fit a 32-bit variable with {} decimals", d.initial, d.decimals), "out of range"));
                         }
                         names.insert(name.to_ascii_lowercase(), count);
@@ -437,11 +436,4 @@ fn valid_ident(s: &str) -> bool {
         && c.all(|ch| ch.is_ascii_alphanumeric() || ch == '_')
 }
 
-/// Round to `decimals` places, as a fixed-point store does.
-pub fn round_to(v: f64, decimals: u8) -> f64 {
-    let scale = POW10[decimals.min(9) as usize];
-    (v * scale).round() / scale
-}
-
-/// Powers of ten for fixed-point scaling.
-pub const POW10: [f64; 10] = [1.0, 10.0, 100.0, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
+pub use crate::fixed::{round_to, POW10};

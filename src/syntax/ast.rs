@@ -57,13 +57,14 @@ pub enum UnOp {
     Not,
 }
 
-/// Binary operators, in BASIC precedence order from lowest.
+/// Binary operators, in BASIC precedence order from lowest (the comparisons share a level,
+/// as do `+ -` and `* /`).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum BinOp {
-    /// `OR`
-    Or,
     /// `XOR`
     Xor,
+    /// `OR`
+    Or,
     /// `AND`
     And,
     /// `=`

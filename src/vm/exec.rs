@@ -4,7 +4,7 @@
 use crate::compile::bytecode::{BinaryOp, Op, REAL_STORE};
 use crate::compile::Chunk;
 use crate::kernel::{ActOutcome, Kernel, Now};
-use crate::registry::{Hook, Registry, POW10};
+use crate::registry::{Hook, Registry};
 use crate::trace::value_json;
 
 /// Why the interpreter stopped.
@@ -174,12 +174,13 @@ pub fn run(
                 let raw = v[src as usize];
                 let x = match ty {
                     crate::registry::ValueType::Bit => f64::from(raw != 0.0),
-                    crate::registry::ValueType::Integer => raw.round(),
+                    crate::registry::ValueType::Integer => crate::fixed::round_to(raw, 0),
                     crate::registry::ValueType::Fixed(d) => crate::registry::round_to(raw, d),
                     crate::registry::ValueType::Real => raw,
                 };
                 if !x.is_finite()
-                    || (ty != crate::registry::ValueType::Real && x.abs() > f64::from(i32::MAX))
+                    || (ty != crate::registry::ValueType::Real
+                        && !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x))
                 {
                     pc = here;
                     let name = name_of(ctx, slot);
@@ -388,16 +389,7 @@ fn binary(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
     })
 }
 
-/// `x` as a 32-bit fixed-point value with `decimals` places, or `None` when it does not fit
-/// (or is not a number).
-#[inline(always)]
-fn fixed(x: f64, decimals: u8) -> Option<f64> {
-    let scale = POW10[decimals as usize];
-    let r = round_half_away(x * scale);
-    // NaN fails this test too.
-    let fits = r.abs() <= f64::from(i32::MAX);
-    fits.then(|| r / scale)
-}
+use crate::fixed::to_fixed as fixed;
 
 fn overflow_message(ctx: &Ctx<'_, '_>, slot: u32, x: f64, decimals: u8) -> String {
     let name = name_of(ctx, slot);
@@ -405,8 +397,10 @@ fn overflow_message(ctx: &Ctx<'_, '_>, slot: u32, x: f64, decimals: u8) -> Strin
         return format!("{name} cannot take {x}: the result is not a finite number");
     }
     if x.is_finite() {
-        let limit = f64::from(i32::MAX) / POW10[decimals as usize];
-        format!("overflow: {x} does not fit {name} (32-bit with {decimals} decimal places: at most ±{limit})")
+        let range = crate::fixed::range_text(decimals);
+        format!(
+            "overflow: {x} does not fit {name} (32-bit with {decimals} decimal places: {range})"
+        )
     } else {
         format!("{name} cannot take {x}: the result is not a number")
     }
@@ -426,27 +420,6 @@ fn int_rem(x: f64, y: f64) -> f64 {
         (a % b) as f64
     } else {
         x % y
-    }
-}
-
-/// Round half away from zero, as `f64::round`, without a libm call for values that fit an i64
-/// (anything a 32-bit fixed-point store keeps); others fall back to `round`.
-#[inline(always)]
-pub fn round_half_away(x: f64) -> f64 {
-    const LIMIT: f64 = 4_503_599_627_370_496.0; // 2^52: above it every f64 is whole
-    if x.abs() < LIMIT {
-        let t = x as i64;
-        let frac = x - t as f64;
-        let r = if frac >= 0.5 {
-            t + 1
-        } else if frac <= -0.5 {
-            t - 1
-        } else {
-            t
-        };
-        r as f64
-    } else {
-        x.round()
     }
 }
 
@@ -484,28 +457,7 @@ fn sync_snapshot(ctx: &mut Ctx<'_, '_>, v: &[f64]) {
 
 #[cfg(test)]
 mod tests {
-    use super::{int_rem, round_half_away};
-
-    #[test]
-    fn rounding_matches_f64_round() {
-        for x in [
-            0.0,
-            0.5,
-            -0.5,
-            1.5,
-            -1.5,
-            2.4999999,
-            1005.0,
-            1004.9999999999999,
-            -7.5,
-            1e15 + 0.5,
-            3e300,
-            -3e300,
-            0.49999999999999994,
-        ] {
-            assert_eq!(round_half_away(x), x.round(), "{x}");
-        }
-    }
+    use super::int_rem;
 
     #[test]
     fn remainder_matches_fmod() {

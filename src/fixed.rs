@@ -1,0 +1,82 @@
+//! Fixed-point storage as the controllers keep it: signed 32-bit values with a number of decimal
+//! places, rounded half away from zero on the decimal value the user wrote.
+
+/// Powers of ten for the decimal places 0 to 9.
+pub const POW10: [f64; 10] = [1.0, 10.0, 100.0, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e9];
+
+/// Round a scaled value (value × 10^decimals) to a whole number, half away from zero.
+///
+/// A decimal such as 1.005 has no exact binary form (it is 1.00499999999999989…), so its scaled
+/// value lands a hair below the half. Values within a few units in the last place of a half are
+/// taken as the half the user wrote. Avoids a libm call for anything a 32-bit store can keep.
+#[inline(always)]
+pub fn round_scaled(y: f64) -> f64 {
+    const LIMIT: f64 = 4_503_599_627_370_496.0; // 2^52: above it every f64 is whole
+    if y.abs() >= LIMIT || y.is_nan() {
+        return y.round();
+    }
+    let t = y as i64;
+    let frac = (y - t as f64).abs();
+    let slack = y.abs() * (4.0 * f64::EPSILON);
+    if frac + slack >= 0.5 {
+        (if y >= 0.0 { t + 1 } else { t - 1 }) as f64
+    } else {
+        t as f64
+    }
+}
+
+/// `v` rounded to `decimals` places.
+#[inline(always)]
+pub fn round_to(v: f64, decimals: u8) -> f64 {
+    let scale = POW10[decimals.min(9) as usize];
+    round_scaled(v * scale) / scale
+}
+
+/// `x` as stored in a signed 32-bit fixed-point slot with `decimals` places, or `None` when it
+/// does not fit (or is not a number).
+#[inline(always)]
+pub fn to_fixed(x: f64, decimals: u8) -> Option<f64> {
+    let scale = POW10[decimals.min(9) as usize];
+    let r = round_scaled(x * scale);
+    // NaN fails this test too.
+    let fits = r >= f64::from(i32::MIN) && r <= f64::from(i32::MAX);
+    fits.then(|| r / scale)
+}
+
+/// The range of a 32-bit fixed-point slot with `decimals` places, for messages.
+pub fn range_text(decimals: u8) -> String {
+    let scale = POW10[decimals.min(9) as usize];
+    format!(
+        "{} to {}",
+        f64::from(i32::MIN) / scale,
+        f64::from(i32::MAX) / scale
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn halves_round_away_from_zero_on_the_decimal_value() {
+        assert_eq!(round_to(1.005, 2), 1.01);
+        assert_eq!(round_to(-1.005, 2), -1.01);
+        assert_eq!(round_to(2.675, 2), 2.68);
+        assert_eq!(round_to(1.00005, 4), 1.0001);
+        assert_eq!(round_to(0.1 + 0.2, 2), 0.3);
+        assert_eq!(round_to(2.5, 0), 3.0);
+        assert_eq!(round_to(-2.5, 0), -3.0);
+        assert_eq!(round_to(2.4999, 0), 2.0);
+        assert_eq!(round_to(1e15 + 0.5, 0), 1e15 + 1.0);
+    }
+
+    #[test]
+    fn the_whole_signed_range_fits() {
+        assert_eq!(to_fixed(-2_147_483_648.0, 0), Some(-2_147_483_648.0));
+        assert_eq!(to_fixed(2_147_483_647.0, 0), Some(2_147_483_647.0));
+        assert_eq!(to_fixed(2_147_483_648.0, 0), None);
+        assert_eq!(to_fixed(-21_474_836.48, 2), Some(-21_474_836.48));
+        assert_eq!(to_fixed(f64::NAN, 0), None);
+        assert_eq!(to_fixed(f64::INFINITY, 3), None);
+    }
+}
