@@ -15,14 +15,14 @@ pub fn round_scaled(y: f64) -> f64 {
     if y.abs() >= LIMIT || y.is_nan() {
         return y.round();
     }
-    let t = y as i64;
+    // SAFETY: |y| < 2^52 and y is not NaN (checked above), so it fits an i64.
+    let t: i64 = unsafe { y.to_int_unchecked() };
     let frac = (y - t as f64).abs();
     let slack = y.abs() * (4.0 * f64::EPSILON);
-    if frac + slack >= 0.5 {
-        (if y >= 0.0 { t + 1 } else { t - 1 }) as f64
-    } else {
-        t as f64
-    }
+    // Branch-free: the rounding direction depends on data and predicts poorly.
+    let up = i64::from(frac + slack >= 0.5);
+    let sign = if y >= 0.0 { 1 } else { -1 };
+    (t + up * sign) as f64
 }
 
 /// `v` rounded to `decimals` places.
@@ -36,6 +36,14 @@ pub fn round_to(v: f64, decimals: u8) -> f64 {
 /// does not fit (or is not a number).
 #[inline(always)]
 pub fn to_fixed(x: f64, decimals: u8) -> Option<f64> {
+    if decimals == 0 && (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
+        // Whole numbers in range are stored as they are (the common case for counters).
+        // SAFETY: x is within the i32 range, and not NaN (the range test fails for NaN).
+        let i: i32 = unsafe { x.to_int_unchecked() };
+        if f64::from(i) == x {
+            return Some(f64::from(i));
+        }
+    }
     let scale = POW10[decimals.min(9) as usize];
     let r = round_scaled(x * scale);
     // NaN fails this test too.

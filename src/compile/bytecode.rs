@@ -13,7 +13,7 @@ pub type Reg = u32;
 /// `ForNext.decimals` for a loop variable kept as a real.
 pub const REAL_STORE: u8 = u8::MAX;
 
-/// Comparison operators, for fused compare-and-branch.
+/// Comparison operators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[allow(missing_docs)]
 pub enum Cmp {
@@ -60,7 +60,7 @@ pub enum StartRef {
     /// `Using Last`.
     Last,
     /// `Using Capture.N` (capture instance index).
-    Capture(u32),
+    Capture(u16),
 }
 
 /// Arithmetic and logic operators.
@@ -98,6 +98,27 @@ pub enum Op {
     Div { dst: Reg, a: Reg, b: Reg },
     /// `dst = a MOD b` (fails on zero).
     Mod { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a + b` stored into a fixed-point slot (an add fused with its `StoreFixed`).
+    AddFixed {
+        dst: Reg,
+        a: Reg,
+        b: Reg,
+        decimals: u8,
+    },
+    /// `dst = a - b` stored into a fixed-point slot.
+    SubFixed {
+        dst: Reg,
+        a: Reg,
+        b: Reg,
+        decimals: u8,
+    },
+    /// `dst = a * b` stored into a fixed-point slot.
+    MulFixed {
+        dst: Reg,
+        a: Reg,
+        b: Reg,
+        decimals: u8,
+    },
     /// `dst = a op b` stored straight into a fixed-point slot (an arithmetic op fused with
     /// the `StoreFixed` that followed it).
     ArithFixed {
@@ -156,41 +177,39 @@ pub enum Op {
     Loop { target: u32 },
     /// Go to `target` when `cond` is OFF.
     JumpIfFalse { cond: Reg, target: u32 },
+    /// Go to `target` unless `a < b` (comparisons are specialised; `>`/`>=` swap operands).
+    JumpUnlessLt { a: Reg, b: Reg, target: u32 },
+    /// Go to `target` unless `a <= b`.
+    JumpUnlessLe { a: Reg, b: Reg, target: u32 },
+    /// Go to `target` unless `a = b`.
+    JumpUnlessEq { a: Reg, b: Reg, target: u32 },
+    /// Go to `target` unless `a <> b`.
+    JumpUnlessNe { a: Reg, b: Reg, target: u32 },
+    /// Go to `target` when `a < b`.
+    JumpWhenLt { a: Reg, b: Reg, target: u32 },
+    /// Go to `target` when `a <= b`.
+    JumpWhenLe { a: Reg, b: Reg, target: u32 },
+    /// Go to `target` when `a = b`.
+    JumpWhenEq { a: Reg, b: Reg, target: u32 },
+    /// Go to `target` when `a <> b`.
+    JumpWhenNe { a: Reg, b: Reg, target: u32 },
     /// Go to `target` when `cond` is ON.
     JumpIfTrue { cond: Reg, target: u32 },
-    /// Go to `target` when `a cmp b`.
-    JumpWhen {
-        cmp: Cmp,
-        a: Reg,
-        b: Reg,
-        target: u32,
-    },
-    /// Go to `target` unless `a cmp b`.
-    JumpUnless {
-        cmp: Cmp,
-        a: Reg,
-        b: Reg,
-        target: u32,
-    },
     /// Block until `cond` is ON; the condition's code starts at `retry`.
     WaitUntil { cond: Reg, retry: u32 },
     /// Block for `src` seconds.
     WaitTime { src: Reg },
     /// A dwell motion on profile 0, for `src` seconds or master units.
     Dwell { src: Reg, master: bool },
-    /// Leave the loop at `exit` when `var` is past `limit` in the direction of `step`.
-    ForCheck {
-        var: Reg,
-        limit: Reg,
-        step: Reg,
-        exit: u32,
-    },
-    /// The end of a `For` body: `var += step` (stored as `decimals`, or as a real when
+    /// Leave the loop at `exit` when `var` is past `limit` in the direction of the step, which
+    /// is in the register after `limit`.
+    ForCheck { var: Reg, limit: Reg, exit: u32 },
+    /// The end of a `For` body: `var += step` (the step is in the register after `limit`;
+    /// stored as `decimals`, or as a real when
     /// [`REAL_STORE`]), then back to `body` unless past `limit`; the task may yield there.
     ForNext {
         var: Reg,
         limit: Reg,
-        step: Reg,
         body: u32,
         decimals: u8,
     },

@@ -32,6 +32,24 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::Mul { dst, a, b } => format!("mul       {} <- {} * {}", r(dst), r(a), r(b)),
             Op::Div { dst, a, b } => format!("div       {} <- {} / {}", r(dst), r(a), r(b)),
             Op::Mod { dst, a, b } => format!("mod       {} <- {} MOD {}", r(dst), r(a), r(b)),
+            Op::AddFixed {
+                dst,
+                a,
+                b,
+                decimals,
+            } => fused("add", decimals, r(dst), r(a), "+", r(b)),
+            Op::SubFixed {
+                dst,
+                a,
+                b,
+                decimals,
+            } => fused("sub", decimals, r(dst), r(a), "-", r(b)),
+            Op::MulFixed {
+                dst,
+                a,
+                b,
+                decimals,
+            } => fused("mul", decimals, r(dst), r(a), "*", r(b)),
             Op::ArithFixed {
                 op,
                 dst,
@@ -102,24 +120,28 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::Jump { target } => format!("jump      @{target}"),
             Op::Loop { target } => format!("loop      @{target}"),
             Op::JumpIfFalse { cond, target } => format!("jump.f    {} @{target}", r(cond)),
-            Op::JumpIfTrue { cond, target } => format!("jump.t    {} @{target}", r(cond)),
-            Op::JumpWhen { cmp, a, b, target } => {
-                format!("jump.if   {} {} {} @{target}", r(a), cmp.symbol(), r(b))
+            Op::JumpUnlessLt { a, b, target } => format!("jump.not  {} < {} @{target}", r(a), r(b)),
+            Op::JumpUnlessLe { a, b, target } => {
+                format!("jump.not  {} <= {} @{target}", r(a), r(b))
             }
+            Op::JumpUnlessEq { a, b, target } => format!("jump.not  {} = {} @{target}", r(a), r(b)),
+            Op::JumpUnlessNe { a, b, target } => {
+                format!("jump.not  {} <> {} @{target}", r(a), r(b))
+            }
+            Op::JumpWhenLt { a, b, target } => format!("jump.if   {} < {} @{target}", r(a), r(b)),
+            Op::JumpWhenLe { a, b, target } => format!("jump.if   {} <= {} @{target}", r(a), r(b)),
+            Op::JumpWhenEq { a, b, target } => format!("jump.if   {} = {} @{target}", r(a), r(b)),
+            Op::JumpWhenNe { a, b, target } => format!("jump.if   {} <> {} @{target}", r(a), r(b)),
+            Op::JumpIfTrue { cond, target } => format!("jump.t    {} @{target}", r(cond)),
             Op::ForNext {
-                var,
-                limit,
-                step,
-                body,
-                ..
-            } => format!(
-                "for.next  {} += {} to {} body @{body}",
-                r(var),
-                r(step),
-                r(limit)
-            ),
-            Op::JumpUnless { cmp, a, b, target } => {
-                format!("jump.not  {} {} {} @{target}", r(a), cmp.symbol(), r(b))
+                var, limit, body, ..
+            } => {
+                format!(
+                    "for.next  {} += {} to {} body @{body}",
+                    r(var),
+                    r(limit + 1),
+                    r(limit)
+                )
             }
             Op::WaitUntil { cond, retry } => format!("wait      {} (retry @{retry})", r(cond)),
             Op::WaitTime { src } => format!("wait.time {} s", r(src)),
@@ -128,17 +150,14 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 r(src),
                 if master { "master units" } else { "s" }
             ),
-            Op::ForCheck {
-                var,
-                limit,
-                step,
-                exit,
-            } => format!(
-                "for.check {} to {} step {} exit @{exit}",
-                r(var),
-                r(limit),
-                r(step)
-            ),
+            Op::ForCheck { var, limit, exit } => {
+                format!(
+                    "for.check {} to {} step {} exit @{exit}",
+                    r(var),
+                    r(limit),
+                    r(limit + 1)
+                )
+            }
             Op::CallProgram { program } => format!("call      Program.{program}"),
             Op::End => "end".to_string(),
         };
@@ -162,4 +181,9 @@ fn op_names(op: BinaryOp) -> (&'static str, &'static str) {
         BinaryOp::BitOr => ("bor", "OR"),
         BinaryOp::BitXor => ("bxor", "XOR"),
     }
+}
+
+fn fused(name: &str, decimals: u8, dst: String, a: String, sym: &str, b: String) -> String {
+    let mnemonic = format!("{name}.f{decimals}");
+    format!("{mnemonic:<9} {dst} <- {a} {sym} {b}")
 }

@@ -194,8 +194,14 @@ impl Compiler<'_> {
             Op::Jump { target: t }
             | Op::JumpIfFalse { target: t, .. }
             | Op::JumpIfTrue { target: t, .. }
-            | Op::JumpUnless { target: t, .. }
-            | Op::JumpWhen { target: t, .. }
+            | Op::JumpUnlessLt { target: t, .. }
+            | Op::JumpUnlessLe { target: t, .. }
+            | Op::JumpUnlessEq { target: t, .. }
+            | Op::JumpUnlessNe { target: t, .. }
+            | Op::JumpWhenLt { target: t, .. }
+            | Op::JumpWhenLe { target: t, .. }
+            | Op::JumpWhenEq { target: t, .. }
+            | Op::JumpWhenNe { target: t, .. }
             | Op::ForCheck { exit: t, .. } => *t = target,
             _ => {}
         }
@@ -285,7 +291,7 @@ impl Compiler<'_> {
                     Some(Using::Last(_)) => StartRef::Last,
                     Some(Using::Capture(n)) => {
                         match self.registry.resolve_instance(n, Kind::Capture) {
-                            Ok(i) => StartRef::Capture(i),
+                            Ok(i) => StartRef::Capture(i as u16),
                             Err(p) => {
                                 self.problems.push(p);
                                 StartRef::Now
@@ -369,25 +375,25 @@ impl Compiler<'_> {
                 let v = self.expr(from);
                 self.store(&r, v);
                 self.temp_top = 0;
+                // The limit and the step live in two adjacent registers: step = limit + 1.
                 let limit = self.layout.hidden();
+                let step_reg = self.layout.hidden();
                 let l = self.expr(to);
                 self.emit(Op::Move { dst: limit, src: l });
                 self.temp_top = 0;
-                let step_reg = match step {
+                let sv = match step {
                     None => self.layout.constant(1.0),
-                    Some(st) => {
-                        let h = self.layout.hidden();
-                        let sv = self.expr(st);
-                        self.emit(Op::Move { dst: h, src: sv });
-                        h
-                    }
+                    Some(st) => self.expr(st),
                 };
+                self.emit(Op::Move {
+                    dst: step_reg,
+                    src: sv,
+                });
                 self.temp_top = 0;
                 let top = self.here();
                 let check = self.emit(Op::ForCheck {
                     var: r.slot,
                     limit,
-                    step: step_reg,
                     exit: 0,
                 });
                 self.block(body);
@@ -398,10 +404,10 @@ impl Compiler<'_> {
                     ValueType::Integer => 0,
                     _ => REAL_STORE,
                 };
+                debug_assert_eq!(step_reg, limit + 1);
                 self.emit(Op::ForNext {
                     var: r.slot,
                     limit,
-                    step: step_reg,
                     body: top + 1,
                     decimals,
                 });
@@ -445,12 +451,32 @@ impl Compiler<'_> {
                     _ => None,
                 };
                 if let (Some((op, a, b)), Some(last)) = (fused, self.ops.last_mut()) {
-                    *last = Op::ArithFixed {
-                        op,
-                        dst: r.slot,
-                        a,
-                        b,
-                        decimals,
+                    *last = match op {
+                        BinaryOp::Add => Op::AddFixed {
+                            dst: r.slot,
+                            a,
+                            b,
+                            decimals,
+                        },
+                        BinaryOp::Sub => Op::SubFixed {
+                            dst: r.slot,
+                            a,
+                            b,
+                            decimals,
+                        },
+                        BinaryOp::Mul => Op::MulFixed {
+                            dst: r.slot,
+                            a,
+                            b,
+                            decimals,
+                        },
+                        _ => Op::ArithFixed {
+                            op,
+                            dst: r.slot,
+                            a,
+                            b,
+                            decimals,
+                        },
                     };
                     return;
                 }
@@ -526,21 +552,7 @@ impl Compiler<'_> {
                 let ra = self.expr(a);
                 let rb = self.expr(b);
                 self.temp_top = mark;
-                let op = if when {
-                    Op::JumpWhen {
-                        cmp,
-                        a: ra,
-                        b: rb,
-                        target: 0,
-                    }
-                } else {
-                    Op::JumpUnless {
-                        cmp,
-                        a: ra,
-                        b: rb,
-                        target: 0,
-                    }
-                };
+                let op = compare_jump(cmp, ra, rb, when);
                 vec![self.emit(op)]
             }
             _ => {
@@ -658,6 +670,26 @@ impl Compiler<'_> {
                 dst
             }
         }
+    }
+}
+
+/// A conditional jump on a comparison; `>` and `>=` become `<` and `<=` with the operands
+/// swapped (the same answer, NaN included), so only four comparisons need their own ops.
+fn compare_jump(cmp: Cmp, a: Reg, b: Reg, when: bool) -> Op {
+    let target = 0;
+    match (cmp, when) {
+        (Cmp::Lt, false) => Op::JumpUnlessLt { a, b, target },
+        (Cmp::Gt, false) => Op::JumpUnlessLt { a: b, b: a, target },
+        (Cmp::Le, false) => Op::JumpUnlessLe { a, b, target },
+        (Cmp::Ge, false) => Op::JumpUnlessLe { a: b, b: a, target },
+        (Cmp::Eq, false) => Op::JumpUnlessEq { a, b, target },
+        (Cmp::Ne, false) => Op::JumpUnlessNe { a, b, target },
+        (Cmp::Lt, true) => Op::JumpWhenLt { a, b, target },
+        (Cmp::Gt, true) => Op::JumpWhenLt { a: b, b: a, target },
+        (Cmp::Le, true) => Op::JumpWhenLe { a, b, target },
+        (Cmp::Ge, true) => Op::JumpWhenLe { a: b, b: a, target },
+        (Cmp::Eq, true) => Op::JumpWhenEq { a, b, target },
+        (Cmp::Ne, true) => Op::JumpWhenNe { a, b, target },
     }
 }
 

@@ -79,7 +79,7 @@ pub struct Registry {
 }
 
 /// Highest instance count accepted for any type.
-const MAX_INSTANCES: u32 = 4096;
+const MAX_INSTANCES: u32 = 4096; // also keeps instance numbers within u16 in bytecode
 
 impl Registry {
     /// Build the registry of a machine. `program_numbers` are the programs loaded.

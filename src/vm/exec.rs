@@ -61,7 +61,7 @@ pub fn run(
     macro_rules! fault {
         ($($arg:tt)*) => {{
             *executed = n;
-            return Exit::Fault { message: format!($($arg)*), pc };
+            return cold_fault(pc, || format!($($arg)*));
         }};
     }
     loop {
@@ -100,6 +100,54 @@ pub fn run(
                     fault!("{message}");
                 }
             },
+            Op::AddFixed {
+                dst,
+                a,
+                b,
+                decimals,
+            } => {
+                let x = v[a as usize] + v[b as usize];
+                let Some(val) = fixed(x, decimals) else {
+                    pc = here;
+                    return cold_overflow(ctx, dst, x, decimals, pc, executed, n);
+                };
+                v[dst as usize] = val;
+                if trace_on && dst < ctx.slot_count {
+                    traced_write(ctx, dst, val);
+                }
+            }
+            Op::SubFixed {
+                dst,
+                a,
+                b,
+                decimals,
+            } => {
+                let x = v[a as usize] - v[b as usize];
+                let Some(val) = fixed(x, decimals) else {
+                    pc = here;
+                    return cold_overflow(ctx, dst, x, decimals, pc, executed, n);
+                };
+                v[dst as usize] = val;
+                if trace_on && dst < ctx.slot_count {
+                    traced_write(ctx, dst, val);
+                }
+            }
+            Op::MulFixed {
+                dst,
+                a,
+                b,
+                decimals,
+            } => {
+                let x = v[a as usize] * v[b as usize];
+                let Some(val) = fixed(x, decimals) else {
+                    pc = here;
+                    return cold_overflow(ctx, dst, x, decimals, pc, executed, n);
+                };
+                v[dst as usize] = val;
+                if trace_on && dst < ctx.slot_count {
+                    traced_write(ctx, dst, val);
+                }
+            }
             Op::ArithFixed {
                 op,
                 dst,
@@ -241,24 +289,58 @@ pub fn run(
                     pc = target;
                 }
             }
-            Op::JumpIfTrue { cond, target } => {
-                if v[cond as usize] != 0.0 {
+            Op::JumpUnlessLt { a, b, target } => {
+                if !(v[a as usize] < v[b as usize]) {
                     pc = target;
                 }
             }
-            Op::JumpWhen { cmp, a, b, target } => {
-                if cmp.test(v[a as usize], v[b as usize]) {
+            Op::JumpUnlessLe { a, b, target } => {
+                if !(v[a as usize] <= v[b as usize]) {
+                    pc = target;
+                }
+            }
+            Op::JumpUnlessEq { a, b, target } => {
+                if v[a as usize] != v[b as usize] {
+                    pc = target;
+                }
+            }
+            Op::JumpUnlessNe { a, b, target } => {
+                if v[a as usize] == v[b as usize] {
+                    pc = target;
+                }
+            }
+            Op::JumpWhenLt { a, b, target } => {
+                if v[a as usize] < v[b as usize] {
+                    pc = target;
+                }
+            }
+            Op::JumpWhenLe { a, b, target } => {
+                if v[a as usize] <= v[b as usize] {
+                    pc = target;
+                }
+            }
+            Op::JumpWhenEq { a, b, target } => {
+                if v[a as usize] == v[b as usize] {
+                    pc = target;
+                }
+            }
+            Op::JumpWhenNe { a, b, target } => {
+                if v[a as usize] != v[b as usize] {
+                    pc = target;
+                }
+            }
+            Op::JumpIfTrue { cond, target } => {
+                if v[cond as usize] != 0.0 {
                     pc = target;
                 }
             }
             Op::ForNext {
                 var,
                 limit,
-                step,
                 body,
                 decimals,
             } => {
-                let s = v[step as usize];
+                let s = v[limit as usize + 1];
                 let x = v[var as usize] + s;
                 let val = if decimals == REAL_STORE {
                     Some(x).filter(|x| x.is_finite())
@@ -281,11 +363,6 @@ pub fn run(
                         *executed = n;
                         return Exit::Yield(pc);
                     }
-                }
-            }
-            Op::JumpUnless { cmp, a, b, target } => {
-                if !cmp.test(v[a as usize], v[b as usize]) {
-                    pc = target;
                 }
             }
             Op::WaitUntil { cond, retry } => {
@@ -333,13 +410,8 @@ pub fn run(
                     }
                 }
             }
-            Op::ForCheck {
-                var,
-                limit,
-                step,
-                exit,
-            } => {
-                let (x, l, s) = (v[var as usize], v[limit as usize], v[step as usize]);
+            Op::ForCheck { var, limit, exit } => {
+                let (x, l, s) = (v[var as usize], v[limit as usize], v[limit as usize + 1]);
                 if s == 0.0 {
                     pc = here;
                     fault!("For loop with a Step of 0 never ends");
@@ -357,6 +429,35 @@ pub fn run(
                 return Exit::End;
             }
         }
+    }
+}
+
+/// An overflow fault, built away from the hot loop.
+#[cold]
+#[inline(never)]
+fn cold_overflow(
+    ctx: &Ctx<'_, '_>,
+    slot: u32,
+    x: f64,
+    decimals: u8,
+    pc: u32,
+    executed: &mut u64,
+    n: u64,
+) -> Exit {
+    *executed = n;
+    Exit::Fault {
+        message: overflow_message(ctx, slot, x, decimals),
+        pc,
+    }
+}
+
+/// Builds a fault away from the hot loop, so the loop's state stays in registers.
+#[cold]
+#[inline(never)]
+fn cold_fault(pc: u32, message: impl FnOnce() -> String) -> Exit {
+    Exit::Fault {
+        message: message(),
+        pc,
     }
 }
 
@@ -391,6 +492,8 @@ fn binary(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
 
 use crate::fixed::to_fixed as fixed;
 
+#[cold]
+#[inline(never)]
 fn overflow_message(ctx: &Ctx<'_, '_>, slot: u32, x: f64, decimals: u8) -> String {
     let name = name_of(ctx, slot);
     if decimals == REAL_STORE {
@@ -409,12 +512,6 @@ fn overflow_message(ctx: &Ctx<'_, '_>, slot: u32, x: f64, decimals: u8) -> Strin
 /// `x MOD y` with the sign of `x`; exact and fast (no libm `fmod`) when both are whole numbers.
 #[inline(always)]
 fn int_rem(x: f64, y: f64) -> f64 {
-    // 32-bit division is several times faster than 64-bit on common x86 cores, and every
-    // fixed-point variable fits 32 bits.
-    let (a, b) = (x as i32, y as i32);
-    if a as f64 == x && b as f64 == y && b != 0 && a != i32::MIN {
-        return (a % b) as f64;
-    }
     let (a, b) = (x as i64, y as i64);
     if a as f64 == x && b as f64 == y && b != 0 && a != i64::MIN {
         (a % b) as f64
@@ -431,6 +528,7 @@ fn name_of(ctx: &Ctx<'_, '_>, slot: u32) -> String {
 }
 
 /// Trace a program's write to a registry slot, whether or not the value changed.
+#[inline(never)]
 fn traced_write(ctx: &mut Ctx<'_, '_>, slot: u32, value: f64) {
     let info = &ctx.registry.slots[slot as usize];
     if info.member.continuous {
