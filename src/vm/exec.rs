@@ -290,12 +290,15 @@ pub fn run(
                 }
             }
             Op::JumpUnlessLt { a, b, target } => {
-                if !(v[a as usize] < v[b as usize]) {
+                // Not `>=`: a comparison with NaN is false, so NaN must jump here.
+                let holds = v[a as usize] < v[b as usize];
+                if !holds {
                     pc = target;
                 }
             }
             Op::JumpUnlessLe { a, b, target } => {
-                if !(v[a as usize] <= v[b as usize]) {
+                let holds = v[a as usize] <= v[b as usize];
+                if !holds {
                     pc = target;
                 }
             }
