@@ -85,3 +85,32 @@ awk -v p="$t_pacer" -v l="$t_lua" -v y="$t_py" -v runs="$RUNS" 'BEGIN {
     printf "pacer/lua    = %.2f\n", p / l
     printf "pacer/python = %.2f\n", p / y
 }'
+
+# --- the counting loop (bench/loop): dispatch cost alone ---------------------------------------
+LOOP=bench/loop
+loop_lua="$(lua5.4 "$LOOP/bench.lua")"
+loop_py="$(python3 "$LOOP/bench.py")"
+loop_pacer="$("$PACER" run -q "$LOOP" --trace /dev/stdout | tail -n 8 | awk '
+    /"kind":"change"/ {
+        name = $0; sub(/.*"name":"Var\./, "", name); sub(/".*/, "", name)
+        value = $0; sub(/.*"value":/, "", value); sub(/[},].*/, "", value)
+        v[name] = value
+    }
+    END { printf "S=%d T=%d\n", v["S"], v["T"] }')"
+echo
+echo "counting loop results:"
+printf '  %-7s %s\n' pacer "$loop_pacer" lua "$loop_lua" python "$loop_py"
+if [ "$loop_pacer" != "$loop_lua" ] || [ "$loop_pacer" != "$loop_py" ]; then
+    echo "MISMATCH: the three results differ" >&2
+    exit 1
+fi
+t_pacer=$(best_of "$PACER" run -q "$LOOP")
+t_lua=$(best_of lua5.4 "$LOOP/bench.lua")
+t_py=$(best_of python3 "$LOOP/bench.py")
+awk -v p="$t_pacer" -v l="$t_lua" -v y="$t_py" 'BEGIN {
+    printf "%-10s %10s\n", "runtime", "seconds"
+    printf "%-10s %10.3f\n", "pacer", p
+    printf "%-10s %10.3f\n", "lua5.4", l
+    printf "%-10s %10.3f\n", "python3", y
+    printf "\npacer/lua    = %.2f\npacer/python = %.2f\n", p / l, p / y
+}'
