@@ -4,7 +4,7 @@
 // in case it is (miette issue 458).
 #![allow(unused_assignments)]
 
-use crate::syntax::span::{line_col, Span};
+use crate::syntax::span::{LineIndex, Span};
 use miette::{Diagnostic, LabeledSpan, Severity, SourceCode};
 use std::fmt;
 use std::sync::Arc;
@@ -90,22 +90,52 @@ pub struct SourceFile {
     pub name: String,
     /// The whole text.
     pub text: Arc<str>,
+    index: Arc<LineIndex>,
 }
 
 impl SourceFile {
     /// A named source.
     pub fn new(name: impl Into<String>, text: impl Into<Arc<str>>) -> SourceFile {
+        let text: Arc<str> = text.into();
+        let index = Arc::new(LineIndex::new(&text));
         SourceFile {
             name: name.into(),
-            text: text.into(),
+            text,
+            index,
         }
     }
 
-    /// 1-based line and column of a span's start.
+    /// 1-based line and column (in characters) of a span's start.
     pub fn line_col(&self, span: Span) -> (usize, usize) {
-        line_col(&self.text, span.start)
+        let offset = span.start.min(self.text.len());
+        let line = self.index.line(offset);
+        let start = self
+            .index
+            .line_range(line, self.text.len())
+            .map_or(0, |r| r.0);
+        let col = self
+            .text
+            .get(start..offset)
+            .map_or(0, |t| t.chars().count())
+            + 1;
+        (line, col)
+    }
+
+    /// True when the lines around `span` are too wide to draw as a snippet.
+    fn wide_around(&self, span: Span) -> bool {
+        let line = self.index.line(span.start.min(self.text.len()));
+        (line.saturating_sub(1)..=line + 1)
+            .filter_map(|l| self.index.line_range(l, self.text.len()))
+            .any(|(a, b)| b - a > MAX_SNIPPET_LINE)
     }
 }
+
+/// Lines wider than this (bytes) are not drawn as snippets: the message, place and help are
+/// printed instead (miette cannot draw spans that start past column 65,535).
+const MAX_SNIPPET_LINE: usize = 4096;
+
+/// Problems drawn with a source snippet; the rest are listed one per line.
+const MAX_DRAWN: usize = 100;
 
 /// A problem tied to its file, ready to render.
 #[derive(Debug, Clone)]
@@ -234,18 +264,28 @@ impl Diagnostics {
         };
         let handler = miette::GraphicalReportHandler::new_themed(theme).with_width(100);
         let mut out = String::new();
-        for d in &self.items {
+        for (i, d) in self.items.iter().enumerate() {
             let (line, col) = d.file.line_col(d.problem.span);
-            out.push_str(&format!("{}:{}:{}: ", d.file.name, line, col));
-            out.push_str(match d.problem.level {
+            let level = match d.problem.level {
                 Level::Error => "error",
                 Level::Warning => "warning",
-            });
-            out.push('\n');
-            if handler.render_report(&mut out, d).is_err() {
-                out.push_str(&d.problem.message);
+            };
+            if i < MAX_DRAWN && !d.file.wide_around(d.problem.span) {
+                out.push_str(&format!("{}:{}:{}: {level}\n", d.file.name, line, col));
+                if handler.render_report(&mut out, d).is_err() {
+                    out.push_str(&d.problem.message);
+                }
+                out.push('\n');
+            } else {
+                out.push_str(&format!(
+                    "{}:{}:{}: {level}[{}]: {} ({})",
+                    d.file.name, line, col, d.problem.code, d.problem.message, d.problem.label
+                ));
+                if let Some(h) = &d.problem.help {
+                    out.push_str(&format!("; help: {h}"));
+                }
+                out.push('\n');
             }
-            out.push('\n');
         }
         out
     }

@@ -178,3 +178,45 @@ fn disasm_lists_resolved_slots() {
     assert!(t.contains("write     Queue.0.QueueOffset <- t0"), "{t}");
     assert!(t.contains("wait      t0 (retry @"), "{t}");
 }
+
+#[test]
+fn an_error_far_along_a_very_wide_line_is_reported_not_a_crash() {
+    // miette cannot draw a span that starts past column 65,535; such problems print compactly.
+    let d = scratch("wide");
+    let f = d.join("wide.pt");
+    std::fs::write(&f, format!("{}(\n", "\t".repeat(16_384))).expect("write");
+    let o = pacer(&["check", f.to_str().expect("path")]);
+    assert_eq!(o.status.code(), Some(1), "{}", text(&o));
+    let t = text(&o);
+    assert!(
+        t.contains("wide.pt:1:16385: error[pacer::syntax]: unexpected `(`"),
+        "{t}"
+    );
+}
+
+#[test]
+fn many_errors_are_all_listed_quickly() {
+    let d = scratch("many");
+    let f = d.join("many.pt");
+    std::fs::write(
+        &f,
+        format!(
+            "{}Do While ON\n{}",
+            "Stop\n".repeat(20_000),
+            "Endif\n".repeat(20_000)
+        ),
+    )
+    .expect("write");
+    let o = pacer(&["check", f.to_str().expect("path")]);
+    assert_eq!(o.status.code(), Some(1));
+    let t = text(&o);
+    assert!(
+        t.contains("20001 error(s)"),
+        "{}",
+        &t[t.len().saturating_sub(300)..]
+    );
+    // The first problems are drawn with their source, the rest listed one per line.
+    assert!(t.contains(
+        "many.pt:40001:1: error[pacer::syntax::unbalanced]: Endif without a matching If"
+    ));
+}

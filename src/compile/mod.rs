@@ -7,7 +7,7 @@ use crate::check::{expr_type, functions, Ty};
 use crate::diag::Problem;
 use crate::registry::{Access, Hook, Kind, Registry, ValueType};
 use crate::syntax::ast::{BinOp, Expr, ExprKind, Name, ProgramAst, Stmt, StmtKind, UnOp, Using};
-use crate::syntax::span::{line_col, Span};
+use crate::syntax::span::{LineIndex, Span};
 use bytecode::{BinaryOp, Cmp, Op, Reg, StartRef, REAL_STORE};
 use indexmap::IndexMap;
 use std::collections::BTreeMap;
@@ -120,7 +120,7 @@ pub fn compile(
     let mut c = Compiler {
         registry,
         layout,
-        src,
+        lines_of: LineIndex::new(src),
         ops: Vec::new(),
         lines: Vec::new(),
         line: 1,
@@ -164,7 +164,7 @@ pub fn compile(
 struct Compiler<'a> {
     registry: &'a Registry,
     layout: &'a mut Layout,
-    src: &'a str,
+    lines_of: LineIndex,
     ops: Vec<Op>,
     lines: Vec<u32>,
     line: u32,
@@ -224,7 +224,7 @@ impl Compiler<'_> {
 
     fn block(&mut self, body: &[Stmt]) {
         for s in body {
-            self.line = line_col(self.src, s.span.start).0 as u32;
+            self.line = self.lines_of.line(s.span.start) as u32;
             self.temp_top = 0;
             self.stmt_start = self.ops.len();
             self.stmt(s);
@@ -359,7 +359,7 @@ impl Compiler<'_> {
                 let top = self.here();
                 let exit = self.cond_jump(cond);
                 self.block(body);
-                self.line = line_col(self.src, s.span.start).0 as u32;
+                self.line = self.lines_of.line(s.span.start) as u32;
                 self.emit(Op::Loop { target: top });
                 let end = self.here();
                 self.patch_all(exit, end);
@@ -397,7 +397,7 @@ impl Compiler<'_> {
                     exit: 0,
                 });
                 self.block(body);
-                self.line = line_col(self.src, s.span.start).0 as u32;
+                self.line = self.lines_of.line(s.span.start) as u32;
                 self.temp_top = 0;
                 let decimals = match r.ty {
                     ValueType::Fixed(d) => d,

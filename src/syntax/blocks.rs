@@ -58,7 +58,8 @@ pub const MAX_NESTING: usize = 64;
 pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>) -> Vec<Stmt> {
     let mut top: Vec<Stmt> = Vec::new();
     let mut stack: Vec<Frame> = Vec::new();
-    let line_no = |span: Span| super::span::line_col(src, span.start).0;
+    let index = super::span::LineIndex::new(src);
+    let line_no = |span: Span| index.line(span.start);
     for line in lines {
         let span = line.span;
         let opens = matches!(

@@ -45,3 +45,52 @@ pub fn line_col(src: &str, offset: usize) -> (usize, usize) {
     let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
     (line, col)
 }
+
+/// Line starts of a text, for line/column lookups in O(log n) instead of a scan per lookup.
+#[derive(Debug, Clone)]
+pub struct LineIndex {
+    starts: Vec<usize>,
+}
+
+impl LineIndex {
+    /// Index `src`.
+    pub fn new(src: &str) -> LineIndex {
+        let mut starts = vec![0];
+        starts.extend(
+            src.bytes()
+                .enumerate()
+                .filter(|(_, b)| *b == b'\n')
+                .map(|(i, _)| i + 1),
+        );
+        LineIndex { starts }
+    }
+
+    /// 1-based line of a byte offset.
+    pub fn line(&self, offset: usize) -> usize {
+        self.starts.partition_point(|&s| s <= offset)
+    }
+
+    /// Byte range of the 1-based line `line` (without its newline), if it exists.
+    pub fn line_range(&self, line: usize, src_len: usize) -> Option<(usize, usize)> {
+        let start = *self.starts.get(line.checked_sub(1)?)?;
+        let end = self.starts.get(line).map_or(src_len, |next| next - 1);
+        Some((start, end.max(start)))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn line_index_agrees_with_a_scan() {
+        let src = "a\nbb\n\nccc";
+        let idx = LineIndex::new(src);
+        for offset in 0..=src.len() {
+            assert_eq!(idx.line(offset), line_col(src, offset).0, "offset {offset}");
+        }
+        assert_eq!(idx.line_range(2, src.len()), Some((2, 4)));
+        assert_eq!(idx.line_range(4, src.len()), Some((6, 9)));
+        assert_eq!(idx.line_range(5, src.len()), None);
+    }
+}
