@@ -56,6 +56,13 @@ struct Checker<'a, 'b> {
 /// The type of an expression, with names resolved; shared with the compiler.
 pub fn expr_type(e: &Expr, registry: &Registry) -> Result<Ty, Problem> {
     match &e.kind {
+        ExprKind::Number(v) if !v.is_finite() => Err(Problem::error(
+            "pacer::check::number",
+            e.span,
+            "this number is too large to represent",
+            "out of range",
+        )
+        .with_help("numbers are 64-bit floating point while computing, and 32-bit where stored")),
         ExprKind::Number(_) => Ok(Ty::Num),
         ExprKind::Bool(_) => Ok(Ty::Bool),
         ExprKind::Paren(inner) => expr_type(inner, registry),
