@@ -1123,12 +1123,22 @@ fn syntax_problems_render_too() {
 
 #[test]
 fn a_number_too_large_to_represent_is_reported() {
-    let reg = pacer::registry::Registry::build(&toml::from_str("[variables.X]\ndecimals = 0\n").expect("machine"), &[0]).expect("registry");
+    let reg = pacer::registry::Registry::build(
+        &toml::from_str("[variables.X]\ndecimals = 0\n").expect("machine"),
+        &[0],
+    )
+    .expect("registry");
     let src = "Var.X = 1e999\n";
     let mut problems = Vec::new();
     let ast = pacer::syntax::parse_program(src, &mut problems);
     assert!(problems.is_empty());
-    let problems = pacer::check::check_program(&ast, &pacer::check::CheckEnv { registry: &reg, loaded_programs: &[0] });
+    let problems = pacer::check::check_program(
+        &ast,
+        &pacer::check::CheckEnv {
+            registry: &reg,
+            loaded_programs: &[0],
+        },
+    );
     assert_eq!(problems.len(), 1);
     assert_eq!(problems[0].code, "pacer::check::number");
     assert_eq!(&src[problems[0].span.start..problems[0].span.end], "1e999");

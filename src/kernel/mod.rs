@@ -46,6 +46,18 @@ pub struct Now<'a> {
     pub trace: &'a mut Trace,
 }
 
+impl Now<'_> {
+    /// The moment of update `tick` with period `tick_ns`.
+    pub fn at(tick: u64, tick_ns: u64, trace: &mut Trace) -> Now<'_> {
+        Now {
+            tick,
+            time_ns: tick * tick_ns,
+            tick_ns,
+            trace,
+        }
+    }
+}
+
 /// The state of all kernel objects of a machine.
 pub struct Kernel {
     queues: Vec<Queue>,

@@ -64,6 +64,20 @@ pub fn run(
             return cold_fault(pc, || format!($($arg)*));
         }};
     }
+    // Store `$x` into the fixed-point slot `$dst`, faulting at this instruction when it does
+    // not fit, and trace the write.
+    macro_rules! store_fixed {
+        ($dst:expr, $x:expr, $decimals:expr, $here:expr) => {{
+            let (dst, x, decimals) = ($dst, $x, $decimals);
+            let Some(val) = fixed(x, decimals) else {
+                return cold_overflow(ctx, dst, x, decimals, $here, executed, n);
+            };
+            v[dst as usize] = val;
+            if trace_on && dst < ctx.slot_count {
+                traced_write(ctx, dst, val);
+            }
+        }};
+    }
     loop {
         let Some(op) = ops.get(pc as usize) else {
             *executed = n;
@@ -106,15 +120,7 @@ pub fn run(
                 b,
                 decimals,
             } => {
-                let x = v[a as usize] + v[b as usize];
-                let Some(val) = fixed(x, decimals) else {
-                    pc = here;
-                    return cold_overflow(ctx, dst, x, decimals, pc, executed, n);
-                };
-                v[dst as usize] = val;
-                if trace_on && dst < ctx.slot_count {
-                    traced_write(ctx, dst, val);
-                }
+                store_fixed!(dst, v[a as usize] + v[b as usize], decimals, here)
             }
             Op::SubFixed {
                 dst,
@@ -122,15 +128,7 @@ pub fn run(
                 b,
                 decimals,
             } => {
-                let x = v[a as usize] - v[b as usize];
-                let Some(val) = fixed(x, decimals) else {
-                    pc = here;
-                    return cold_overflow(ctx, dst, x, decimals, pc, executed, n);
-                };
-                v[dst as usize] = val;
-                if trace_on && dst < ctx.slot_count {
-                    traced_write(ctx, dst, val);
-                }
+                store_fixed!(dst, v[a as usize] - v[b as usize], decimals, here)
             }
             Op::MulFixed {
                 dst,
@@ -138,15 +136,7 @@ pub fn run(
                 b,
                 decimals,
             } => {
-                let x = v[a as usize] * v[b as usize];
-                let Some(val) = fixed(x, decimals) else {
-                    pc = here;
-                    return cold_overflow(ctx, dst, x, decimals, pc, executed, n);
-                };
-                v[dst as usize] = val;
-                if trace_on && dst < ctx.slot_count {
-                    traced_write(ctx, dst, val);
-                }
+                store_fixed!(dst, v[a as usize] * v[b as usize], decimals, here)
             }
             Op::ArithFixed {
                 op,
@@ -154,24 +144,13 @@ pub fn run(
                 a,
                 b,
                 decimals,
-            } => {
-                let x = match binary(op, v[a as usize], v[b as usize]) {
-                    Ok(x) => x,
-                    Err(message) => {
-                        pc = here;
-                        fault!("{message}");
-                    }
-                };
-                let Some(val) = fixed(x, decimals) else {
+            } => match binary(op, v[a as usize], v[b as usize]) {
+                Ok(x) => store_fixed!(dst, x, decimals, here),
+                Err(message) => {
                     pc = here;
-                    let message = overflow_message(ctx, dst, x, decimals);
                     fault!("{message}");
-                };
-                v[dst as usize] = val;
-                if trace_on && dst < ctx.slot_count {
-                    traced_write(ctx, dst, val);
                 }
-            }
+            },
             Op::Compare { cmp, dst, a, b } => {
                 v[dst as usize] = f64::from(cmp.test(v[a as usize], v[b as usize]))
             }
@@ -182,16 +161,7 @@ pub fn run(
                 v[dst as usize] = func.apply(v[a as usize], v[b as usize])
             }
             Op::StoreFixed { dst, src, decimals } => {
-                let x = v[src as usize];
-                let Some(val) = fixed(x, decimals) else {
-                    pc = here;
-                    let message = overflow_message(ctx, dst, x, decimals);
-                    fault!("{message}");
-                };
-                v[dst as usize] = val;
-                if trace_on && dst < ctx.slot_count {
-                    traced_write(ctx, dst, val);
-                }
+                store_fixed!(dst, v[src as usize], decimals, here)
             }
             Op::StoreReal { dst, src } => {
                 let x = v[src as usize];

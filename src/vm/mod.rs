@@ -374,12 +374,7 @@ impl Machine {
                             self.tick * self.image.tick_ns
                         };
                         let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-                        let mut now = Now {
-                            tick,
-                            time_ns: tick * tick_ns,
-                            tick_ns,
-                            trace: &mut self.trace,
-                        };
+                        let mut now = Now::at(tick, tick_ns, &mut self.trace);
                         self.kernel.capture_edge(
                             a.dest.instance,
                             on,
@@ -393,12 +388,7 @@ impl Machine {
                 _ => {
                     if last != Some(on) {
                         let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-                        let mut now = Now {
-                            tick,
-                            time_ns: tick * tick_ns,
-                            tick_ns,
-                            trace: &mut self.trace,
-                        };
+                        let mut now = Now::at(tick, tick_ns, &mut self.trace);
                         self.kernel.write(
                             a.dest.hook,
                             a.dest.instance,
@@ -454,12 +444,7 @@ impl Machine {
             }
             _ => {
                 let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-                let mut now = Now {
-                    tick,
-                    time_ns: tick * tick_ns,
-                    tick_ns,
-                    trace: &mut self.trace,
-                };
+                let mut now = Now::at(tick, tick_ns, &mut self.trace);
                 self.kernel
                     .act(hook, instance, &mut self.values, &mut now)
                     .map(|_| ())
@@ -613,12 +598,7 @@ impl Machine {
             kernel: &mut self.kernel,
             registry: &self.image.registry,
             snapshot: &mut self.snapshot,
-            now: Now {
-                tick,
-                time_ns: tick * tick_ns,
-                tick_ns,
-                trace: &mut self.trace,
-            },
+            now: Now::at(tick, tick_ns, &mut self.trace),
             slot_count,
         };
         let mut executed = self.instructions;
