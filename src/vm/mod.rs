@@ -248,8 +248,8 @@ impl Machine {
             if self.error.is_none() {
                 self.step();
             }
-            if let Some(e) = &self.error {
-                stop_reason = format!("error in Program.{}", e.program);
+            if self.error.is_some() {
+                stop_reason = "run-time error".to_string();
                 break;
             }
             if let Some(last) = last_tick {
