@@ -519,7 +519,7 @@ fn division_by_zero_ends_the_run_with_task_program_line_and_message() {
     assert_eq!(e.message, "division by zero");
     assert!(e.file.ends_with("div.pt"), "{}", e.file);
     assert_eq!(e.time, 0.003);
-    assert_eq!(r.summary.stop_reason, "error in Program.3");
+    assert_eq!(r.summary.stop_reason, "run-time error");
     assert_eq!(
         r.summary.ticks, 4,
         "the run stops at the update of the error"
