@@ -153,13 +153,11 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
         return Err(diags);
     }
     let numbers: Vec<u32> = programs.iter().map(|p| p.number).collect();
-    let registry = match Registry::build(&machine, &numbers) {
-        Ok(r) => Some(r),
-        Err(problems) => {
-            machine_problems.extend(problems);
-            None
-        }
-    };
+    // Problems in the machine file do not stop the checks of the rest of it, nor of the
+    // programs: everything wrong is reported at once.
+    let (registry, registry_problems) = Registry::build_reporting(&machine, &numbers);
+    machine_problems.extend(registry_problems);
+    let registry = Some(registry);
 
     // Read, parse and check every program, collecting every problem.
     let mut sources: IndexMap<u32, SourceFile> = IndexMap::new();

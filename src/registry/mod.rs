@@ -84,6 +84,21 @@ const MAX_INSTANCES: u32 = 4096; // also keeps instance numbers within u16 in by
 impl Registry {
     /// Build the registry of a machine. `program_numbers` are the programs loaded.
     pub fn build(machine: &MachineFile, program_numbers: &[u32]) -> Result<Registry, Vec<Problem>> {
+        let (registry, problems) = Registry::build_reporting(machine, program_numbers);
+        if problems.is_empty() {
+            Ok(registry)
+        } else {
+            Err(problems)
+        }
+    }
+
+    /// Build the registry and report every problem of the machine file; values in error are
+    /// replaced by their defaults, so the rest of the file (and the programs) can still be
+    /// checked against the result.
+    pub fn build_reporting(
+        machine: &MachineFile,
+        program_numbers: &[u32],
+    ) -> (Registry, Vec<Problem>) {
         let mut problems = Vec::new();
         let mut counts: IndexMap<&'static str, u32> = IndexMap::new();
         for table in [&machine.io, &machine.objects] {
@@ -380,11 +395,7 @@ impl Registry {
             }
         }
         registry.queue_sizes = queue_sizes;
-        if problems.is_empty() {
-            Ok(registry)
-        } else {
-            Err(problems)
-        }
+        (registry, problems)
     }
 
     /// The instances of a type.
