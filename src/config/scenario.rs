@@ -1,5 +1,5 @@
-//! `scenario.toml`: the simulated world. For now: how long to run and the digital inputs
-//! (levels, presses, pulse trains) in time.
+//! `scenario.toml`: the simulated world: how long to run, the master axis, product streams and
+//! the digital inputs (levels, presses, pulse trains) in time.
 
 use super::values::{Duration, Level};
 use serde::Deserialize;
@@ -21,6 +21,75 @@ pub struct ScenarioFile {
     /// Pulse trains.
     #[serde(default)]
     pub pulses: Vec<PulseTrain>,
+    /// The master axis (conveyor encoder).
+    #[serde(default)]
+    pub master: MasterSection,
+    /// Product streams passing sensors.
+    #[serde(default)]
+    pub products: Vec<ProductsEntry>,
+}
+
+/// `[master]`: the conveyor's speed over time.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct MasterSection {
+    /// Speed at the start, master units per second (default 0).
+    pub speed: Option<Spanned<f64>>,
+    /// Speed changes in time order.
+    #[serde(default, rename = "change")]
+    pub changes: Vec<Spanned<SpeedChangeEntry>>,
+}
+
+/// `[[master.change]]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct SpeedChangeEntry {
+    /// When the change starts.
+    pub at: Duration,
+    /// The new speed, master units per second (0 stops the conveyor).
+    pub speed: f64,
+    /// How long the ramp to it takes (default 0: at once).
+    #[serde(default)]
+    pub ramp: Option<Duration>,
+}
+
+/// `[[products]]`: products passing a sensor, tied to master positions.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProductsEntry {
+    /// The sensor input, e.g. `ModuleInput.2`.
+    pub sensor: Spanned<String>,
+    /// Master position of the first leading edge.
+    pub first: f64,
+    /// Master distance between leading edges.
+    pub pitch: f64,
+    /// Product length, master units.
+    pub length: f64,
+    /// Each leading edge moves by a seeded uniform amount within ±jitter (default 0).
+    #[serde(default)]
+    pub jitter: f64,
+    /// Number of products.
+    pub count: u32,
+    /// Indices (from 0) of missing products.
+    #[serde(default)]
+    pub missing: Vec<u32>,
+    /// Contact bounce on the edges.
+    pub bounce: Option<BounceEntry>,
+}
+
+/// `bounce = { count = 3, width = "50us", gap = "100us", trailing = true }`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BounceEntry {
+    /// Bounces after each edge.
+    pub count: u32,
+    /// How long each bounce lasts.
+    pub width: Duration,
+    /// Time between bounces.
+    pub gap: Duration,
+    /// Bounce on trailing edges too (default: leading edges only).
+    #[serde(default)]
+    pub trailing: bool,
 }
 
 /// `[run]`.

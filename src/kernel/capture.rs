@@ -57,11 +57,11 @@ impl Capture {
         v[self.triggered as usize] = 0.0;
     }
 
-    /// CaptureActivate driven to `on` at `time_ns`, with the positions at that instant.
+    /// CaptureActivate driven to `on` at `time` seconds, with the positions at that instant.
     pub fn activate(
         &self,
         on: bool,
-        time_ns: u64,
+        time: f64,
         at: Positions,
         v: &mut [f64],
         trace: &mut Trace,
@@ -70,7 +70,7 @@ impl Capture {
         let rising = on && v[self.activate as usize] == 0.0;
         v[self.activate as usize] = f64::from(on);
         if rising && v[self.enable as usize] != 0.0 && v[self.triggered as usize] == 0.0 {
-            let t = time_ns as f64 / 1e9;
+            let t = time;
             v[self.time as usize] = t;
             v[self.master as usize] = at.master;
             v[self.command as usize] = at.command;

@@ -30,8 +30,17 @@ pub enum ActOutcome {
 /// A motion profile: which motion occupies it, until when.
 #[derive(Debug, Clone, Default)]
 struct Profile {
+    /// A timed dwell ends at this update.
     busy_until: Option<u64>,
+    /// A master-distance dwell ends when the master reaches this position.
+    busy_until_master: Option<f64>,
     busy_slot: SlotId,
+}
+
+impl Profile {
+    fn busy(&self) -> bool {
+        self.busy_until.is_some() || self.busy_until_master.is_some()
+    }
 }
 
 /// Everything the kernel objects need from the moment.
@@ -42,17 +51,20 @@ pub struct Now<'a> {
     pub time_ns: u64,
     /// Update period in nanoseconds.
     pub tick_ns: u64,
+    /// Master position at this update.
+    pub master: f64,
     /// The trace.
     pub trace: &'a mut Trace,
 }
 
 impl Now<'_> {
     /// The moment of update `tick` with period `tick_ns`.
-    pub fn at(tick: u64, tick_ns: u64, trace: &mut Trace) -> Now<'_> {
+    pub fn at(tick: u64, tick_ns: u64, master: f64, trace: &mut Trace) -> Now<'_> {
         Now {
             tick,
             time_ns: tick * tick_ns,
             tick_ns,
+            master,
             trace,
         }
     }
@@ -85,6 +97,7 @@ impl Kernel {
             profiles: (0..count(Kind::Profile))
                 .map(|i| Profile {
                     busy_until: None,
+                    busy_until_master: None,
                     busy_slot: slot(registry, Kind::Profile, i, "Busy"),
                 })
                 .collect(),
@@ -119,10 +132,14 @@ impl Kernel {
             }
             Hook::QueueCompareEnable => v[slot as usize] = value,
             Hook::CaptureEnable => self.captures[i].set_enable(value != 0.0, v),
+            // Written by a program: the edge is now, at this update's positions.
             Hook::CaptureActivate => self.captures[i].activate(
                 value != 0.0,
-                now.time_ns,
-                Positions::default(),
+                now.time_ns as f64 / 1e9,
+                Positions {
+                    master: now.master,
+                    ..Positions::default()
+                },
                 v,
                 now.trace,
                 now.tick,
@@ -152,17 +169,19 @@ impl Kernel {
         Ok(())
     }
 
-    /// Activate an edge-timed capture input from an assignment (exact edge time).
+    /// Drive a capture input from an assignment, with the exact edge time and the positions at
+    /// that instant.
     pub fn capture_edge(
         &mut self,
         instance: u32,
         on: bool,
-        time_ns: u64,
+        time: f64,
+        at: Positions,
         v: &mut [f64],
         now: &mut Now<'_>,
     ) {
         if let Some(c) = self.captures.get(instance as usize) {
-            c.activate(on, time_ns, Positions::default(), v, now.trace, now.tick);
+            c.activate(on, time, at, v, now.trace, now.tick);
         }
     }
 
@@ -179,7 +198,7 @@ impl Kernel {
             Hook::QueueRemove => self.queues[i].remove(v),
             Hook::QueueClear => self.queues[i].clear(v),
             Hook::CaptureClear => self.captures[i].clear(v),
-            Hook::TimerInitiate => self.timers[i].initiate(now.time_ns, v)?,
+            Hook::TimerInitiate => self.timers[i].initiate(now.time_ns, now.master, v),
             Hook::TimerStop => self.timers[i].stop(v),
             Hook::MotionStop => {}
             Hook::MotionStart => {
@@ -200,7 +219,7 @@ impl Kernel {
         let ns = crate::config::values::seconds_to_ns(seconds)
             .map_err(|e| format!("Dwell For Time: {e}"))?;
         let p = &mut self.profiles[0];
-        if p.busy_until.is_some() {
+        if p.busy() {
             return Ok(ActOutcome::ProfileBusy);
         }
         let ticks = ns.div_ceil(now.tick_ns.max(1));
@@ -211,24 +230,56 @@ impl Kernel {
         Ok(ActOutcome::Done)
     }
 
+    /// `Dwell For Master Dist`: a motion on profile 0 lasting until the master has moved
+    /// `distance` from here.
+    pub fn dwell_master(
+        &mut self,
+        distance: f64,
+        v: &mut [f64],
+        now: &Now<'_>,
+    ) -> Result<ActOutcome, String> {
+        if !(distance.is_finite() && distance >= 0.0) {
+            return Err(format!(
+                "Dwell For Master Dist needs a distance of 0 or more, not {distance}"
+            ));
+        }
+        let p = &mut self.profiles[0];
+        if p.busy() {
+            return Ok(ActOutcome::ProfileBusy);
+        }
+        if distance > 0.0 {
+            p.busy_until_master = Some(now.master + distance);
+            v[p.busy_slot as usize] = 1.0;
+        }
+        Ok(ActOutcome::Done)
+    }
+
     /// True while a motion runs on `profile`.
     pub fn profile_busy(&self, profile: usize) -> bool {
-        self.profiles
-            .get(profile)
-            .is_some_and(|p| p.busy_until.is_some())
+        self.profiles.get(profile).is_some_and(Profile::busy)
+    }
+
+    /// Status derived after the tasks ran: queue compares against their source positions.
+    pub fn derive(&mut self, v: &mut [f64], now: &mut Now<'_>) {
+        for q in &mut self.queues {
+            q.compare(now.master, v, now.trace, now.tick);
+        }
     }
 
     /// Per-update work before the tasks run: timers, profile completion, the free-running clock.
     pub fn update(&mut self, v: &mut [f64], now: &Now<'_>) {
         v[self.free_run as usize] = (now.time_ns / 1000) as f64;
         for t in &mut self.timers {
-            t.update(now.time_ns, v);
+            t.update(now.time_ns, now.master, v);
         }
         for p in &mut self.profiles {
             if p.busy_until.is_some_and(|until| now.tick >= until) {
                 p.busy_until = None;
-                v[p.busy_slot as usize] = 0.0;
             }
+            if p.busy_until_master.is_some_and(|until| now.master >= until) {
+                p.busy_until_master = None;
+            }
+            v[p.busy_slot as usize] = f64::from(p.busy());
         }
     }
 }

@@ -11,6 +11,7 @@ struct Slots {
     offset: SlotId,
     exit_position: SlotId,
     exit: SlotId,
+    compare_enable: SlotId,
     empty: SlotId,
     full: SlotId,
     overflow: SlotId,
@@ -41,6 +42,7 @@ impl Queue {
                 offset: slot("QueueOffset"),
                 exit_position: slot("ExitPosition"),
                 exit: slot("QueueExit"),
+                compare_enable: slot("QueueCompareEnable"),
                 empty: slot("QueueEmpty"),
                 full: slot("QueueFull"),
                 overflow: slot("QueueOverflow"),
@@ -85,6 +87,29 @@ impl Queue {
         v[self.s.exit as usize] = 0.0;
         v[self.s.overflow as usize] = 0.0;
         self.refresh(v);
+    }
+
+    /// QueueExit turns on when the compare is enabled, the queue holds an entry, and the source
+    /// is at or past the oldest entry's exit position; it stays on until QueueRemove.
+    pub fn compare(&mut self, source: f64, v: &mut [f64], trace: &mut Trace, tick: u64) {
+        if v[self.s.compare_enable as usize] == 0.0 || v[self.s.exit as usize] != 0.0 {
+            return;
+        }
+        let Some(front) = self.entries.front() else {
+            return;
+        };
+        let exit = front + v[self.s.offset as usize];
+        if source >= exit {
+            v[self.s.exit as usize] = 1.0;
+            trace.event(
+                tick,
+                "queue_exit",
+                &[
+                    ("object", format!("Queue.{}", self.index).into()),
+                    ("exit", number(exit)),
+                ],
+            );
+        }
     }
 
     /// Recompute the derived members after any change (entries, offset, full level).

@@ -6,6 +6,8 @@ use crate::registry::{Kind, Registry, SlotId};
 #[derive(Debug, Clone)]
 pub struct Timer {
     started_ns: Option<u64>,
+    started_master: f64,
+    synchronized_run: bool,
     preset: SlotId,
     synchronized: SlotId,
     elapsed: SlotId,
@@ -19,6 +21,8 @@ impl Timer {
         let slot = |m: &str| super::slot(registry, Kind::Timer, index, m);
         Timer {
             started_ns: None,
+            started_master: 0.0,
+            synchronized_run: false,
             preset: slot("Preset"),
             synchronized: slot("Synchronized"),
             elapsed: slot("Elapsed"),
@@ -27,16 +31,14 @@ impl Timer {
         }
     }
 
-    /// Start from zero at `now_ns`.
-    pub fn initiate(&mut self, now_ns: u64, v: &mut [f64]) -> Result<(), String> {
-        if v[self.synchronized as usize] != 0.0 {
-            return Err("synchronized timers count master distance, and this machine has no master axis yet".into());
-        }
+    /// Start from zero at `now_ns` (and master position `master`).
+    pub fn initiate(&mut self, now_ns: u64, master: f64, v: &mut [f64]) {
         self.started_ns = Some(now_ns);
+        self.started_master = master;
+        self.synchronized_run = v[self.synchronized as usize] != 0.0;
         v[self.active as usize] = 1.0;
         v[self.output as usize] = 0.0;
         v[self.elapsed as usize] = 0.0;
-        Ok(())
     }
 
     /// Stop and clear the output.
@@ -46,10 +48,14 @@ impl Timer {
         v[self.output as usize] = 0.0;
     }
 
-    /// Advance to `now_ns`.
-    pub fn update(&mut self, now_ns: u64, v: &mut [f64]) {
+    /// Advance to `now_ns` and master position `master`.
+    pub fn update(&mut self, now_ns: u64, master: f64, v: &mut [f64]) {
         let Some(start) = self.started_ns else { return };
-        let elapsed = now_ns.saturating_sub(start) as f64 / 1e9;
+        let elapsed = if self.synchronized_run {
+            master - self.started_master
+        } else {
+            now_ns.saturating_sub(start) as f64 / 1e9
+        };
         v[self.elapsed as usize] = crate::registry::round_to(elapsed, 6);
         if elapsed + 1e-12 >= v[self.preset as usize] {
             v[self.output as usize] = 1.0;

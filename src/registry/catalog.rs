@@ -569,6 +569,18 @@ const MOTION: &[MemberDef] = &[
         Read,
         "microseconds since the start of the run",
     )),
+    continuous(m(
+        "MasterPosnFeedback",
+        Real,
+        Read,
+        "master (encoder) position, master units",
+    )),
+    continuous(m(
+        "MasterVelFeedback",
+        Real,
+        Read,
+        "master velocity, master units per second",
+    )),
 ];
 
 /// Every object type, in the order the docs list them.

@@ -364,11 +364,12 @@ pub fn run(
                 }
             }
             Op::Dwell { src, master } => {
-                if master {
-                    pc = here;
-                    fault!("Dwell For Master Dist needs the master axis, which this build of pacer does not simulate yet");
-                }
-                match ctx.kernel.dwell_time(v[src as usize], v, &ctx.now) {
+                let started = if master {
+                    ctx.kernel.dwell_master(v[src as usize], v, &ctx.now)
+                } else {
+                    ctx.kernel.dwell_time(v[src as usize], v, &ctx.now)
+                };
+                match started {
                     Ok(ActOutcome::Done) => sync_snapshot(ctx, v),
                     Ok(ActOutcome::ProfileBusy) => {
                         *executed = n;

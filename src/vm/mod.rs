@@ -63,6 +63,8 @@ pub struct MachineImage {
     pub assignments: Vec<Assignment>,
     /// Scenario input edges.
     pub edges: Vec<Edge>,
+    /// The master axis.
+    pub master: crate::world::master::MasterProfile,
     /// Scenario duration, if set.
     pub duration_ns: Option<u64>,
 }
@@ -127,6 +129,10 @@ pub struct Machine {
     instructions: u64,
     error: Option<RunError>,
     running_slots: Vec<(SlotId, SlotId)>,
+    /// Master position at the current update.
+    master_now: f64,
+    /// Slots of the master's position and velocity.
+    master_slots: (SlotId, SlotId),
 }
 
 /// Trace every registry slot whose value differs from the snapshot, in slot order.
@@ -160,7 +166,7 @@ impl Machine {
     pub fn new(image: MachineImage, trace: Trace) -> Machine {
         let values = image.initial.clone();
         let kernel = Kernel::new(&image.registry);
-        let world = World::new(image.edges.clone());
+        let world = World::new(image.edges.clone(), image.master.clone());
         let tasks = (0..image.tasks).map(|_| Task::free()).collect();
         let slot_count = image.registry.slot_count();
         let running_slots = (0..image.registry.of(crate::registry::Kind::Program).count)
@@ -191,6 +197,21 @@ impl Machine {
             instructions: 0,
             error: None,
             running_slots,
+            master_now: 0.0,
+            master_slots: (
+                crate::kernel::slot(
+                    &image.registry,
+                    crate::registry::Kind::Motion,
+                    0,
+                    "MasterPosnFeedback",
+                ),
+                crate::kernel::slot(
+                    &image.registry,
+                    crate::registry::Kind::Motion,
+                    0,
+                    "MasterVelFeedback",
+                ),
+            ),
             image,
         };
         m.kernel.start(&mut m.values);
@@ -259,10 +280,7 @@ impl Machine {
                 }
             } else {
                 let idle = self.tasks.iter().all(|t| !t.busy());
-                let world_done = self
-                    .world
-                    .last_edge_ns()
-                    .is_none_or(|t| t <= self.tick * tick_ns);
+                let world_done = self.world.last_edge().is_none_or(|t| t <= self.seconds());
                 if idle && world_done {
                     stop_reason = "all programs ended".to_string();
                     break;
@@ -311,30 +329,37 @@ impl Machine {
         self.trace.finish()
     }
 
+    /// Time of the current update, seconds.
+    fn seconds(&self) -> f64 {
+        (self.tick as f64 * self.image.tick_ns as f64) / 1e9
+    }
+
     /// Compute one update.
     pub fn step(&mut self) {
-        let time_ns = self.tick * self.image.tick_ns;
+        let t = self.seconds();
         let mut activity = std::mem::take(&mut self.activity);
-        self.world.advance(time_ns, &mut self.values, &mut activity);
+        self.world.advance(t, &mut self.values, &mut activity);
         self.activity = activity;
+        self.master_now = self.world.master.position(t);
+        self.values[self.master_slots.0 as usize] = self.master_now;
+        self.values[self.master_slots.1 as usize] = self.world.master.speed(t);
         self.assignments();
         if self.error.is_some() {
             return;
         }
         {
-            let tick = self.tick;
-            let tick_ns = self.image.tick_ns;
-            let now = Now {
-                tick,
-                time_ns,
-                tick_ns,
-                trace: &mut self.trace,
-            };
+            let (tick, tick_ns) = (self.tick, self.image.tick_ns);
+            let now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
             self.kernel.update(&mut self.values, &now);
         }
         self.unblock();
         if self.error.is_none() {
             self.run_one_task();
+        }
+        {
+            let (tick, tick_ns) = (self.tick, self.image.tick_ns);
+            let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
+            self.kernel.derive(&mut self.values, &mut now);
         }
         if self.trace.enabled() {
             trace_changes(
@@ -353,11 +378,15 @@ impl Machine {
             let on = (self.values[a.source as usize] != 0.0) != a.active_off;
             let last = self.assign_last[i];
             self.assign_last[i] = Some(on);
-            let rise_ns = self
-                .activity
-                .iter()
-                .find(|x| x.slot == a.source)
-                .and_then(|x| x.first_rise_ns);
+            let activity = self.activity.iter().find(|x| x.slot == a.source);
+            // The source edge that makes the destination go on, at its exact time.
+            let edge_at = activity.and_then(|x| {
+                if a.active_off {
+                    x.first_fall
+                } else {
+                    x.first_rise
+                }
+            });
             let result = match (a.dest.access, a.dest.hook) {
                 (Access::Action, _) => {
                     if on && last != Some(true) {
@@ -368,17 +397,22 @@ impl Machine {
                 }
                 (_, Hook::CaptureActivate) => {
                     if last != Some(on) {
-                        let edge = if on && !a.active_off {
-                            rise_ns.unwrap_or(self.tick * self.image.tick_ns)
+                        let edge = if on {
+                            edge_at.unwrap_or(self.seconds())
                         } else {
-                            self.tick * self.image.tick_ns
+                            self.seconds()
+                        };
+                        let at = crate::kernel::capture::Positions {
+                            master: self.world.master.position(edge),
+                            ..Default::default()
                         };
                         let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-                        let mut now = Now::at(tick, tick_ns, &mut self.trace);
+                        let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
                         self.kernel.capture_edge(
                             a.dest.instance,
                             on,
                             edge,
+                            at,
                             &mut self.values,
                             &mut now,
                         );
@@ -388,7 +422,7 @@ impl Machine {
                 _ => {
                     if last != Some(on) {
                         let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-                        let mut now = Now::at(tick, tick_ns, &mut self.trace);
+                        let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
                         self.kernel.write(
                             a.dest.hook,
                             a.dest.instance,
@@ -444,7 +478,7 @@ impl Machine {
             }
             _ => {
                 let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-                let mut now = Now::at(tick, tick_ns, &mut self.trace);
+                let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
                 self.kernel
                     .act(hook, instance, &mut self.values, &mut now)
                     .map(|_| ())
@@ -598,7 +632,7 @@ impl Machine {
             kernel: &mut self.kernel,
             registry: &self.image.registry,
             snapshot: &mut self.snapshot,
-            now: Now::at(tick, tick_ns, &mut self.trace),
+            now: Now::at(tick, tick_ns, self.master_now, &mut self.trace),
             slot_count,
         };
         let mut executed = self.instructions;

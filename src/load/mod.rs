@@ -6,13 +6,14 @@ use crate::compile::{compile, Layout};
 use crate::config::machine::MachineFile;
 use crate::config::scenario::ScenarioFile;
 use crate::config::{parse_toml, span_of};
-use crate::diag::{nearest, Diagnostics, Problem, SourceFile};
-use crate::registry::{Access, Kind, Registry, DEFAULT_UPDATE_NS};
+use crate::diag::{Diagnostics, Problem, SourceFile};
+use crate::registry::{Access, Registry, DEFAULT_UPDATE_NS};
 use crate::syntax::ast::Name;
 use crate::syntax::span::Span;
 use crate::vm::{Assignment, MachineImage};
-use crate::world::Edge;
 use indexmap::IndexMap;
+
+mod scenario;
 use std::path::{Path, PathBuf};
 
 /// What to load.
@@ -308,6 +309,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
 
     // The scenario.
     let mut edges = Vec::new();
+    let mut master = crate::world::master::MasterProfile::default();
     let mut duration_ns = None;
     if let Some(p) = &scenario_path {
         let src = read(p, &mut diags)?;
@@ -316,7 +318,9 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
             Ok(sc) => {
                 let mut problems = Vec::new();
                 if let Some(reg) = &registry {
-                    edges = scenario_edges(&sc, reg, &mut problems);
+                    let world = scenario::world(&sc, reg, &mut problems);
+                    edges = world.0;
+                    master = world.1;
                 }
                 duration_ns = sc.run.duration.as_ref().map(|d| d.get_ref().0);
                 diags.extend_file(&src, problems);
@@ -369,6 +373,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
         autostart,
         assignments,
         edges,
+        master,
         duration_ns,
     };
     Ok(Loaded {
@@ -510,118 +515,4 @@ fn resolve_text(
             None
         }
     }
-}
-
-fn scenario_edges(sc: &ScenarioFile, reg: &Registry, problems: &mut Vec<Problem>) -> Vec<Edge> {
-    let mut edges = Vec::new();
-    let input = |name: &toml::Spanned<String>, problems: &mut Vec<Problem>| -> Option<u32> {
-        let r = resolve_text(reg, name, problems)?;
-        let is_input = matches!(r.kind, Kind::DriveInput | Kind::ModuleInput)
-            || (r.kind == Kind::DriveIO && r.name.ends_with(".In"));
-        if !is_input {
-            let inputs = ["DriveInput.1", "ModuleInput.1", "DriveIO.1.In"];
-            problems.push(
-                Problem::error(
-                    "pacer::scenario::input",
-                    span_of(name),
-                    format!("{} is not an input the world can drive", r.name),
-                    "not an input",
-                )
-                .with_help_opt(
-                    nearest(name.get_ref(), inputs).map(|n| format!("inputs look like `{n}`")),
-                ),
-            );
-            return None;
-        }
-        Some(r.slot)
-    };
-    for c in &sc.inputs {
-        if let Some(slot) = input(&c.name, problems) {
-            edges.push(Edge {
-                time_ns: c.at.get_ref().0,
-                slot,
-                on: c.value.get_ref().0,
-            });
-        }
-    }
-    let mut presses: Vec<(u32, u64, u64, Span)> = Vec::new();
-    for p in &sc.presses {
-        let Some(slot) = input(&p.name, problems) else {
-            continue;
-        };
-        let (at, len) = (p.at.get_ref().0, p.length.get_ref().0);
-        if len == 0 {
-            problems.push(Problem::error(
-                "pacer::scenario::press",
-                span_of(&p.length),
-                "a press of length 0 never happens",
-                "must be longer than 0",
-            ));
-            continue;
-        }
-        presses.push((slot, at, at + len, span_of(&p.at)));
-    }
-    for p in &sc.pulses {
-        let Some(slot) = input(&p.name, problems) else {
-            continue;
-        };
-        let (start, period, width, count) = (
-            p.start.get_ref().0,
-            p.period.get_ref().0,
-            p.width.get_ref().0,
-            *p.count.get_ref(),
-        );
-        if width == 0 || width >= period {
-            problems.push(Problem::error(
-                "pacer::scenario::pulses",
-                span_of(&p.width),
-                "the pulse width must be above 0 and below the period",
-                "invalid width",
-            ));
-            continue;
-        }
-        if count > 10_000_000 {
-            problems.push(Problem::error(
-                "pacer::scenario::pulses",
-                span_of(&p.count),
-                "at most 10,000,000 pulses per train",
-                "too many",
-            ));
-            continue;
-        }
-        for k in 0..u64::from(count) {
-            let at = start + k * period;
-            presses.push((slot, at, at + width, span_of(&p.start)));
-        }
-    }
-    presses.sort_by_key(|p| (p.0, p.1));
-    for w in presses.windows(2) {
-        if w[0].0 == w[1].0 && w[1].1 <= w[0].2 {
-            problems.push(
-                Problem::error(
-                    "pacer::scenario::overlap",
-                    w[1].3,
-                    "this press overlaps (or touches) the previous press of the same input",
-                    "overlaps",
-                )
-                .with_help(format!(
-                    "the previous press lasts until {} s",
-                    w[0].2 as f64 / 1e9
-                )),
-            );
-        }
-    }
-    for (slot, on, off, _) in presses {
-        edges.push(Edge {
-            time_ns: on,
-            slot,
-            on: true,
-        });
-        edges.push(Edge {
-            time_ns: off,
-            slot,
-            on: false,
-        });
-    }
-    edges
 }
