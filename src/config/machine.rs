@@ -31,6 +31,9 @@ pub struct MachineFile {
     /// Queue set-up by instance number (`[queue.0]`).
     #[serde(default)]
     pub queue: IndexMap<String, Spanned<QueueSetup>>,
+    /// Index set-up by instance number (`[index.0]`).
+    #[serde(default)]
+    pub index: IndexMap<String, Spanned<IndexSetup>>,
     /// Source → destination assignments.
     #[serde(default, rename = "assignment")]
     pub assignments: Vec<AssignmentEntry>,
@@ -116,4 +119,24 @@ pub struct AssignmentEntry {
     pub destination: Spanned<String>,
     /// "ActiveOn" (default) or "ActiveOff".
     pub polarity: Option<Spanned<String>>,
+}
+
+/// `[index.N]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct IndexSetup {
+    /// "Incremental" (default) or "Absolute".
+    #[serde(rename = "type")]
+    pub kind: Option<Spanned<String>>,
+    /// "Realtime" (default) or "Synchronized" (velocity per master unit, acceleration per
+    /// master unit²).
+    pub time_base: Option<Spanned<String>>,
+    /// Distance (incremental) or position (absolute).
+    pub distance: Option<f64>,
+    /// Velocity.
+    pub velocity: Option<f64>,
+    /// Acceleration.
+    pub acceleration: Option<f64>,
+    /// Deceleration.
+    pub deceleration: Option<f64>,
 }

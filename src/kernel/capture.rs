@@ -44,6 +44,11 @@ impl Capture {
         }
     }
 
+    /// The latched time (seconds) and master position, as programs may have rewritten them.
+    pub fn latched(&self, v: &[f64]) -> (f64, f64) {
+        (v[self.time as usize], v[self.master as usize])
+    }
+
     /// CaptureEnable written; turning it off resets the capture.
     pub fn set_enable(&self, on: bool, v: &mut [f64]) {
         v[self.enable as usize] = f64::from(on);

@@ -1,13 +1,18 @@
-//! The kernel objects' behaviour behind member writes and actions. Motion objects (index, home,
-//! jog, gear) arrive with the motion kernel; until then initiating one is a clear run-time error.
+//! The kernel objects' behaviour behind member writes and actions, and the motion generator.
+//! Index moves and dwells run on the servo axis; Home, Jog and Gear are not simulated yet, and
+//! initiating one is a clear run-time error.
 
 pub mod capture;
+pub mod motion;
 pub mod queue;
 pub mod timer;
 
-use crate::registry::{Hook, Kind, Registry, SlotId};
-use crate::trace::Trace;
+use crate::compile::bytecode::StartRef;
+use crate::registry::{Hook, IndexConfig, IndexType, Kind, QueueSource, Registry, SlotId};
+use crate::trace::{number, Trace};
 use capture::{Capture, Positions};
+use motion::trapezoid::{Phase, Trapezoid};
+use motion::{Axis, Clocks, Domain, Event, Motion, Owner, Plan};
 use queue::Queue;
 use timer::Timer;
 
@@ -25,22 +30,6 @@ pub enum ActOutcome {
     Done,
     /// Motion is running on that profile: the program waits and retries.
     ProfileBusy,
-}
-
-/// A motion profile: which motion occupies it, until when.
-#[derive(Debug, Clone, Default)]
-struct Profile {
-    /// A timed dwell ends at this update.
-    busy_until: Option<u64>,
-    /// A master-distance dwell ends when the master reaches this position.
-    busy_until_master: Option<f64>,
-    busy_slot: SlotId,
-}
-
-impl Profile {
-    fn busy(&self) -> bool {
-        self.busy_until.is_some() || self.busy_until_master.is_some()
-    }
 }
 
 /// Everything the kernel objects need from the moment.
@@ -73,11 +62,68 @@ impl Now<'_> {
 /// The state of all kernel objects of a machine.
 pub struct Kernel {
     queues: Vec<Queue>,
+    queue_sources: Vec<QueueSource>,
     captures: Vec<Capture>,
     timers: Vec<Timer>,
-    profiles: Vec<Profile>,
+    indexes: Vec<IndexObject>,
+    axis: Axis,
+    profile_busy: Vec<SlotId>,
+    axis_slots: AxisSlots,
     feed_rate: SlotId,
     free_run: SlotId,
+    slot_kinds: Vec<Kind>,
+    events: Vec<Event>,
+}
+
+/// Slots of the servo axis's members.
+#[derive(Debug, Clone, Copy)]
+struct AxisSlots {
+    command: SlotId,
+    feedback: SlotId,
+    velocity: SlotId,
+}
+
+/// An index: its set-up and the slots of its settings and status.
+#[derive(Debug, Clone)]
+struct IndexObject {
+    config: IndexConfig,
+    distance: SlotId,
+    velocity: SlotId,
+    acceleration: SlotId,
+    deceleration: SlotId,
+    in_progress: SlotId,
+    at_vel: SlotId,
+    decelerating: SlotId,
+    complete: SlotId,
+}
+
+impl IndexObject {
+    fn new(registry: &Registry, i: u32) -> IndexObject {
+        let s = |m: &str| slot(registry, Kind::Index, i, m);
+        IndexObject {
+            config: registry
+                .index_setups
+                .get(i as usize)
+                .copied()
+                .unwrap_or_default(),
+            distance: s("Distance"),
+            velocity: s("Velocity"),
+            acceleration: s("Acceleration"),
+            deceleration: s("Deceleration"),
+            in_progress: s("CommandInProgress"),
+            at_vel: s("AtVel"),
+            decelerating: s("Decelerating"),
+            complete: s("CommandComplete"),
+        }
+    }
+
+    fn status(&self, v: &mut [f64], phase: Phase) {
+        let running = phase != Phase::Done;
+        v[self.in_progress as usize] = f64::from(running);
+        v[self.at_vel as usize] = f64::from(phase == Phase::AtVelocity);
+        v[self.decelerating as usize] = f64::from(phase == Phase::Decelerating);
+        v[self.complete as usize] = f64::from(!running);
+    }
 }
 
 impl Kernel {
@@ -88,21 +134,29 @@ impl Kernel {
             queues: (0..count(Kind::Queue))
                 .map(|i| Queue::new(registry, i))
                 .collect(),
+            queue_sources: registry.queue_sources.clone(),
             captures: (0..count(Kind::Capture))
                 .map(|i| Capture::new(registry, i))
                 .collect(),
             timers: (0..count(Kind::Timer))
                 .map(|i| Timer::new(registry, i))
                 .collect(),
-            profiles: (0..count(Kind::Profile))
-                .map(|i| Profile {
-                    busy_until: None,
-                    busy_until_master: None,
-                    busy_slot: slot(registry, Kind::Profile, i, "Busy"),
-                })
+            indexes: (0..count(Kind::Index))
+                .map(|i| IndexObject::new(registry, i))
                 .collect(),
+            axis: Axis::default(),
+            profile_busy: (0..count(Kind::Profile))
+                .map(|i| slot(registry, Kind::Profile, i, "Busy"))
+                .collect(),
+            axis_slots: AxisSlots {
+                command: slot(registry, Kind::Motion, 0, "PosnCommand"),
+                feedback: slot(registry, Kind::Motion, 0, "PosnFeedback"),
+                velocity: slot(registry, Kind::Motion, 0, "VelCommand"),
+            },
             feed_rate: slot(registry, Kind::Motion, 0, "FeedRateOverride"),
             free_run: slot(registry, Kind::Motion, 0, "FreeRunTime"),
+            slot_kinds: registry.slots.iter().map(|s| s.kind).collect(),
+            events: Vec::new(),
         }
     }
 
@@ -159,7 +213,7 @@ impl Kernel {
             | Hook::MotionStart
             | Hook::MotionStop => {
                 if value != 0.0 {
-                    self.act(hook, instance, v, now)?;
+                    self.act(hook, slot, instance, StartRef::Now, 0, v, now)?;
                 }
             }
             Hook::ProgramInitiate | Hook::ProgramStop | Hook::StopAll => {
@@ -185,11 +239,15 @@ impl Kernel {
         }
     }
 
-    /// Run an action.
+    /// Run an action. `start` and `profile` matter to motion initiates only.
+    #[allow(clippy::too_many_arguments)]
     pub fn act(
         &mut self,
         hook: Hook,
+        slot: SlotId,
         instance: u32,
+        start: StartRef,
+        profile: u8,
         v: &mut [f64],
         now: &mut Now<'_>,
     ) -> Result<ActOutcome, String> {
@@ -200,38 +258,190 @@ impl Kernel {
             Hook::CaptureClear => self.captures[i].clear(v),
             Hook::TimerInitiate => self.timers[i].initiate(now.time_ns, now.master, v),
             Hook::TimerStop => self.timers[i].stop(v),
-            Hook::MotionStop => {}
+            Hook::MotionStop => self.stop_motion(self.kind_of(slot), instance, v),
             Hook::MotionStart => {
-                return Err("motion objects (Index, Home, Jog, Gear) are not simulated yet: this build of pacer has no motion kernel".into())
+                return self.start_motion(self.kind_of(slot), instance, start, profile, v, now)
             }
             other => return Err(format!("{other:?} is not an action")),
         }
         Ok(ActOutcome::Done)
     }
 
-    /// `Dwell For Time`: a motion on profile 0 lasting `seconds`.
+    fn kind_of(&self, slot: SlotId) -> Kind {
+        self.slot_kinds
+            .get(slot as usize)
+            .copied()
+            .unwrap_or(Kind::Motion)
+    }
+
+    /// Where a motion in `domain` starts: now, at the end of the last motion on its profile,
+    /// or from a capture's latched time or master position.
+    fn start_point(
+        &self,
+        domain: Domain,
+        start: StartRef,
+        profile: usize,
+        v: &[f64],
+        now: &Now<'_>,
+    ) -> Result<f64, String> {
+        let clock = match domain {
+            Domain::Time => now.time_ns as f64 / 1e9,
+            Domain::Master => now.master,
+        };
+        let p = &self.axis.profiles[profile];
+        let last = || p.last_end.filter(|(d, _)| *d == domain).map(|(_, at)| at);
+        Ok(match start {
+            StartRef::Now if p.chained => last().unwrap_or(clock),
+            StartRef::Now => clock,
+            StartRef::Last => last().unwrap_or(clock),
+            StartRef::Capture(c) => {
+                let capture = self
+                    .captures
+                    .get(usize::from(c))
+                    .ok_or_else(|| format!("no Capture.{c}"))?;
+                let (time, master) = capture.latched(v);
+                match domain {
+                    Domain::Time => time,
+                    Domain::Master => master,
+                }
+            }
+        })
+    }
+
+    /// Start a motion object on a profile, or report that the profile is busy.
+    fn start_motion(
+        &mut self,
+        kind: Kind,
+        instance: u32,
+        start: StartRef,
+        profile: u8,
+        v: &mut [f64],
+        now: &mut Now<'_>,
+    ) -> Result<ActOutcome, String> {
+        let p = usize::from(profile);
+        if p >= self.axis.profiles.len() {
+            return Err(format!("there is no Profile.{profile}"));
+        }
+        if kind != Kind::Index {
+            return Err(format!("{kind:?} motion is not simulated yet in this build of pacer (Index moves and dwells are)"));
+        }
+        if self.axis.profiles[p].busy() {
+            self.axis.profiles[p].chained = true;
+            return Ok(ActOutcome::ProfileBusy);
+        }
+        let ix = self
+            .indexes
+            .get(instance as usize)
+            .ok_or_else(|| format!("no Index.{instance}"))?
+            .clone();
+        let target = v[ix.distance as usize];
+        let distance = match ix.config.kind {
+            IndexType::Incremental => target,
+            IndexType::Absolute => target - self.axis.command(),
+        };
+        let plan = Trapezoid::new(
+            distance,
+            v[ix.velocity as usize],
+            v[ix.acceleration as usize],
+            v[ix.deceleration as usize],
+        )
+        .map_err(|e| format!("cannot plan the index: {e}"))?;
+        let domain = if ix.config.synchronized {
+            Domain::Master
+        } else {
+            Domain::Time
+        };
+        let at = self.start_point(domain, start, p, v, now)?;
+        let owner = Owner {
+            name: format!("Index.{instance}"),
+            status: Some(instance as usize),
+        };
+        let base = self.axis.profiles[p].position;
+        self.axis.begin(
+            p,
+            Motion {
+                owner,
+                plan: Plan::Move(plan),
+                domain,
+                start: at,
+                base,
+                started: false,
+            },
+        );
+        ix.status(v, Phase::Accelerating);
+        v[ix.at_vel as usize] = 0.0;
+        v[self.profile_busy[p] as usize] = 1.0;
+        Ok(ActOutcome::Done)
+    }
+
+    /// Stop an index wherever it is (the motion ends where it stands).
+    fn stop_motion(&mut self, kind: Kind, instance: u32, v: &mut [f64]) {
+        let name = format!("{kind:?}.{instance}");
+        for (i, p) in self.axis.profiles.iter_mut().enumerate() {
+            if p.motion.as_ref().is_some_and(|m| m.owner.name == name) {
+                p.motion = None;
+                p.velocity = 0.0;
+                v[self.profile_busy[i] as usize] = 0.0;
+            }
+        }
+        if let Some(ix) = self
+            .indexes
+            .get(instance as usize)
+            .filter(|_| kind == Kind::Index)
+        {
+            ix.status(v, Phase::Done);
+        }
+    }
+
+    /// A dwell on profile 0, in time or master distance.
+    fn dwell(
+        &mut self,
+        length: f64,
+        domain: Domain,
+        v: &mut [f64],
+        now: &Now<'_>,
+    ) -> Result<ActOutcome, String> {
+        if self.axis.profiles[0].busy() {
+            self.axis.profiles[0].chained = true;
+            return Ok(ActOutcome::ProfileBusy);
+        }
+        let at = self.start_point(domain, StartRef::Now, 0, v, now)?;
+        let base = self.axis.profiles[0].position;
+        let owner = Owner {
+            name: "Dwell".into(),
+            status: None,
+        };
+        self.axis.begin(
+            0,
+            Motion {
+                owner,
+                plan: Plan::Dwell(length),
+                domain,
+                start: at,
+                base,
+                started: false,
+            },
+        );
+        v[self.profile_busy[0] as usize] = 1.0;
+        Ok(ActOutcome::Done)
+    }
+
+    /// `Dwell For Time`.
     pub fn dwell_time(
         &mut self,
         seconds: f64,
         v: &mut [f64],
         now: &Now<'_>,
     ) -> Result<ActOutcome, String> {
-        let ns = crate::config::values::seconds_to_ns(seconds)
-            .map_err(|e| format!("Dwell For Time: {e}"))?;
-        let p = &mut self.profiles[0];
-        if p.busy() {
-            return Ok(ActOutcome::ProfileBusy);
+        if !(seconds.is_finite() && seconds >= 0.0) {
+            return Err(format!(
+                "Dwell For Time needs 0 seconds or more, not {seconds}"
+            ));
         }
-        let ticks = ns.div_ceil(now.tick_ns.max(1));
-        if ticks > 0 {
-            p.busy_until = Some(now.tick + ticks);
-            v[p.busy_slot as usize] = 1.0;
-        }
-        Ok(ActOutcome::Done)
+        self.dwell(seconds, Domain::Time, v, now)
     }
 
-    /// `Dwell For Master Dist`: a motion on profile 0 lasting until the master has moved
-    /// `distance` from here.
+    /// `Dwell For Master Dist`.
     pub fn dwell_master(
         &mut self,
         distance: f64,
@@ -243,43 +453,105 @@ impl Kernel {
                 "Dwell For Master Dist needs a distance of 0 or more, not {distance}"
             ));
         }
-        let p = &mut self.profiles[0];
-        if p.busy() {
-            return Ok(ActOutcome::ProfileBusy);
-        }
-        if distance > 0.0 {
-            p.busy_until_master = Some(now.master + distance);
-            v[p.busy_slot as usize] = 1.0;
-        }
-        Ok(ActOutcome::Done)
+        self.dwell(distance, Domain::Master, v, now)
     }
 
-    /// True while a motion runs on `profile`.
+    /// The motion generator, after the tasks: every motion advanced to this update, status
+    /// members and axis positions set, `motion` events traced.
+    pub fn generate(
+        &mut self,
+        v: &mut [f64],
+        now: &mut Now<'_>,
+        master_speed: f64,
+        master_at: &dyn Fn(f64) -> f64,
+    ) {
+        let clocks = Clocks {
+            time: now.time_ns as f64 / 1e9,
+            master: now.master,
+            master_speed,
+        };
+        let mut events = std::mem::take(&mut self.events);
+        events.clear();
+        self.axis.update(clocks, master_at, &mut events);
+        for e in &events {
+            match e {
+                Event::Started {
+                    owner,
+                    master,
+                    position,
+                } => {
+                    now.trace.event(
+                        now.tick,
+                        "motion",
+                        &[
+                            ("object", owner.name.clone().into()),
+                            ("event", "start".into()),
+                            ("master", number(*master)),
+                            ("position", number(*position)),
+                        ],
+                    );
+                }
+                Event::Running { owner, phase } => {
+                    if let Some(ix) = owner.status.and_then(|i| self.indexes.get(i)) {
+                        ix.status(v, *phase);
+                    }
+                }
+                Event::Done {
+                    owner,
+                    end,
+                    position,
+                } => {
+                    if let Some(ix) = owner.status.and_then(|i| self.indexes.get(i)) {
+                        ix.status(v, Phase::Done);
+                    }
+                    now.trace.event(
+                        now.tick,
+                        "motion",
+                        &[
+                            ("object", owner.name.clone().into()),
+                            ("event", "done".into()),
+                            ("end", number(*end)),
+                            ("master", number(now.master)),
+                            ("position", number(*position)),
+                        ],
+                    );
+                }
+            }
+        }
+        self.events = events;
+        for (i, p) in self.axis.profiles.iter().enumerate() {
+            v[self.profile_busy[i] as usize] = f64::from(p.busy());
+        }
+        v[self.axis_slots.command as usize] = self.axis.command();
+        v[self.axis_slots.feedback as usize] = self.axis.command();
+        v[self.axis_slots.velocity as usize] = self.axis.velocity();
+    }
+
+    /// True while a motion runs (or waits to start) on `profile`.
     pub fn profile_busy(&self, profile: usize) -> bool {
-        self.profiles.get(profile).is_some_and(Profile::busy)
+        self.axis
+            .profiles
+            .get(profile)
+            .is_some_and(motion::Profile::busy)
     }
 
-    /// Status derived after the tasks ran: queue compares against their source positions.
+    /// Status derived after the motion: queue compares against their source positions.
     pub fn derive(&mut self, v: &mut [f64], now: &mut Now<'_>) {
-        for q in &mut self.queues {
-            q.compare(now.master, v, now.trace, now.tick);
+        let command = self.axis.command();
+        for (q, source) in self.queues.iter_mut().zip(&self.queue_sources) {
+            let position = match source {
+                QueueSource::Master => now.master,
+                QueueSource::Feedback | QueueSource::Command => command,
+            };
+            q.compare(position, v, now.trace, now.tick);
         }
     }
 
-    /// Per-update work before the tasks run: timers, profile completion, the free-running clock.
+    /// Per-update work before the tasks run: timers and the free-running clock.
     pub fn update(&mut self, v: &mut [f64], now: &Now<'_>) {
         v[self.free_run as usize] = (now.time_ns / 1000) as f64;
         for t in &mut self.timers {
             t.update(now.time_ns, now.master, v);
-        }
-        for p in &mut self.profiles {
-            if p.busy_until.is_some_and(|until| now.tick >= until) {
-                p.busy_until = None;
-            }
-            if p.busy_until_master.is_some_and(|until| now.master >= until) {
-                p.busy_until_master = None;
-            }
-            v[p.busy_slot as usize] = f64::from(p.busy());
         }
     }
 }

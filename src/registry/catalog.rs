@@ -267,12 +267,12 @@ const QUEUE: &[MemberDef] = &[
         Hook::QueueDataIn,
         m(
             "DataIn",
-            Fixed(4),
+            Real,
             Input,
             "push a value; its exit position is value + QueueOffset",
         ),
     ),
-    m("DataOut", Fixed(4), Read, "the oldest entry's value"),
+    m("DataOut", Real, Read, "the oldest entry's value"),
     hook(
         Hook::QueueOffset,
         m(
@@ -284,7 +284,7 @@ const QUEUE: &[MemberDef] = &[
     ),
     m(
         "ExitPosition",
-        Fixed(4),
+        Real,
         Read,
         "DataOut + the current QueueOffset",
     ),
@@ -580,6 +580,19 @@ const MOTION: &[MemberDef] = &[
         Real,
         Read,
         "master velocity, master units per second",
+    )),
+    continuous(m(
+        "PosnCommand",
+        Real,
+        Read,
+        "motor command position (both profiles added)",
+    )),
+    continuous(m("PosnFeedback", Real, Read, "motor feedback position")),
+    continuous(m(
+        "VelCommand",
+        Real,
+        Read,
+        "motor command velocity, units per second",
     )),
 ];
 

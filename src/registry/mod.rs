@@ -76,6 +76,41 @@ pub struct Registry {
     pub slots: Vec<SlotInfo>,
     /// Queue set-up: per queue instance (size, full level).
     pub queue_sizes: Vec<(u32, u32)>,
+    /// What each queue compares its exit positions with.
+    pub queue_sources: Vec<QueueSource>,
+    /// Index set-up: per index instance.
+    pub index_setups: Vec<IndexConfig>,
+}
+
+/// The position a queue compares with.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum QueueSource {
+    /// The master (encoder) position.
+    #[default]
+    Master,
+    /// The motor feedback position.
+    Feedback,
+    /// The motor command position.
+    Command,
+}
+
+/// How an index moves.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum IndexType {
+    /// By its distance from where it starts.
+    #[default]
+    Incremental,
+    /// To its distance as a position.
+    Absolute,
+}
+
+/// The set-up of one index that is not a member.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct IndexConfig {
+    /// Incremental or absolute.
+    pub kind: IndexType,
+    /// Velocity and accelerations per master unit instead of per second.
+    pub synchronized: bool,
 }
 
 /// Highest instance count accepted for any type.
@@ -333,10 +368,16 @@ impl Registry {
             .find(|t| t.def.kind == Kind::Queue)
             .map_or(0, |t| t.count);
         let mut queue_sizes = vec![(8u32, 8u32); queue_count as usize];
+        let index_count = types
+            .iter()
+            .find(|t| t.def.kind == Kind::Index)
+            .map_or(0, |t| t.count);
         let mut registry = Registry {
             types,
             slots,
             queue_sizes: Vec::new(),
+            queue_sources: vec![QueueSource::Master; queue_count as usize],
+            index_setups: vec![IndexConfig::default(); index_count as usize],
         };
         for (key, setup) in &machine.queue {
             let span = span_of(setup);
@@ -371,10 +412,15 @@ impl Registry {
                 ));
             }
             if let Some(src) = &s.source {
-                let ok = ["MasterPosn", "FeedbackPosn", "CommandPosn"]
-                    .iter()
-                    .any(|v| v.eq_ignore_ascii_case(src.get_ref()));
-                if !ok {
+                let source = match src.get_ref().to_ascii_lowercase().as_str() {
+                    "masterposn" => Some(QueueSource::Master),
+                    "feedbackposn" => Some(QueueSource::Feedback),
+                    "commandposn" => Some(QueueSource::Command),
+                    _ => None,
+                };
+                if let Some(q) = source {
+                    registry.queue_sources[n as usize] = q;
+                } else {
                     problems.push(Problem::error(
                         "pacer::machine::queue",
                         span_of(src),
@@ -395,7 +441,84 @@ impl Registry {
             }
         }
         registry.queue_sizes = queue_sizes;
+        registry.index_setups(machine, &mut problems);
         (registry, problems)
+    }
+
+    /// `[index.N]` sections: type and time base, and initial member values.
+    fn index_setups(&mut self, machine: &MachineFile, problems: &mut Vec<Problem>) {
+        let count = self.index_setups.len() as u32;
+        for (key, setup) in &machine.index {
+            let span = span_of(setup);
+            let Some(n) = key.parse::<u32>().ok().filter(|n| *n < count) else {
+                problems.push(Problem::error(
+                    "pacer::machine::index",
+                    span,
+                    format!("[index.{key}]: no such index"),
+                    format!("indexes are 0 to {}", count.saturating_sub(1)),
+                ));
+                continue;
+            };
+            let s = setup.get_ref();
+            let mut config = IndexConfig::default();
+            if let Some(k) = &s.kind {
+                match k.get_ref().to_ascii_lowercase().as_str() {
+                    "incremental" => config.kind = IndexType::Incremental,
+                    "absolute" => config.kind = IndexType::Absolute,
+                    "registration" | "rotaryplus" | "rotaryminus" | "rotary plus"
+                    | "rotary minus" => problems.push(
+                        Problem::error(
+                            "pacer::machine::index",
+                            span_of(k),
+                            format!("{} indexes are not simulated yet", k.get_ref()),
+                            "not yet supported",
+                        )
+                        .with_help("Incremental and Absolute indexes run today"),
+                    ),
+                    _ => problems.push(Problem::error(
+                        "pacer::machine::index",
+                        span_of(k),
+                        format!("unknown index type `{}`", k.get_ref()),
+                        "Incremental or Absolute",
+                    )),
+                }
+            }
+            if let Some(tb) = &s.time_base {
+                match tb.get_ref().to_ascii_lowercase().as_str() {
+                    "realtime" => config.synchronized = false,
+                    "synchronized" => config.synchronized = true,
+                    _ => problems.push(Problem::error(
+                        "pacer::machine::index",
+                        span_of(tb),
+                        format!("unknown time base `{}`", tb.get_ref()),
+                        "Realtime or Synchronized",
+                    )),
+                }
+            }
+            self.index_setups[n as usize] = config;
+            for (member, value) in [
+                ("Distance", s.distance),
+                ("Velocity", s.velocity),
+                ("Acceleration", s.acceleration),
+                ("Deceleration", s.deceleration),
+            ] {
+                if let Some(v) = value {
+                    if !v.is_finite() || (member != "Distance" && v <= 0.0) {
+                        problems.push(Problem::error(
+                            "pacer::machine::index",
+                            span,
+                            format!(
+                                "[index.{n}] {}: {v} is out of range",
+                                member.to_ascii_lowercase()
+                            ),
+                            "must be a number (above 0 for rates)",
+                        ));
+                    } else {
+                        self.set_initial(Kind::Index, n, member, v);
+                    }
+                }
+            }
+        }
     }
 
     /// The instances of a type.

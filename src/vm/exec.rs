@@ -214,12 +214,11 @@ pub fn run(
                 }
                 sync_snapshot(ctx, v);
             }
-            // Where a motion starts from (`Using …`) matters once motion objects run.
             Op::Act {
                 hook,
                 slot,
                 instance,
-                start: _,
+                start,
                 profile,
             } => {
                 match hook {
@@ -233,7 +232,10 @@ pub fn run(
                     }
                     _ => {}
                 }
-                match ctx.kernel.act(hook, instance, v, &mut ctx.now) {
+                match ctx
+                    .kernel
+                    .act(hook, slot, instance, start, profile, v, &mut ctx.now)
+                {
                     Ok(ActOutcome::Done) => sync_snapshot(ctx, v),
                     Ok(ActOutcome::ProfileBusy) => {
                         *executed = n;

@@ -1,11 +1,13 @@
 //! The machine at run time: the value array, kernel objects, world, tasks and the per-update
 //! schedule.
 //!
-//! Each update, in this fixed order: the world advances (inputs sampled, edges timed) →
-//! assignments → kernel objects (timers, profiles) → blocked tasks re-examined (`Wait For`
-//! conditions evaluated every update, timed waits, motion waits) → one task runs, round robin
-//! over the tasks that are not blocked, until it blocks, ends or spends its instruction budget →
-//! the changes of the update are traced.
+//! Each update, in this fixed order: the world advances (master position, inputs sampled, edges
+//! timed) → assignments (captures latch at the exact edge) → the control loop: motion generators
+//! (both profiles of the axis), derived status (queue compares), timers → blocked tasks
+//! re-examined (`Wait For` conditions evaluated every update, timed waits, motion waits) → one
+//! task runs, round robin over the tasks that are not blocked, until it blocks, ends or spends
+//! its instruction budget → the changes of the update are traced. The spec puts the task after
+//! the control loop ("each update, after the control loop, one task runs").
 
 pub mod exec;
 pub mod task;
@@ -348,18 +350,23 @@ impl Machine {
             return;
         }
         {
+            // The control loop: motion generators, derived status (queue compares on the new
+            // positions), timers. The task runs after it, as on the drive.
             let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-            let now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
+            let t = self.seconds();
+            let master_speed = self.world.master.speed(t);
+            let master = &self.world.master;
+            let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
+            self.kernel
+                .generate(&mut self.values, &mut now, master_speed, &|at| {
+                    master.position(at)
+                });
+            self.kernel.derive(&mut self.values, &mut now);
             self.kernel.update(&mut self.values, &now);
         }
         self.unblock();
         if self.error.is_none() {
             self.run_one_task();
-        }
-        {
-            let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-            let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
-            self.kernel.derive(&mut self.values, &mut now);
         }
         if self.trace.enabled() {
             trace_changes(
@@ -465,7 +472,7 @@ impl Machine {
         });
     }
 
-    fn control_or_act(&mut self, hook: Hook, instance: u32, _slot: SlotId) -> Result<(), String> {
+    fn control_or_act(&mut self, hook: Hook, instance: u32, slot: SlotId) -> Result<(), String> {
         match hook {
             Hook::ProgramInitiate => self.start_program(instance),
             Hook::ProgramStop => {
@@ -480,7 +487,15 @@ impl Machine {
                 let (tick, tick_ns) = (self.tick, self.image.tick_ns);
                 let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
                 self.kernel
-                    .act(hook, instance, &mut self.values, &mut now)
+                    .act(
+                        hook,
+                        slot,
+                        instance,
+                        crate::compile::bytecode::StartRef::Now,
+                        0,
+                        &mut self.values,
+                        &mut now,
+                    )
                     .map(|_| ())
             }
         }

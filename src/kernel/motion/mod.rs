@@ -1,0 +1,332 @@
+//! The servo axis: two motion profiles whose positions add up, one motion at a time on each.
+//! A motion runs in time (realtime) or in master distance (synchronized); it starts now, where
+//! the previous motion on its profile ended (`Using Last`), or from a capture's latched data
+//! (`Using Capture.N`). A start in the past is caught up at once; a start in the future waits.
+
+pub mod trapezoid;
+
+use trapezoid::{Phase, Trapezoid};
+
+/// What a motion's progress is measured in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Domain {
+    /// Seconds.
+    Time,
+    /// Master units.
+    Master,
+}
+
+/// What a motion does over its domain.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Plan {
+    /// A trapezoidal move.
+    Move(Trapezoid),
+    /// Stand still for this long (a dwell).
+    Dwell(f64),
+}
+
+impl Plan {
+    fn duration(&self) -> f64 {
+        match self {
+            Plan::Move(t) => t.duration(),
+            Plan::Dwell(l) => *l,
+        }
+    }
+
+    fn at(&self, u: f64) -> (f64, f64, Phase) {
+        match self {
+            Plan::Move(t) => t.at(u),
+            Plan::Dwell(l) => (
+                0.0,
+                0.0,
+                if u >= *l {
+                    Phase::Done
+                } else {
+                    Phase::AtVelocity
+                },
+            ),
+        }
+    }
+}
+
+/// The object a motion belongs to, for status members and trace events.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Owner {
+    /// Name in the trace, e.g. `Index.0` or `Dwell`.
+    pub name: String,
+    /// Index in the kernel's motion-object table, if the owner has status members.
+    pub status: Option<usize>,
+}
+
+/// A motion on a profile.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Motion {
+    /// Who runs it.
+    pub owner: Owner,
+    /// What it does.
+    pub plan: Plan,
+    /// Its domain.
+    pub domain: Domain,
+    /// Where in the domain it starts (seconds or master position).
+    pub start: f64,
+    /// Profile position when it starts.
+    pub base: f64,
+    /// The start has been reached (and traced).
+    pub started: bool,
+}
+
+impl Motion {
+    /// Where in the domain it ends.
+    pub fn end(&self) -> f64 {
+        self.start + self.plan.duration()
+    }
+}
+
+/// One motion profile.
+#[derive(Debug, Clone, Default)]
+pub struct Profile {
+    /// Position contributed by this profile.
+    pub position: f64,
+    /// Velocity contributed, per second.
+    pub velocity: f64,
+    /// The motion running, if any.
+    pub motion: Option<Motion>,
+    /// Where the last motion ended on its domain's timeline.
+    pub last_end: Option<(Domain, f64)>,
+    /// A dwell or initiate waited for this profile: it chains onto the end of the motion.
+    pub chained: bool,
+}
+
+impl Profile {
+    /// A motion runs (or waits to start) on this profile.
+    pub fn busy(&self) -> bool {
+        self.motion.is_some()
+    }
+}
+
+/// What happened to a motion during an update.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Event {
+    /// It reached its start: master position and axis position there.
+    Started {
+        owner: Owner,
+        master: f64,
+        position: f64,
+    },
+    /// It is running in this phase.
+    Running { owner: Owner, phase: Phase },
+    /// It ended: where on its domain's timeline (seconds or master position), and the axis
+    /// position there.
+    Done {
+        owner: Owner,
+        end: f64,
+        position: f64,
+    },
+}
+
+/// The servo axis (an ideal servo: feedback follows command exactly).
+#[derive(Debug, Clone, Default)]
+pub struct Axis {
+    /// The two profiles.
+    pub profiles: [Profile; 2],
+}
+
+/// The two clocks a motion can run on, at one update.
+#[derive(Debug, Clone, Copy)]
+pub struct Clocks {
+    /// Seconds.
+    pub time: f64,
+    /// Master position.
+    pub master: f64,
+    /// Master velocity, per second.
+    pub master_speed: f64,
+}
+
+impl Clocks {
+    fn of(&self, d: Domain) -> f64 {
+        match d {
+            Domain::Time => self.time,
+            Domain::Master => self.master,
+        }
+    }
+}
+
+impl Axis {
+    /// Command position: the sum of both profiles.
+    pub fn command(&self) -> f64 {
+        self.profiles[0].position + self.profiles[1].position
+    }
+
+    /// Command velocity, per second.
+    pub fn velocity(&self) -> f64 {
+        self.profiles[0].velocity + self.profiles[1].velocity
+    }
+
+    /// Put a motion on `profile` (which must be free).
+    pub fn begin(&mut self, profile: usize, motion: Motion) {
+        let p = &mut self.profiles[profile];
+        p.chained = false;
+        p.motion = Some(motion);
+    }
+
+    /// Advance every motion to the clocks of this update; report what happened, in profile
+    /// order. `master_at` gives the master position at a time (for realtime starts).
+    pub fn update(&mut self, now: Clocks, master_at: &dyn Fn(f64) -> f64, events: &mut Vec<Event>) {
+        for i in 0..2 {
+            let Some(mut m) = self.profiles[i].motion.take() else {
+                self.profiles[i].velocity = 0.0;
+                continue;
+            };
+            let clock = now.of(m.domain);
+            if !m.started {
+                if clock < m.start {
+                    self.profiles[i].velocity = 0.0;
+                    self.profiles[i].motion = Some(m);
+                    continue;
+                }
+                m.started = true;
+                let master = match m.domain {
+                    Domain::Master => m.start,
+                    Domain::Time => master_at(m.start),
+                };
+                events.push(Event::Started {
+                    owner: m.owner.clone(),
+                    master,
+                    position: self.command(),
+                });
+            }
+            let u = clock - m.start;
+            let (dp, dv, phase) = m.plan.at(u);
+            let rate = match m.domain {
+                Domain::Time => 1.0,
+                Domain::Master => now.master_speed,
+            };
+            self.profiles[i].position = m.base + dp;
+            self.profiles[i].velocity = dv * rate;
+            if phase == Phase::Done {
+                self.profiles[i].last_end = Some((m.domain, m.end()));
+                self.profiles[i].velocity = 0.0;
+                let position = self.command();
+                let end = m.end();
+                events.push(Event::Done {
+                    owner: m.owner,
+                    end,
+                    position,
+                });
+            } else {
+                events.push(Event::Running {
+                    owner: m.owner.clone(),
+                    phase,
+                });
+                self.profiles[i].motion = Some(m);
+            }
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn owner() -> Owner {
+        Owner {
+            name: "Index.0".into(),
+            status: None,
+        }
+    }
+
+    #[test]
+    fn a_synchronized_move_follows_the_master_and_a_late_start_is_caught_up() {
+        let mut axis = Axis::default();
+        let plan = Plan::Move(Trapezoid::new(10.0, 1.0, 1.0, 1.0).expect("plan"));
+        // Started from a capture at master 100 while the master is already at 100.5.
+        axis.begin(
+            0,
+            Motion {
+                owner: owner(),
+                plan,
+                domain: Domain::Master,
+                start: 100.0,
+                base: 0.0,
+                started: false,
+            },
+        );
+        let mut ev = Vec::new();
+        axis.update(
+            Clocks {
+                time: 1.0,
+                master: 100.5,
+                master_speed: 50.0,
+            },
+            &|_| 0.0,
+            &mut ev,
+        );
+        assert!(matches!(ev[0], Event::Started { master, .. } if master == 100.0));
+        assert!((axis.command() - 0.125).abs() < 1e-12, "{}", axis.command());
+        ev.clear();
+        axis.update(
+            Clocks {
+                time: 2.0,
+                master: 111.0,
+                master_speed: 50.0,
+            },
+            &|_| 0.0,
+            &mut ev,
+        );
+        assert_eq!(axis.command(), 10.0);
+        assert!(matches!(ev[0], Event::Done { .. }));
+        assert_eq!(axis.profiles[0].last_end, Some((Domain::Master, 111.0)));
+    }
+
+    #[test]
+    fn a_future_start_waits_and_profiles_add_up() {
+        let mut axis = Axis::default();
+        let dwell = Motion {
+            owner: owner(),
+            plan: Plan::Dwell(1.0),
+            domain: Domain::Time,
+            start: 0.5,
+            base: 0.0,
+            started: false,
+        };
+        axis.begin(0, dwell);
+        let mv = Plan::Move(Trapezoid::new(2.0, 10.0, 100.0, 100.0).expect("plan"));
+        axis.begin(
+            1,
+            Motion {
+                owner: owner(),
+                plan: mv,
+                domain: Domain::Time,
+                start: 0.0,
+                base: 3.0,
+                started: false,
+            },
+        );
+        let mut ev = Vec::new();
+        axis.update(
+            Clocks {
+                time: 0.25,
+                master: 0.0,
+                master_speed: 0.0,
+            },
+            &|_| 0.0,
+            &mut ev,
+        );
+        assert!(axis.profiles[0].busy());
+        assert_eq!(
+            ev.len(),
+            2,
+            "profile 0 waits silently; profile 1 starts and runs: {ev:?}"
+        );
+        axis.update(
+            Clocks {
+                time: 5.0,
+                master: 0.0,
+                master_speed: 0.0,
+            },
+            &|_| 0.0,
+            &mut ev,
+        );
+        assert_eq!(axis.command(), 5.0);
+    }
+}

@@ -1,0 +1,181 @@
+//! Index moves and dwells on the servo axis: the spec's blocking and timing examples, starts
+//! from a capture, absolute moves, and the two profiles adding up.
+
+use pacer::load::{load, LoadRequest};
+use pacer::trace::Trace;
+use pacer::vm::{Machine, RunSummary};
+use serde_json::Value;
+use std::sync::{Arc, Mutex};
+
+#[derive(Clone, Default)]
+struct Sink(Arc<Mutex<Vec<u8>>>);
+
+impl std::io::Write for Sink {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0
+            .lock()
+            .map_err(|_| std::io::Error::other("poisoned"))?
+            .extend_from_slice(buf);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+struct Run {
+    machine: Machine,
+    summary: RunSummary,
+    events: Vec<Value>,
+}
+
+fn run(name: &str, program: &str, machine: &str, scenario: &str) -> Run {
+    let dir = std::env::temp_dir().join(format!("pacer-motion-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    std::fs::write(dir.join("program0.pt"), program).expect("program");
+    std::fs::write(dir.join("machine.toml"), machine).expect("machine");
+    std::fs::write(dir.join("scenario.toml"), scenario).expect("scenario");
+    let loaded = load(&LoadRequest {
+        paths: vec![dir.clone()],
+        ..Default::default()
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let loaded = match loaded {
+        Ok(l) => l,
+        Err(d) => panic!("{}", d.render_plain()),
+    };
+    let sink = Sink::default();
+    let tick = loaded.image.tick_ns;
+    let mut machine = Machine::new(loaded.image, Trace::new(Some(Box::new(sink.clone())), tick));
+    let summary = machine.run(None);
+    machine.finish().expect("trace");
+    let text = String::from_utf8(sink.0.lock().expect("sink").clone()).expect("utf-8");
+    let events = text
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("json line"))
+        .collect();
+    Run {
+        machine,
+        summary,
+        events,
+    }
+}
+
+fn motions<'a>(r: &'a Run, object: &str, event: &str) -> Vec<&'a Value> {
+    r.events
+        .iter()
+        .filter(|e| e["kind"] == "motion" && e["object"] == object && e["event"] == event)
+        .collect()
+}
+
+/// Index 0: 2 units at 1 u/s with 1 u/s² ramps = 3 s; Index 1: 4 units = 5 s.
+const TWO_INDEXES: &str = "[variables.T]\ndecimals = 0\n\
+    [index.0]\ndistance = 2.0\nvelocity = 1.0\nacceleration = 1.0\ndeceleration = 1.0\n\
+    [index.1]\ndistance = 4.0\nvelocity = 1.0\nacceleration = 1.0\ndeceleration = 1.0\n";
+
+#[test]
+fn a_second_initiate_blocks_until_the_first_index_completes() {
+    let program = "Index.0.Initiate\nIndex.1.Initiate\nVar.T = FreeRunTime\nEnd\n";
+    let r = run("block", program, TWO_INDEXES, "[run]\nduration = 10.0\n");
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // Index 0 ends at 3 s; the program goes on in that update, after the control loop.
+    assert_eq!(r.machine.value_of("Var.T"), Some(3_000_000.0));
+    assert_eq!(motions(&r, "Index.0", "done")[0]["tick"], 3000);
+    assert_eq!(r.machine.value_of("PosnCommand"), Some(6.0));
+    assert_eq!(r.machine.value_of("Index.1.CommandComplete"), Some(1.0));
+}
+
+#[test]
+fn using_last_chains_3_s_and_a_1_s_dwell_and_5_s_into_9_s_exactly() {
+    // An update of 0.7 ms divides none of the times: without chaining, updates would be lost.
+    let machine = format!("[machine]\nupdate = \"700us\"\n{TWO_INDEXES}");
+    let program = "Index.0.Initiate\nDwell For Time 1\nIndex.1.Initiate Using Last\nEnd\n";
+    let r = run("last", program, &machine, "[run]\nduration = 10.0\n");
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    let ends: Vec<f64> = r
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "motion" && e["event"] == "done")
+        .map(|e| e["end"].as_f64().expect("end"))
+        .collect();
+    assert_eq!(ends.len(), 3, "index, dwell, index");
+    assert!((ends[0] - 3.0).abs() < 1e-12, "{ends:?}");
+    assert!((ends[1] - 4.0).abs() < 1e-12, "{ends:?}");
+    assert!((ends[2] - 9.0).abs() < 1e-12, "{ends:?}");
+    assert_eq!(r.machine.value_of("PosnCommand"), Some(6.0));
+}
+
+#[test]
+fn without_using_last_the_chain_loses_update_time() {
+    let machine = format!("[machine]\nupdate = \"700us\"\n{TWO_INDEXES}");
+    let program = "Index.0.Initiate\nDwell For Time 1\nIndex.1.Initiate\nEnd\n";
+    let r = run("nolast", program, &machine, "[run]\nduration = 10.0\n");
+    let last = motions(&r, "Index.1", "done")[0]["end"]
+        .as_f64()
+        .expect("end");
+    // Index 1 starts at the update its program reaches it, after the dwell was seen to end.
+    assert!(last > 9.0 && last < 9.0 + 0.0007 * 2.0, "{last}");
+}
+
+#[test]
+fn a_synchronized_index_starts_at_the_captured_master_position_at_any_line_speed() {
+    for speed in [7.0, 40.0, 133.0, 350.0] {
+        let machine = "[index.0]\ntime_base = \"Synchronized\"\ndistance = 0.5\nvelocity = 2.0\nacceleration = 20.0\ndeceleration = 20.0\n\
+                       [[assignment]]\nsource = \"ModuleInput.2\"\ndestination = \"Capture.0.CaptureActivate\"\n";
+        // Start the index 3.3 master units after the product edge, from the capture.
+        let program = "Capture.0.CaptureEnable=ON\nWait For Capture.0.CaptureTriggered\n\
+                       Capture.1.CapturedMasterPosition=Capture.0.CapturedMasterPosition + 3.3\n\
+                       Index.0.Initiate Using Capture.1\nEnd\n";
+        let scenario = format!("[run]\nduration = 2.0\n[master]\nspeed = {speed}\n[[products]]\nsensor = \"ModuleInput.2\"\nfirst = 1.2345678\npitch = 50.0\nlength = 1.0\ncount = 1\n");
+        let r = run(&format!("sync{speed}"), program, machine, &scenario);
+        assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+        let start = motions(&r, "Index.0", "start");
+        assert_eq!(start.len(), 1, "at {speed}");
+        let m = start[0]["master"].as_f64().expect("master");
+        assert!(
+            (m - (1.2345678 + 3.3)).abs() < 1e-9,
+            "at {speed}: started at {m}"
+        );
+        // The move is 0.5 master units long in its own domain, whatever the line speed.
+        let end = motions(&r, "Index.0", "done")[0]["end"]
+            .as_f64()
+            .expect("end");
+        let len = end - m;
+        assert!(
+            (len - 0.35).abs() < 1e-9,
+            "0.5 units at 2/unit with 20/unit² ramps span 0.35 master units, not {len}"
+        );
+    }
+}
+
+#[test]
+fn an_absolute_index_moves_to_its_position_and_profiles_add_up() {
+    let machine = "[index.0]\ntype = \"Absolute\"\ndistance = 5.0\nvelocity = 10.0\nacceleration = 100.0\ndeceleration = 100.0\n\
+                   [index.1]\ndistance = 2.0\nvelocity = 10.0\nacceleration = 100.0\ndeceleration = 100.0\n";
+    let program = "Index.0.Initiate\nIndex.1.Initiate On Profile.1\nWait For Index.0.CommandComplete AND Index.1.CommandComplete\n\
+                   Index.0.Distance = 3.0\nIndex.0.Initiate\nEnd\n";
+    let r = run("abs", program, machine, "[run]\nduration = 2.0\n");
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // 5 (absolute, profile 0) + 2 (profile 1) = 7; then absolute 3 moves profile 0 by 3 - 7.
+    assert_eq!(r.machine.value_of("PosnCommand"), Some(3.0));
+    assert_eq!(r.machine.value_of("Index.0.CommandComplete"), Some(1.0));
+    assert_eq!(r.machine.value_of("Index.0.CommandInProgress"), Some(0.0));
+}
+
+#[test]
+fn motion_objects_not_simulated_yet_stop_the_run_with_a_clear_error() {
+    let r = run(
+        "home",
+        "Home.0.Initiate\nEnd\n",
+        "",
+        "[run]\nduration = 1.0\n",
+    );
+    let e = r.summary.error.expect("an error");
+    assert_eq!(e.line, 1);
+    assert!(
+        e.message.contains("Home motion is not simulated yet"),
+        "{}",
+        e.message
+    );
+}
