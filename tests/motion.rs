@@ -166,16 +166,86 @@ fn an_absolute_index_moves_to_its_position_and_profiles_add_up() {
 #[test]
 fn motion_objects_not_simulated_yet_stop_the_run_with_a_clear_error() {
     let r = run(
-        "home",
-        "Home.0.Initiate\nEnd\n",
+        "jog",
+        "Jog.0.PlusInitiate\nEnd\n",
         "",
         "[run]\nduration = 1.0\n",
     );
     let e = r.summary.error.expect("an error");
     assert_eq!(e.line, 1);
     assert!(
-        e.message.contains("Home motion is not simulated yet"),
+        e.message.contains("Jog motion is not simulated yet"),
         "{}",
         e.message
     );
+}
+
+const HOME: &str = "[home.0]\nreference = \"ModuleInput.3\"\nvelocity = 10.0\nacceleration = 100.0\ndeceleration = 50.0\n";
+const HOME_SENSOR: &str = "[run]\nduration = 3.0\n[[axis_marks]]\nsensor = \"ModuleInput.3\"\nfirst = 12.5537\nwidth = 5.0\n";
+
+#[test]
+fn home_with_a_calculated_offset_stops_as_soon_as_it_can_after_the_reference() {
+    let program = "Home.0.Initiate\nWait For Home.0.CommandComplete\nVar.T = FreeRunTime\nEnd\n";
+    let r = run(
+        "home-calc",
+        program,
+        &format!("[variables.T]\n{HOME}"),
+        HOME_SENSOR,
+    );
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // 10 u/s, decel 50 u/s²: 1 unit to stop after the reference at 12.5537.
+    let end = r.machine.value_of("PosnCommand").expect("position");
+    assert!((end - 13.5537).abs() < 1e-9, "{end}");
+    assert_eq!(r.machine.value_of("Home.0.CommandComplete"), Some(1.0));
+    // Reference at 12.5537: 0.5 u while accelerating (0.1 s) + 12.0537 u at 10 u/s = 1.30537 s,
+    // inside an update; 0.2 s to stop: done at 1.50537 s, so at the update at 1.506 s.
+    assert_eq!(r.machine.value_of("Var.T"), Some(1_506_000.0));
+    assert_eq!(
+        r.machine.value_of("ModuleInput.3"),
+        Some(1.0),
+        "the sensor is on over its mark"
+    );
+}
+
+#[test]
+fn home_with_a_specified_offset_goes_on_to_it() {
+    let machine = format!("{HOME}offset = 2.0\n");
+    let r = run("home-spec", "Home.0.Initiate\nEnd\n", &machine, HOME_SENSOR);
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    let end = r.machine.value_of("PosnCommand").expect("position");
+    assert!((end - 14.5537).abs() < 1e-9, "{end}");
+}
+
+#[test]
+fn a_specified_offset_too_short_to_stop_in_falls_back_to_the_calculated_one_with_a_warning() {
+    let machine = format!("{HOME}offset = 0.5\n");
+    let r = run(
+        "home-short",
+        "Home.0.Initiate\nEnd\n",
+        &machine,
+        HOME_SENSOR,
+    );
+    let end = r.machine.value_of("PosnCommand").expect("position");
+    assert!((end - 13.5537).abs() < 1e-9, "{end}");
+    let warnings: Vec<&Value> = r.events.iter().filter(|e| e["kind"] == "warning").collect();
+    assert_eq!(warnings.len(), 1);
+    assert!(warnings[0]["message"]
+        .as_str()
+        .unwrap_or("")
+        .contains("shorter than the distance needed to stop"));
+}
+
+#[test]
+fn a_capture_from_a_sensor_on_the_axis_latches_the_axis_position_at_the_mark() {
+    let machine = "[index.0]\ndistance = 30.0\nvelocity = 7.0\nacceleration = 20.0\ndeceleration = 20.0\n\
+                   [[assignment]]\nsource = \"ModuleInput.3\"\ndestination = \"Capture.0.CaptureActivate\"\n";
+    let program = "Capture.0.CaptureEnable=ON\nIndex.0.Initiate\nEnd\n";
+    let scenario = "[run]\nduration = 6.0\n[[axis_marks]]\nsensor = \"ModuleInput.3\"\nfirst = 4.321\npitch = 10.0\ncount = 3\nwidth = 0.5\n";
+    let r = run("axis-capture", program, machine, scenario);
+    let captures: Vec<&Value> = r.events.iter().filter(|e| e["kind"] == "capture").collect();
+    assert_eq!(captures.len(), 1, "captures latch once until cleared");
+    let c = captures[0]["command"].as_f64().expect("command");
+    // The axis cruises at the mark: positions interpolated inside the update are exact there.
+    assert!((c - 4.321).abs() < 1e-9, "{c}");
+    assert_eq!(captures[0]["feedback"], captures[0]["command"]);
 }

@@ -34,6 +34,9 @@ pub struct MachineFile {
     /// Index set-up by instance number (`[index.0]`).
     #[serde(default)]
     pub index: IndexMap<String, Spanned<IndexSetup>>,
+    /// Home set-up by instance number (`[home.0]`).
+    #[serde(default)]
+    pub home: IndexMap<String, Spanned<HomeSetup>>,
     /// Source → destination assignments.
     #[serde(default, rename = "assignment")]
     pub assignments: Vec<AssignmentEntry>,
@@ -139,4 +142,21 @@ pub struct IndexSetup {
     pub acceleration: Option<f64>,
     /// Deceleration.
     pub deceleration: Option<f64>,
+}
+
+/// `[home.N]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct HomeSetup {
+    /// The reference input, e.g. `ModuleInput.3` (its rising edge ends the search).
+    pub reference: Spanned<String>,
+    /// Home velocity (signed: the direction of the search), units per second.
+    pub velocity: Option<f64>,
+    /// Acceleration.
+    pub acceleration: Option<f64>,
+    /// Deceleration.
+    pub deceleration: Option<f64>,
+    /// Specified offset from the reference to the home position; without it the offset is
+    /// calculated (the axis stops as soon as it can after the reference).
+    pub offset: Option<f64>,
 }

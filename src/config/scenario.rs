@@ -27,6 +27,31 @@ pub struct ScenarioFile {
     /// Product streams passing sensors.
     #[serde(default)]
     pub products: Vec<ProductsEntry>,
+    /// Sensors tied to the servo axis (home reference, label-edge marks).
+    #[serde(default)]
+    pub axis_marks: Vec<AxisMarksEntry>,
+}
+
+/// `[[axis_marks]]`: a sensor that is on while the servo axis is over a mark.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisMarksEntry {
+    /// The sensor input.
+    pub sensor: Spanned<String>,
+    /// Axis position of the first mark.
+    pub first: f64,
+    /// Distance between marks (default 0: a single mark).
+    #[serde(default)]
+    pub pitch: f64,
+    /// Number of marks (default 1).
+    #[serde(default = "one")]
+    pub count: u32,
+    /// Width of each mark, axis units.
+    pub width: f64,
+}
+
+fn one() -> u32 {
+    1
 }
 
 /// `[master]`: the conveyor's speed over time.

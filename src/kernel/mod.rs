@@ -8,8 +8,11 @@ pub mod queue;
 pub mod timer;
 
 use crate::compile::bytecode::StartRef;
-use crate::registry::{Hook, IndexConfig, IndexType, Kind, QueueSource, Registry, SlotId};
+use crate::registry::{
+    HomeConfig, Hook, IndexConfig, IndexType, Kind, QueueSource, Registry, SlotId,
+};
 use crate::trace::{number, Trace};
+use crate::world::Edge;
 use capture::{Capture, Positions};
 use motion::trapezoid::{Phase, Trapezoid};
 use motion::{Axis, Clocks, Domain, Event, Motion, Owner, Plan};
@@ -73,6 +76,113 @@ pub struct Kernel {
     free_run: SlotId,
     slot_kinds: Vec<Kind>,
     events: Vec<Event>,
+    homes: Vec<HomeObject>,
+    marks: Vec<AxisMarks>,
+    /// Time and command position at the previous update, for crossings inside an update.
+    previous: (f64, f64),
+    /// Sensor edges made by the axis crossing marks, for the world to apply next update.
+    pub pending_edges: Vec<Edge>,
+}
+
+/// Sensor marks tied to the servo axis: the sensor is on while the axis is within
+/// `[position, position + width)` of a mark at `first + k·pitch`, k < count.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct AxisMarks {
+    /// The sensor input.
+    pub slot: SlotId,
+    /// First mark, axis units.
+    pub first: f64,
+    /// Distance between marks (0 for a single mark).
+    pub pitch: f64,
+    /// Number of marks.
+    pub count: u32,
+    /// Width of each mark, axis units.
+    pub width: f64,
+}
+
+impl AxisMarks {
+    /// Edges when the axis moves from `a` (at `ta`) to `b` (at `tb`), times interpolated.
+    fn crossings(&self, a: f64, b: f64, ta: f64, tb: f64, out: &mut Vec<Edge>) {
+        if a == b || self.count == 0 {
+            return;
+        }
+        let (lo, hi) = if a < b { (a, b) } else { (b, a) };
+        let time = |p: f64| ta + (p - a) / (b - a) * (tb - ta);
+        // Candidate marks whose window may touch [lo, hi].
+        let (k0, k1) = if self.pitch > 0.0 {
+            let k0 = ((lo - self.width - self.first) / self.pitch)
+                .floor()
+                .max(0.0);
+            let k1 = ((hi - self.first) / self.pitch)
+                .ceil()
+                .min(f64::from(self.count - 1));
+            (k0 as u32, k1.max(0.0) as u32)
+        } else {
+            (0, 0)
+        };
+        let mut local = Vec::new();
+        for k in k0..=k1.min(self.count - 1) {
+            let p = self.first + f64::from(k) * self.pitch;
+            let q = p + self.width;
+            // Moving plus: on at p, off at q. Moving minus: on at q, off at p.
+            for (edge, on_when_plus) in [(p, true), (q, false)] {
+                let crossed = if a < b {
+                    a < edge && edge <= b
+                } else {
+                    b <= edge && edge < a
+                };
+                if crossed {
+                    local.push(Edge {
+                        at: time(edge),
+                        slot: self.slot,
+                        on: on_when_plus == (a < b),
+                    });
+                }
+            }
+        }
+        local.sort_by(|x, y| x.at.total_cmp(&y.at));
+        out.extend(local);
+    }
+}
+
+/// A home: its set-up and the slots of its settings and status.
+#[derive(Debug, Clone)]
+struct HomeObject {
+    config: HomeConfig,
+    velocity: SlotId,
+    acceleration: SlotId,
+    deceleration: SlotId,
+    offset: SlotId,
+    in_progress: SlotId,
+    at_vel: SlotId,
+    complete: SlotId,
+}
+
+impl HomeObject {
+    fn new(registry: &Registry, i: u32) -> HomeObject {
+        let s = |m: &str| slot(registry, Kind::Home, i, m);
+        HomeObject {
+            config: registry
+                .home_setups
+                .get(i as usize)
+                .copied()
+                .unwrap_or_default(),
+            velocity: s("Velocity"),
+            acceleration: s("Acceleration"),
+            deceleration: s("Deceleration"),
+            offset: s("Offset"),
+            in_progress: s("CommandInProgress"),
+            at_vel: s("AtVel"),
+            complete: s("CommandComplete"),
+        }
+    }
+
+    fn status(&self, v: &mut [f64], phase: Phase) {
+        let running = phase != Phase::Done;
+        v[self.in_progress as usize] = f64::from(running);
+        v[self.at_vel as usize] = f64::from(phase == Phase::AtVelocity);
+        v[self.complete as usize] = f64::from(!running);
+    }
 }
 
 /// Slots of the servo axis's members.
@@ -157,7 +267,23 @@ impl Kernel {
             free_run: slot(registry, Kind::Motion, 0, "FreeRunTime"),
             slot_kinds: registry.slots.iter().map(|s| s.kind).collect(),
             events: Vec::new(),
+            homes: (0..count(Kind::Home))
+                .map(|i| HomeObject::new(registry, i))
+                .collect(),
+            marks: Vec::new(),
+            previous: (0.0, 0.0),
+            pending_edges: Vec::new(),
         }
+    }
+
+    /// Sensor marks tied to the axis (from the scenario).
+    pub fn set_marks(&mut self, marks: Vec<AxisMarks>) {
+        self.marks = marks;
+    }
+
+    /// The command position at any instant of the coming update (for captures).
+    pub fn command_at(&self, t: f64, master_at: &dyn Fn(f64) -> f64) -> f64 {
+        self.axis.position_at(t, master_at)
     }
 
     /// Bring derived members in line with the initial values.
@@ -322,12 +448,15 @@ impl Kernel {
         if p >= self.axis.profiles.len() {
             return Err(format!("there is no Profile.{profile}"));
         }
-        if kind != Kind::Index {
-            return Err(format!("{kind:?} motion is not simulated yet in this build of pacer (Index moves and dwells are)"));
+        if !matches!(kind, Kind::Index | Kind::Home) {
+            return Err(format!("{kind:?} motion is not simulated yet in this build of pacer (Index, Home and dwells are)"));
         }
         if self.axis.profiles[p].busy() {
             self.axis.profiles[p].chained = true;
             return Ok(ActOutcome::ProfileBusy);
+        }
+        if kind == Kind::Home {
+            return self.start_home(instance, start, p, v, now);
         }
         let ix = self
             .indexes
@@ -354,7 +483,7 @@ impl Kernel {
         let at = self.start_point(domain, start, p, v, now)?;
         let owner = Owner {
             name: format!("Index.{instance}"),
-            status: Some(instance as usize),
+            status: Some((Kind::Index, instance as usize)),
         };
         let base = self.axis.profiles[p].position;
         self.axis.begin(
@@ -372,6 +501,121 @@ impl Kernel {
         v[ix.at_vel as usize] = 0.0;
         v[self.profile_busy[p] as usize] = 1.0;
         Ok(ActOutcome::Done)
+    }
+
+    /// Start homing: seek the reference at home velocity.
+    fn start_home(
+        &mut self,
+        instance: u32,
+        start: StartRef,
+        p: usize,
+        v: &mut [f64],
+        now: &Now<'_>,
+    ) -> Result<ActOutcome, String> {
+        let h = self
+            .homes
+            .get(instance as usize)
+            .ok_or_else(|| format!("no Home.{instance}"))?
+            .clone();
+        if h.config.reference.is_none() {
+            return Err(format!("Home.{instance} has no reference input: set [home.{instance}] reference in machine.toml"));
+        }
+        let velocity = v[h.velocity as usize];
+        let accel = v[h.acceleration as usize];
+        if !(velocity.is_finite()
+            && velocity != 0.0
+            && accel.is_finite()
+            && accel > 0.0
+            && v[h.deceleration as usize] > 0.0)
+        {
+            return Err(format!("Home.{instance} needs a velocity other than 0 and an acceleration and deceleration above 0"));
+        }
+        let at = self.start_point(Domain::Time, start, p, v, now)?;
+        let base = self.axis.profiles[p].position;
+        let owner = Owner {
+            name: format!("Home.{instance}"),
+            status: Some((Kind::Home, instance as usize)),
+        };
+        self.axis.begin(
+            p,
+            Motion {
+                owner,
+                plan: Plan::Seek { velocity, accel },
+                domain: Domain::Time,
+                start: at,
+                base,
+                started: false,
+            },
+        );
+        h.status(v, Phase::Accelerating);
+        v[self.profile_busy[p] as usize] = 1.0;
+        Ok(ActOutcome::Done)
+    }
+
+    /// A seeking home whose reference rose at `t` with the axis at `position`: finish the move
+    /// at the calculated or specified offset.
+    fn home_reference(
+        &mut self,
+        home: usize,
+        t: f64,
+        position: f64,
+        v: &[f64],
+        master_at: &dyn Fn(f64) -> f64,
+    ) -> Result<(), String> {
+        let h = &self.homes[home];
+        let name = format!("Home.{home}");
+        let Some(p) = self.axis.profiles.iter().position(|p| {
+            p.motion
+                .as_ref()
+                .is_some_and(|m| m.owner.name == name && matches!(m.plan, Plan::Seek { .. }))
+        }) else {
+            return Ok(());
+        };
+        let Some(Plan::Seek { velocity, accel }) =
+            self.axis.profiles[p].motion.as_ref().map(|m| m.plan)
+        else {
+            return Ok(());
+        };
+        let decel = v[h.deceleration as usize];
+        // Speed at the reference (the seek may still be accelerating).
+        let start = self.axis.profiles[p].motion.as_ref().map_or(t, |m| m.start);
+        let v0 = velocity.signum() * (accel * (t - start)).min(velocity.abs());
+        let stopping = v0 * v0 / (2.0 * decel);
+        let mut warning = Ok(());
+        let distance = if h.config.specified_offset {
+            let offset = v[h.offset as usize];
+            if offset * velocity.signum() < stopping - 1e-12 {
+                warning = Err(format!(
+                    "{name}: the specified offset {offset} is shorter than the distance needed to stop ({stopping}); stopping at the calculated offset"
+                ));
+                velocity.signum() * stopping
+            } else {
+                offset
+            }
+        } else {
+            velocity.signum() * stopping
+        };
+        let other: f64 = self
+            .axis
+            .profiles
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| *i != p)
+            .map(|(_, q)| q.position)
+            .sum();
+        let base = position - other;
+        self.axis.replace(
+            p,
+            Plan::Finish {
+                v0,
+                decel,
+                distance,
+            },
+            t,
+            base,
+        );
+        let _ = master_at;
+        warning
     }
 
     /// Stop an index wherever it is (the motion ends where it stands).
@@ -473,6 +717,49 @@ impl Kernel {
         let mut events = std::mem::take(&mut self.events);
         events.clear();
         self.axis.update(clocks, master_at, &mut events);
+        // Sensors on the axis: edges where it crossed marks since the last update.
+        let (t_prev, cmd_prev) = self.previous;
+        let mut crossings = Vec::new();
+        for m in &self.marks {
+            m.crossings(
+                cmd_prev,
+                self.axis.command(),
+                t_prev,
+                clocks.time,
+                &mut crossings,
+            );
+        }
+        crossings.sort_by(|a, b| a.at.total_cmp(&b.at));
+        for e in &crossings {
+            let homes: Vec<usize> = (0..self.homes.len())
+                .filter(|&h| e.on && self.homes[h].config.reference == Some(e.slot))
+                .collect();
+            for h in homes {
+                let position = cmd_prev
+                    + (self.axis.command() - cmd_prev)
+                        * if clocks.time > t_prev {
+                            (e.at - t_prev) / (clocks.time - t_prev)
+                        } else {
+                            1.0
+                        };
+                if let Err(message) = self.home_reference(h, e.at, position, v, master_at) {
+                    now.trace.event(
+                        now.tick,
+                        "warning",
+                        &[
+                            ("task", serde_json::Value::Null),
+                            ("line", serde_json::Value::Null),
+                            ("message", message.into()),
+                        ],
+                    );
+                }
+                // Re-evaluate the profile on its new plan at this update.
+                events.retain(|x| !matches!(x, Event::Running { owner, .. } if owner.status == Some((Kind::Home, h))));
+                self.axis.update(clocks, master_at, &mut events);
+            }
+        }
+        self.pending_edges.extend(crossings);
+        self.previous = (clocks.time, self.axis.command());
         for e in &events {
             match e {
                 Event::Started {
@@ -491,19 +778,13 @@ impl Kernel {
                         ],
                     );
                 }
-                Event::Running { owner, phase } => {
-                    if let Some(ix) = owner.status.and_then(|i| self.indexes.get(i)) {
-                        ix.status(v, *phase);
-                    }
-                }
+                Event::Running { owner, phase } => self.owner_status(owner, v, *phase),
                 Event::Done {
                     owner,
                     end,
                     position,
                 } => {
-                    if let Some(ix) = owner.status.and_then(|i| self.indexes.get(i)) {
-                        ix.status(v, Phase::Done);
-                    }
+                    self.owner_status(owner, v, Phase::Done);
                     now.trace.event(
                         now.tick,
                         "motion",
@@ -525,6 +806,22 @@ impl Kernel {
         v[self.axis_slots.command as usize] = self.axis.command();
         v[self.axis_slots.feedback as usize] = self.axis.command();
         v[self.axis_slots.velocity as usize] = self.axis.velocity();
+    }
+
+    fn owner_status(&self, owner: &Owner, v: &mut [f64], phase: Phase) {
+        match owner.status {
+            Some((Kind::Index, i)) => {
+                if let Some(ix) = self.indexes.get(i) {
+                    ix.status(v, phase);
+                }
+            }
+            Some((Kind::Home, i)) => {
+                if let Some(h) = self.homes.get(i) {
+                    h.status(v, phase);
+                }
+            }
+            _ => {}
+        }
     }
 
     /// True while a motion runs (or waits to start) on `profile`.

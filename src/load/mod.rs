@@ -310,6 +310,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
     // The scenario.
     let mut edges = Vec::new();
     let mut master = crate::world::master::MasterProfile::default();
+    let mut axis_marks = Vec::new();
     let mut duration_ns = None;
     if let Some(p) = &scenario_path {
         let src = read(p, &mut diags)?;
@@ -321,6 +322,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
                     let world = scenario::world(&sc, reg, &mut problems);
                     edges = world.0;
                     master = world.1;
+                    axis_marks = world.2;
                 }
                 duration_ns = sc.run.duration.as_ref().map(|d| d.get_ref().0);
                 diags.extend_file(&src, problems);
@@ -374,6 +376,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
         assignments,
         edges,
         master,
+        axis_marks,
         duration_ns,
     };
     Ok(Loaded {

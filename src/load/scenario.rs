@@ -5,6 +5,7 @@ use super::resolve_text;
 use crate::config::scenario::ScenarioFile;
 use crate::config::span_of;
 use crate::diag::{nearest, Problem};
+use crate::kernel::AxisMarks;
 use crate::registry::{Kind, Registry};
 use crate::syntax::span::Span;
 use crate::world::master::{MasterProfile, SpeedChange};
@@ -17,7 +18,7 @@ pub fn world(
     sc: &ScenarioFile,
     reg: &Registry,
     problems: &mut Vec<Problem>,
-) -> (Vec<Edge>, MasterProfile) {
+) -> (Vec<Edge>, MasterProfile, Vec<AxisMarks>) {
     let master = master_profile(sc, problems);
     let mut edges = Vec::new();
     let input = |name: &toml::Spanned<String>, problems: &mut Vec<Problem>| -> Option<u32> {
@@ -130,7 +131,33 @@ pub fn world(
         });
     }
     products(sc, &master, &input, &mut edges, problems);
-    (edges, master)
+    let mut marks = Vec::new();
+    for m in &sc.axis_marks {
+        let Some(slot) = input(&m.sensor, problems) else {
+            continue;
+        };
+        let ok = [m.first, m.pitch, m.width].iter().all(|x| x.is_finite())
+            && m.pitch >= 0.0
+            && m.width > 0.0
+            && (m.count <= 1 || m.width < m.pitch);
+        if !ok {
+            problems.push(Problem::error(
+                "pacer::scenario::axis_marks",
+                span_of(&m.sensor),
+                "marks need a width above 0, a pitch of 0 or more, and (with several marks) a width below the pitch",
+                "these marks",
+            ));
+            continue;
+        }
+        marks.push(AxisMarks {
+            slot,
+            first: m.first,
+            pitch: m.pitch,
+            count: m.count,
+            width: m.width,
+        });
+    }
+    (edges, master, marks)
 }
 
 fn seconds(ns: u64) -> f64 {

@@ -80,6 +80,17 @@ pub struct Registry {
     pub queue_sources: Vec<QueueSource>,
     /// Index set-up: per index instance.
     pub index_setups: Vec<IndexConfig>,
+    /// Home set-up: per home instance.
+    pub home_setups: Vec<HomeConfig>,
+}
+
+/// The set-up of one home that is not a member.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub struct HomeConfig {
+    /// The slot of the reference input, if one is set.
+    pub reference: Option<SlotId>,
+    /// The offset is specified (`Home.N.Offset`), not calculated.
+    pub specified_offset: bool,
 }
 
 /// The position a queue compares with.
@@ -368,6 +379,10 @@ impl Registry {
             .find(|t| t.def.kind == Kind::Queue)
             .map_or(0, |t| t.count);
         let mut queue_sizes = vec![(8u32, 8u32); queue_count as usize];
+        let home_count = types
+            .iter()
+            .find(|t| t.def.kind == Kind::Home)
+            .map_or(0, |t| t.count);
         let index_count = types
             .iter()
             .find(|t| t.def.kind == Kind::Index)
@@ -378,6 +393,7 @@ impl Registry {
             queue_sizes: Vec::new(),
             queue_sources: vec![QueueSource::Master; queue_count as usize],
             index_setups: vec![IndexConfig::default(); index_count as usize],
+            home_setups: vec![HomeConfig::default(); home_count as usize],
         };
         for (key, setup) in &machine.queue {
             let span = span_of(setup);
@@ -442,6 +458,7 @@ impl Registry {
         }
         registry.queue_sizes = queue_sizes;
         registry.index_setups(machine, &mut problems);
+        registry.home_setups(machine, &mut problems);
         (registry, problems)
     }
 
@@ -515,6 +532,83 @@ impl Registry {
                         ));
                     } else {
                         self.set_initial(Kind::Index, n, member, v);
+                    }
+                }
+            }
+        }
+    }
+
+    /// `[home.N]` sections: the reference input, initial members, specified or calculated offset.
+    fn home_setups(&mut self, machine: &MachineFile, problems: &mut Vec<Problem>) {
+        let count = self.home_setups.len() as u32;
+        for (key, setup) in &machine.home {
+            let span = span_of(setup);
+            let Some(n) = key.parse::<u32>().ok().filter(|n| *n < count) else {
+                problems.push(Problem::error(
+                    "pacer::machine::home",
+                    span,
+                    format!("[home.{key}]: no such home"),
+                    format!("homes are 0 to {}", count.saturating_sub(1)),
+                ));
+                continue;
+            };
+            let s = setup.get_ref();
+            let name = crate::syntax::ast::Name::from_token(
+                s.reference.get_ref(),
+                span_of(&s.reference).start + 1,
+            );
+            let valid =
+                s.reference.get_ref().split('.').all(|p| {
+                    !p.is_empty() && p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+                });
+            let reference = if valid {
+                self.resolve(&name).ok()
+            } else {
+                None
+            };
+            match reference {
+                Some(r)
+                    if r.ty.is_bit()
+                        && matches!(
+                            r.kind,
+                            Kind::DriveInput | Kind::ModuleInput | Kind::DriveIO
+                        ) =>
+                {
+                    self.home_setups[n as usize] = HomeConfig {
+                        reference: Some(r.slot),
+                        specified_offset: s.offset.is_some(),
+                    };
+                }
+                _ => problems.push(
+                    Problem::error(
+                        "pacer::machine::home",
+                        span_of(&s.reference),
+                        format!("`{}` is not an input", s.reference.get_ref()),
+                        "the home reference must be an input",
+                    )
+                    .with_help("e.g. reference = \"ModuleInput.3\""),
+                ),
+            }
+            for (member, value) in [
+                ("Velocity", s.velocity),
+                ("Acceleration", s.acceleration),
+                ("Deceleration", s.deceleration),
+                ("Offset", s.offset),
+            ] {
+                if let Some(v) = value {
+                    let rate = matches!(member, "Acceleration" | "Deceleration");
+                    if !v.is_finite() || (rate && v <= 0.0) || (member == "Velocity" && v == 0.0) {
+                        problems.push(Problem::error(
+                            "pacer::machine::home",
+                            span,
+                            format!(
+                                "[home.{n}] {}: {v} is out of range",
+                                member.to_ascii_lowercase()
+                            ),
+                            "must be a number (not 0 for a velocity, above 0 for a rate)",
+                        ));
+                    } else {
+                        self.set_initial(Kind::Home, n, member, v);
                     }
                 }
             }

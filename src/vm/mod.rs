@@ -67,6 +67,8 @@ pub struct MachineImage {
     pub edges: Vec<Edge>,
     /// The master axis.
     pub master: crate::world::master::MasterProfile,
+    /// Sensors tied to the servo axis.
+    pub axis_marks: Vec<crate::kernel::AxisMarks>,
     /// Scenario duration, if set.
     pub duration_ns: Option<u64>,
 }
@@ -167,7 +169,8 @@ impl Machine {
     /// A machine ready to run, writing its trace to `trace`.
     pub fn new(image: MachineImage, trace: Trace) -> Machine {
         let values = image.initial.clone();
-        let kernel = Kernel::new(&image.registry);
+        let mut kernel = Kernel::new(&image.registry);
+        kernel.set_marks(image.axis_marks.clone());
         let world = World::new(image.edges.clone(), image.master.clone());
         let tasks = (0..image.tasks).map(|_| Task::free()).collect();
         let slot_count = image.registry.slot_count();
@@ -363,6 +366,8 @@ impl Machine {
                 });
             self.kernel.derive(&mut self.values, &mut now);
             self.kernel.update(&mut self.values, &now);
+            let made = std::mem::take(&mut self.kernel.pending_edges);
+            self.world.inject(made);
         }
         self.unblock();
         if self.error.is_none() {
@@ -409,9 +414,12 @@ impl Machine {
                         } else {
                             self.seconds()
                         };
+                        let master = &self.world.master;
+                        let command = self.kernel.command_at(edge, &|t| master.position(t));
                         let at = crate::kernel::capture::Positions {
-                            master: self.world.master.position(edge),
-                            ..Default::default()
+                            master: master.position(edge),
+                            command,
+                            feedback: command,
                         };
                         let (tick, tick_ns) = (self.tick, self.image.tick_ns);
                         let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);

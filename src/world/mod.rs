@@ -43,6 +43,8 @@ pub struct World {
     levels: std::collections::BTreeMap<SlotId, bool>,
     /// The master axis.
     pub master: MasterProfile,
+    /// Edges made by the servo axis during the last update, applied first at the next advance.
+    pending: Vec<Edge>,
 }
 
 impl World {
@@ -54,7 +56,15 @@ impl World {
             next: 0,
             levels: Default::default(),
             master,
+            pending: Vec::new(),
         }
+    }
+
+    /// Add edges made during the last update (sensors on the servo axis); they are applied at
+    /// the next advance, before the scenario's own edges of that update.
+    pub fn inject(&mut self, mut edges: Vec<Edge>) {
+        edges.sort_by(|a, b| a.at.total_cmp(&b.at));
+        self.pending.extend(edges);
     }
 
     /// Time of the last edge, if any (seconds).
@@ -65,11 +75,20 @@ impl World {
     /// Apply the edges up to and including `until` seconds; report each touched input.
     pub fn advance(&mut self, until: f64, v: &mut [f64], out: &mut Vec<InputActivity>) {
         out.clear();
-        while let Some(e) = self.edges.get(self.next).copied() {
-            if e.at > until {
-                break;
-            }
-            self.next += 1;
+        let pending = std::mem::take(&mut self.pending);
+        let mut pending = pending.into_iter();
+        loop {
+            // The axis's edges (from the last update) come before the scenario's of this one.
+            let e = match pending.next() {
+                Some(e) => e,
+                None => match self.edges.get(self.next).copied() {
+                    Some(e) if e.at <= until => {
+                        self.next += 1;
+                        e
+                    }
+                    _ => break,
+                },
+            };
             let before = self
                 .levels
                 .get(&e.slot)

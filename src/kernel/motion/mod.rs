@@ -23,28 +23,86 @@ pub enum Plan {
     Move(Trapezoid),
     /// Stand still for this long (a dwell).
     Dwell(f64),
+    /// Accelerate to `velocity` (signed) and keep going until replaced (homing).
+    Seek { velocity: f64, accel: f64 },
+    /// From speed `v0` (signed), cruise and then decelerate at `decel` to stop after `distance`
+    /// (same sign as `v0`, at least the stopping distance).
+    Finish { v0: f64, decel: f64, distance: f64 },
 }
 
 impl Plan {
-    fn duration(&self) -> f64 {
-        match self {
+    /// Length of the plan in its domain (infinite for a seek).
+    pub fn duration(&self) -> f64 {
+        match *self {
             Plan::Move(t) => t.duration(),
-            Plan::Dwell(l) => *l,
+            Plan::Dwell(l) => l,
+            Plan::Seek { .. } => f64::INFINITY,
+            Plan::Finish {
+                v0,
+                decel,
+                distance,
+            } => {
+                let stop = v0.abs() / decel;
+                let cruise = (distance.abs() - v0 * v0 / (2.0 * decel)).max(0.0)
+                    / v0.abs().max(f64::MIN_POSITIVE);
+                cruise + stop
+            }
         }
     }
 
-    fn at(&self, u: f64) -> (f64, f64, Phase) {
-        match self {
+    /// Position, velocity and phase `u` into the plan.
+    pub fn at(&self, u: f64) -> (f64, f64, Phase) {
+        let u = u.max(0.0);
+        match *self {
             Plan::Move(t) => t.at(u),
             Plan::Dwell(l) => (
                 0.0,
                 0.0,
-                if u >= *l {
+                if u >= l {
                     Phase::Done
                 } else {
                     Phase::AtVelocity
                 },
             ),
+            Plan::Seek { velocity, accel } => {
+                let ta = velocity.abs() / accel;
+                let sign = velocity.signum();
+                if u < ta {
+                    (
+                        sign * 0.5 * accel * u * u,
+                        sign * accel * u,
+                        Phase::Accelerating,
+                    )
+                } else {
+                    (
+                        sign * 0.5 * accel * ta * ta + velocity * (u - ta),
+                        velocity,
+                        Phase::AtVelocity,
+                    )
+                }
+            }
+            Plan::Finish {
+                v0,
+                decel,
+                distance,
+            } => {
+                let total = self.duration();
+                if u >= total {
+                    return (distance, 0.0, Phase::Done);
+                }
+                let r = total - u;
+                let sign = v0.signum();
+                let stop = v0.abs() / decel;
+                if r <= stop {
+                    (
+                        distance - sign * 0.5 * decel * r * r,
+                        sign * decel * r,
+                        Phase::Decelerating,
+                    )
+                } else {
+                    (v0 * u, v0, Phase::AtVelocity)
+                }
+            }
         }
     }
 }
@@ -54,8 +112,8 @@ impl Plan {
 pub struct Owner {
     /// Name in the trace, e.g. `Index.0` or `Dwell`.
     pub name: String,
-    /// Index in the kernel's motion-object table, if the owner has status members.
-    pub status: Option<usize>,
+    /// The object whose status members follow the motion (Index or Home, and its instance).
+    pub status: Option<(crate::registry::Kind, usize)>,
 }
 
 /// A motion on a profile.
@@ -76,6 +134,13 @@ pub struct Motion {
 }
 
 impl Motion {
+    fn domain_clock(&self, t: f64, master_at: &dyn Fn(f64) -> f64) -> f64 {
+        match self.domain {
+            Domain::Time => t,
+            Domain::Master => master_at(t),
+        }
+    }
+
     /// Where in the domain it ends.
     pub fn end(&self) -> f64 {
         self.start + self.plan.duration()
@@ -160,6 +225,31 @@ impl Axis {
     /// Command velocity, per second.
     pub fn velocity(&self) -> f64 {
         self.profiles[0].velocity + self.profiles[1].velocity
+    }
+
+    /// The command position at any instant `t` (seconds), from the plans themselves: exact
+    /// between updates too. `master_at` gives the master position at a time.
+    pub fn position_at(&self, t: f64, master_at: &dyn Fn(f64) -> f64) -> f64 {
+        self.profiles
+            .iter()
+            .map(|p| match &p.motion {
+                Some(m) if m.started || m.domain_clock(t, master_at) >= m.start => {
+                    m.base + m.plan.at(m.domain_clock(t, master_at) - m.start).0
+                }
+                _ => p.position,
+            })
+            .sum()
+    }
+
+    /// Replace the motion on `profile` by `plan`, continuing from where it is at `at` (on its
+    /// domain's timeline) with the position `position`.
+    pub fn replace(&mut self, profile: usize, plan: Plan, at: f64, position: f64) {
+        if let Some(m) = self.profiles[profile].motion.as_mut() {
+            m.plan = plan;
+            m.start = at;
+            m.base = position;
+            m.started = true;
+        }
     }
 
     /// Put a motion on `profile` (which must be free).
