@@ -120,8 +120,6 @@ impl Queue {
         v[self.s.empty as usize] = f64::from(n == 0);
         v[self.s.full as usize] = f64::from(n as f64 >= v[self.s.full_level as usize]);
         v[self.s.data_out as usize] = front.unwrap_or(0.0);
-        v[self.s.exit_position as usize] = front.map_or(0.0, |d| {
-            crate::registry::round_to(d + v[self.s.offset as usize], 4)
-        });
+        v[self.s.exit_position as usize] = front.map_or(0.0, |d| d + v[self.s.offset as usize]);
     }
 }

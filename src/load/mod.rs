@@ -285,11 +285,17 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
                             "no such program",
                         ));
                     }
-                    assignments.push(Assignment {
-                        source: s.slot,
-                        active_off,
-                        dest: d,
-                    });
+                    // Sources assigned to the same destination are ORed.
+                    match assignments
+                        .iter_mut()
+                        .find(|x: &&mut Assignment| x.dest.slot == d.slot)
+                    {
+                        Some(existing) => existing.sources.push((s.slot, active_off)),
+                        None => assignments.push(Assignment {
+                            sources: vec![(s.slot, active_off)],
+                            dest: d,
+                        }),
+                    }
                 }
             }
         }
@@ -311,6 +317,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
     let mut edges = Vec::new();
     let mut master = crate::world::master::MasterProfile::default();
     let mut axis_marks = Vec::new();
+    let mut products = Vec::new();
     let mut duration_ns = None;
     if let Some(p) = &scenario_path {
         let src = read(p, &mut diags)?;
@@ -320,9 +327,10 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
                 let mut problems = Vec::new();
                 if let Some(reg) = &registry {
                     let world = scenario::world(&sc, reg, &mut problems);
-                    edges = world.0;
-                    master = world.1;
-                    axis_marks = world.2;
+                    edges = world.edges;
+                    master = world.master;
+                    axis_marks = world.marks;
+                    products = world.products;
                 }
                 duration_ns = sc.run.duration.as_ref().map(|d| d.get_ref().0);
                 diags.extend_file(&src, problems);
@@ -377,6 +385,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
         edges,
         master,
         axis_marks,
+        products,
         duration_ns,
     };
     Ok(Loaded {

@@ -9,16 +9,12 @@ use crate::kernel::AxisMarks;
 use crate::registry::{Kind, Registry};
 use crate::syntax::span::Span;
 use crate::world::master::{MasterProfile, SpeedChange};
-use crate::world::products::{Bounce, ProductStream};
+use crate::world::products::{Bounce, Product, ProductStream};
 use crate::world::Edge;
 
 /// The world a scenario describes: input edges (presses, pulses, levels, product streams) and
 /// the master axis. Problems are reported against the scenario file.
-pub fn world(
-    sc: &ScenarioFile,
-    reg: &Registry,
-    problems: &mut Vec<Problem>,
-) -> (Vec<Edge>, MasterProfile, Vec<AxisMarks>) {
+pub fn world(sc: &ScenarioFile, reg: &Registry, problems: &mut Vec<Problem>) -> World {
     let master = master_profile(sc, problems);
     let mut edges = Vec::new();
     let input = |name: &toml::Spanned<String>, problems: &mut Vec<Problem>| -> Option<u32> {
@@ -130,7 +126,7 @@ pub fn world(
             on: false,
         });
     }
-    products(sc, &master, &input, &mut edges, problems);
+    let product_lists = products(sc, &master, &input, &mut edges, problems);
     let mut marks = Vec::new();
     for m in &sc.axis_marks {
         let Some(slot) = input(&m.sensor, problems) else {
@@ -157,7 +153,24 @@ pub fn world(
             width: m.width,
         });
     }
-    (edges, master, marks)
+    World {
+        edges,
+        master,
+        marks,
+        products: product_lists,
+    }
+}
+
+/// What a scenario makes of the world.
+pub struct World {
+    /// Input edges in any order.
+    pub edges: Vec<Edge>,
+    /// The master axis.
+    pub master: MasterProfile,
+    /// Sensors tied to the servo axis.
+    pub marks: Vec<AxisMarks>,
+    /// The products of each stream, with the sensor they pass.
+    pub products: Vec<(u32, Vec<Product>)>,
 }
 
 fn seconds(ns: u64) -> f64 {
@@ -208,7 +221,8 @@ fn products(
     input: &InputResolver<'_>,
     edges: &mut Vec<Edge>,
     problems: &mut Vec<Problem>,
-) {
+) -> Vec<(u32, Vec<Product>)> {
+    let mut lists = Vec::new();
     let seed = sc.run.seed.unwrap_or(1);
     for (i, p) in sc.products.iter().enumerate() {
         let Some(slot) = input(&p.sensor, problems) else {
@@ -258,5 +272,7 @@ fn products(
                 on: e.on,
             });
         }
+        lists.push((slot, list));
     }
+    lists
 }

@@ -33,10 +33,9 @@ pub const DEFAULT_MAX_SECONDS: u64 = 3600;
 /// An assignment: a bit source drives a destination member every update.
 #[derive(Debug, Clone)]
 pub struct Assignment {
-    /// Source slot (a bit).
-    pub source: SlotId,
-    /// Active Off: the destination is on while the source is off.
-    pub active_off: bool,
+    /// Source slots (bits) with their polarity (Active Off: on while the source is off). Several
+    /// sources assigned to one destination are ORed, as on the drive.
+    pub sources: Vec<(SlotId, bool)>,
     /// The destination member.
     pub dest: Resolved,
 }
@@ -69,6 +68,9 @@ pub struct MachineImage {
     pub master: crate::world::master::MasterProfile,
     /// Sensors tied to the servo axis.
     pub axis_marks: Vec<crate::kernel::AxisMarks>,
+    /// The scenario's products, per stream: the sensor slot and the products (for reports and
+    /// tests).
+    pub products: Vec<(SlotId, Vec<crate::world::products::Product>)>,
     /// Scenario duration, if set.
     pub duration_ns: Option<u64>,
 }
@@ -151,7 +153,9 @@ pub(crate) fn trace_changes(
         let x = v[i];
         if x.to_bits() != snapshot[i].to_bits() {
             snapshot[i] = x;
-            if !info.member.continuous && info.member.access != Access::Action {
+            if !info.member.continuous
+                && !matches!(info.member.access, Access::Action | Access::Input)
+            {
                 trace.event(
                     tick,
                     "change",
@@ -387,18 +391,22 @@ impl Machine {
     fn assignments(&mut self) {
         for i in 0..self.image.assignments.len() {
             let a = self.image.assignments[i].clone();
-            let on = (self.values[a.source as usize] != 0.0) != a.active_off;
+            let on = a
+                .sources
+                .iter()
+                .any(|(src, off)| (self.values[*src as usize] != 0.0) != *off);
             let last = self.assign_last[i];
             self.assign_last[i] = Some(on);
-            let activity = self.activity.iter().find(|x| x.slot == a.source);
-            // The source edge that makes the destination go on, at its exact time.
-            let edge_at = activity.and_then(|x| {
-                if a.active_off {
+            // The earliest source edge that makes the destination go on, at its exact time.
+            let edge_at = a.sources.iter().filter_map(|(src, off)| {
+                let x = self.activity.iter().find(|x| x.slot == *src)?;
+                if *off {
                     x.first_fall
                 } else {
                     x.first_rise
                 }
             });
+            let edge_at = edge_at.reduce(f64::min);
             let result = match (a.dest.access, a.dest.hook) {
                 (Access::Action, _) => {
                     if on && last != Some(true) {
