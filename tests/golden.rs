@@ -2,28 +2,10 @@
 //! JSON-lines trace must equal `tests/golden/<folder>.jsonl` byte for byte.
 //! Bless (rewrite) them deliberately with `PACER_BLESS=1 cargo test --test golden`.
 
+mod common;
+
 use pacer::load::{load, LoadRequest};
-use pacer::trace::Trace;
-use pacer::vm::Machine;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
-
-/// A trace sink the test can read back.
-#[derive(Clone, Default)]
-struct Shared(Arc<Mutex<Vec<u8>>>);
-
-impl std::io::Write for Shared {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.0
-            .lock()
-            .map_err(|_| std::io::Error::other("poisoned"))?
-            .extend_from_slice(buf);
-        Ok(buf.len())
-    }
-    fn flush(&mut self) -> std::io::Result<()> {
-        Ok(())
-    }
-}
 
 fn run_folder(folder: &Path) -> String {
     let loaded = match load(&LoadRequest {
@@ -33,19 +15,14 @@ fn run_folder(folder: &Path) -> String {
         Ok(l) => l,
         Err(d) => panic!("{} does not load:\n{}", folder.display(), d.render_plain()),
     };
-    let sink = Shared::default();
-    let tick = loaded.image.tick_ns;
-    let mut m = Machine::new(loaded.image, Trace::new(Some(Box::new(sink.clone())), tick));
-    let summary = m.run(None);
-    m.finish().expect("in-memory trace");
+    let r = common::run_loaded(loaded);
     assert!(
-        summary.error.is_none(),
+        r.summary.error.is_none(),
         "{}: {:?}",
         folder.display(),
-        summary.error
+        r.summary.error
     );
-    let bytes = sink.0.lock().expect("trace buffer").clone();
-    String::from_utf8(bytes).expect("the trace is UTF-8")
+    r.text
 }
 
 fn program_folders() -> Vec<PathBuf> {

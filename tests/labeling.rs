@@ -3,31 +3,14 @@
 //! exactly one label, each label's index starts at captured position + QueueOffset, the
 //! operator's presses move the label position, and a burst of products overflows the queue.
 
+mod common;
+
 use pacer::load::{load, LoadRequest};
-use pacer::trace::Trace;
-use pacer::vm::Machine;
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::sync::{Arc, Mutex};
-
-#[derive(Clone, Default)]
-struct Sink(Arc<Mutex<Vec<u8>>>);
-
-impl std::io::Write for Sink {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.0
-            .lock()
-            .map_err(|_| std::io::Error::other("poisoned"))?
-            .extend_from_slice(buf);
-        Ok(buf.len())
-    }
-    fn flush(&mut self) -> std::io::Result<()> {
-        Ok(())
-    }
-}
 
 struct Run {
-    machine: Machine,
+    machine: pacer::vm::Machine,
     events: Vec<Value>,
     /// Leading-edge master positions of the scenario's products.
     leads: Vec<f64>,
@@ -48,19 +31,11 @@ fn run(paths: Vec<PathBuf>, scenario: Option<PathBuf>) -> Run {
         .iter()
         .flat_map(|(_, ps)| ps.iter().map(|p| p.lead))
         .collect();
-    let sink = Sink::default();
-    let tick = loaded.image.tick_ns;
-    let mut machine = Machine::new(loaded.image, Trace::new(Some(Box::new(sink.clone())), tick));
-    let summary = machine.run(None);
-    machine.finish().expect("trace");
-    assert!(summary.error.is_none(), "{:?}", summary.error);
-    let text = String::from_utf8(sink.0.lock().expect("sink").clone()).expect("utf-8");
+    let r = common::run_loaded(loaded);
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
     Run {
-        machine,
-        events: text
-            .lines()
-            .map(|l| serde_json::from_str(l).expect("json"))
-            .collect(),
+        machine: r.machine,
+        events: r.events,
         leads,
     }
 }

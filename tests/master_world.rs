@@ -2,65 +2,15 @@
 //! that latch the exact master position of the edge (bounce or not), queue compares against the
 //! master, master-distance dwells and synchronized timers.
 
+mod common;
+
 use pacer::load::{load, LoadRequest};
-use pacer::trace::Trace;
-use pacer::vm::{Machine, RunSummary};
 use serde_json::Value;
-use std::sync::{Arc, Mutex};
 
-#[derive(Clone, Default)]
-struct Sink(Arc<Mutex<Vec<u8>>>);
-
-impl std::io::Write for Sink {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        self.0
-            .lock()
-            .map_err(|_| std::io::Error::other("poisoned"))?
-            .extend_from_slice(buf);
-        Ok(buf.len())
-    }
-    fn flush(&mut self) -> std::io::Result<()> {
-        Ok(())
-    }
-}
-
-struct Run {
-    machine: Machine,
-    summary: RunSummary,
-    events: Vec<Value>,
-}
+use common::Run;
 
 fn run(name: &str, program: &str, machine: &str, scenario: &str) -> Run {
-    let dir = std::env::temp_dir().join(format!("pacer-master-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("temp dir");
-    std::fs::write(dir.join("program0.pt"), program).expect("program");
-    std::fs::write(dir.join("machine.toml"), machine).expect("machine");
-    std::fs::write(dir.join("scenario.toml"), scenario).expect("scenario");
-    let loaded = load(&LoadRequest {
-        paths: vec![dir.clone()],
-        ..Default::default()
-    });
-    let _ = std::fs::remove_dir_all(&dir);
-    let loaded = match loaded {
-        Ok(l) => l,
-        Err(d) => panic!("{}", d.render_plain()),
-    };
-    let sink = Sink::default();
-    let tick = loaded.image.tick_ns;
-    let mut machine = Machine::new(loaded.image, Trace::new(Some(Box::new(sink.clone())), tick));
-    let summary = machine.run(None);
-    machine.finish().expect("trace");
-    let text = String::from_utf8(sink.0.lock().expect("sink").clone()).expect("utf-8");
-    let events = text
-        .lines()
-        .map(|l| serde_json::from_str(l).expect("json line"))
-        .collect();
-    Run {
-        machine,
-        summary,
-        events,
-    }
+    common::run_project(name, program, machine, scenario)
 }
 
 fn kind<'a>(events: &'a [Value], k: &str) -> Vec<&'a Value> {

@@ -700,8 +700,8 @@ impl Kernel {
         self.dwell(distance, Domain::Master, v, now)
     }
 
-    /// The motion generator, after the tasks: every motion advanced to this update, status
-    /// members and axis positions set, `motion` events traced.
+    /// The motion generator, in the control loop before the task runs: every motion advanced
+    /// to this update, status members and axis positions set, `motion` events traced.
     pub fn generate(
         &mut self,
         v: &mut [f64],

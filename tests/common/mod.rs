@@ -1,0 +1,97 @@
+//! What the integration tests share: an in-memory trace, and running a loaded machine to the end.
+#![allow(dead_code)]
+
+use pacer::load::{load, LoadRequest, Loaded};
+use pacer::trace::Trace;
+use pacer::vm::{Machine, RunSummary};
+use serde_json::Value;
+use std::path::PathBuf;
+use std::sync::{Arc, Mutex};
+
+/// A trace sink the test can read back.
+#[derive(Clone, Default)]
+pub struct Sink(pub Arc<Mutex<Vec<u8>>>);
+
+impl std::io::Write for Sink {
+    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
+        self.0
+            .lock()
+            .map_err(|_| std::io::Error::other("poisoned"))?
+            .extend_from_slice(buf);
+        Ok(buf.len())
+    }
+    fn flush(&mut self) -> std::io::Result<()> {
+        Ok(())
+    }
+}
+
+impl Sink {
+    /// Everything written, as text.
+    pub fn text(&self) -> String {
+        String::from_utf8(self.0.lock().expect("trace buffer").clone()).expect("the trace is UTF-8")
+    }
+}
+
+/// A finished run.
+pub struct Run {
+    /// The machine as it ended.
+    pub machine: Machine,
+    /// How it went.
+    pub summary: RunSummary,
+    /// The trace as text.
+    pub text: String,
+    /// The trace, one JSON value per line.
+    pub events: Vec<Value>,
+}
+
+/// Run a loaded machine with its own duration, tracing to memory.
+pub fn run_loaded(loaded: Loaded) -> Run {
+    let sink = Sink::default();
+    let tick = loaded.image.tick_ns;
+    let mut machine = Machine::new(loaded.image, Trace::new(Some(Box::new(sink.clone())), tick));
+    let summary = machine.run(None);
+    machine.finish().expect("in-memory trace");
+    let text = sink.text();
+    let events = text
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("each trace line is JSON"))
+        .collect();
+    Run {
+        machine,
+        summary,
+        text,
+        events,
+    }
+}
+
+/// A fresh folder under the system's temp dir holding `files`.
+pub fn project(name: &str, files: &[(&str, &str)]) -> PathBuf {
+    let dir = std::env::temp_dir().join(format!("pacer-test-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    for (file, text) in files {
+        std::fs::write(dir.join(file), text).expect("write a project file");
+    }
+    dir
+}
+
+/// Load a one-program project (program, machine file, scenario) and run it to its duration.
+pub fn run_project(name: &str, program: &str, machine: &str, scenario: &str) -> Run {
+    let dir = project(
+        name,
+        &[
+            ("program0.pt", program),
+            ("machine.toml", machine),
+            ("scenario.toml", scenario),
+        ],
+    );
+    let loaded = load(&LoadRequest {
+        paths: vec![dir.clone()],
+        ..Default::default()
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    match loaded {
+        Ok(l) => run_loaded(l),
+        Err(d) => panic!("{}", d.render_plain()),
+    }
+}
