@@ -36,6 +36,11 @@ impl Trace {
         (tick as f64 * self.tick_ns as f64) / 1e9
     }
 
+    /// Count an event without building it (when no trace is written, for the summary).
+    pub fn count(&mut self, kind: &'static str) {
+        *self.counts.entry(kind).or_insert(0) += 1;
+    }
+
     /// Write one event.
     pub fn event(&mut self, tick: u64, kind: &'static str, fields: &[(&str, Value)]) {
         *self.counts.entry(kind).or_insert(0) += 1;

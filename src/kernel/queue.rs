@@ -69,6 +69,8 @@ impl Queue {
                         ("exit", number(exit)),
                     ],
                 );
+            } else {
+                trace.count("queue_in");
             }
         }
         self.refresh(v);

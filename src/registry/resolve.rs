@@ -272,8 +272,3 @@ fn needs_member(name: &Name, t: &TypeInstances) -> Problem {
     )
     .with_help(format!("members: {list}"))
 }
-
-#[allow(dead_code)]
-fn _assert_global(i: u32) -> bool {
-    i == GLOBAL_INSTANCE
-}
