@@ -198,3 +198,54 @@ fn a_capture_from_a_sensor_on_the_axis_latches_the_axis_position_at_the_mark() {
     assert!((c - 4.321).abs() < 1e-9, "{c}");
     assert_eq!(captures[0]["feedback"], captures[0]["command"]);
 }
+
+/// Index 0: a long move at 10 u/s (reached in 0.1 s), deceleration 100 u/s².
+const LONG_INDEX: &str =
+    "[index.0]\ndistance = 1000.0\nvelocity = 10.0\nacceleration = 100.0\ndeceleration = 100.0\n";
+
+#[test]
+fn index_stop_decelerates_at_the_index_deceleration() {
+    let program = "Index.0.Initiate\nWait For Time 1.0\nIndex.0.Stop\nWait For Index.0.CommandComplete\nEnd\n";
+    let r = run("index-stop", program, LONG_INDEX, "[run]\nduration = 3.0\n");
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // At 1.0 s: 0.5 u while accelerating + 9 u at 10 u/s = 9.5 u; then 10²/(2·100) = 0.5 u more.
+    let end = r.machine.value_of("PosnCommand").expect("position");
+    assert!((end - 10.0).abs() < 1e-9, "{end}");
+    assert_eq!(r.machine.value_of("Index.0.CommandComplete"), Some(1.0));
+    let decelerating = r.events.iter().any(|e| {
+        e["kind"] == "change" && e["name"] == "Index.0.Decelerating" && e["value"] == true
+    });
+    assert!(decelerating, "the stop ramps down");
+}
+
+#[test]
+fn stop_ends_the_programs_and_ramps_motion_down_at_stop_deceleration() {
+    let program =
+        "StopDeceleration = 50\nIndex.0.Initiate\nWait For Time 1.0\nStop\nVar.X = 1\nEnd\n";
+    let r = run(
+        "stop-all",
+        program,
+        &format!("[variables.X]\n{LONG_INDEX}"),
+        "[run]\nduration = 3.0\n",
+    );
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    assert_eq!(
+        r.machine.value_of("Var.X"),
+        Some(0.0),
+        "the program stopped at Stop"
+    );
+    // 9.5 u at the stop, then 10²/(2·50) = 1 u.
+    let end = r.machine.value_of("PosnCommand").expect("position");
+    assert!((end - 10.5).abs() < 1e-9, "{end}");
+    assert_eq!(r.machine.value_of("VelCommand"), Some(0.0));
+}
+
+#[test]
+fn stop_with_no_stop_deceleration_halts_at_once() {
+    let program = "Index.0.Initiate\nWait For Time 1.0\nStop\n";
+    let r = run("stop-now", program, LONG_INDEX, "[run]\nduration = 2.0\n");
+    let end = r.machine.value_of("PosnCommand").expect("position");
+    // The stop comes in the task after the control loop of the update at 1.0 s.
+    assert!((end - 9.5).abs() < 1e-9, "{end}");
+    assert_eq!(r.machine.value_of("Profile.0.Busy"), Some(0.0));
+}

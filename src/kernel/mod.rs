@@ -73,6 +73,7 @@ pub struct Kernel {
     profile_busy: Vec<SlotId>,
     axis_slots: AxisSlots,
     feed_rate: SlotId,
+    stop_decel: SlotId,
     free_run: SlotId,
     slot_kinds: Vec<Kind>,
     events: Vec<Event>,
@@ -264,6 +265,7 @@ impl Kernel {
                 velocity: slot(registry, Kind::Motion, 0, "VelCommand"),
             },
             feed_rate: slot(registry, Kind::Motion, 0, "FeedRateOverride"),
+            stop_decel: slot(registry, Kind::Motion, 0, "StopDeceleration"),
             free_run: slot(registry, Kind::Motion, 0, "FreeRunTime"),
             slot_kinds: registry.slots.iter().map(|s| s.kind).collect(),
             events: Vec::new(),
@@ -384,7 +386,7 @@ impl Kernel {
             Hook::CaptureClear => self.captures[i].clear(v),
             Hook::TimerInitiate => self.timers[i].initiate(now.time_ns, now.master, v),
             Hook::TimerStop => self.timers[i].stop(v),
-            Hook::MotionStop => self.stop_motion(self.kind_of(slot), instance, v),
+            Hook::MotionStop => self.stop_motion(self.kind_of(slot), instance, v, now),
             Hook::MotionStart => {
                 return self.start_motion(self.kind_of(slot), instance, start, profile, v, now)
             }
@@ -619,21 +621,45 @@ impl Kernel {
     }
 
     /// Stop an index wherever it is (the motion ends where it stands).
-    fn stop_motion(&mut self, kind: Kind, instance: u32, v: &mut [f64]) {
+    fn stop_motion(&mut self, kind: Kind, instance: u32, v: &mut [f64], now: &Now<'_>) {
         let name = format!("{kind:?}.{instance}");
-        for (i, p) in self.axis.profiles.iter_mut().enumerate() {
-            if p.motion.as_ref().is_some_and(|m| m.owner.name == name) {
-                p.motion = None;
-                p.velocity = 0.0;
-                v[self.profile_busy[i] as usize] = 0.0;
+        let decel = match kind {
+            Kind::Index => self
+                .indexes
+                .get(instance as usize)
+                .map_or(0.0, |ix| v[ix.deceleration as usize]),
+            Kind::Home => self
+                .homes
+                .get(instance as usize)
+                .map_or(0.0, |h| v[h.deceleration as usize]),
+            _ => 0.0,
+        };
+        for i in 0..self.axis.profiles.len() {
+            if self.axis.profiles[i]
+                .motion
+                .as_ref()
+                .is_some_and(|m| m.owner.name == name)
+            {
+                self.stop_profile(i, decel, v, now);
             }
         }
-        if let Some(ix) = self
-            .indexes
-            .get(instance as usize)
-            .filter(|_| kind == Kind::Index)
+    }
+
+    /// `Stop`: every motion comes to rest at StopDeceleration (at once when it is 0).
+    pub fn stop_all(&mut self, v: &mut [f64], now: &Now<'_>) {
+        let decel = v[self.stop_decel as usize];
+        for i in 0..self.axis.profiles.len() {
+            self.stop_profile(i, decel, v, now);
+        }
+    }
+
+    fn stop_profile(&mut self, profile: usize, decel: f64, v: &mut [f64], now: &Now<'_>) {
+        if let Some(owner) = self
+            .axis
+            .decelerate(profile, now.time_ns as f64 / 1e9, decel)
         {
-            ix.status(v, Phase::Done);
+            self.owner_status(&owner, v, Phase::Done);
+            v[self.profile_busy[profile] as usize] = 0.0;
         }
     }
 

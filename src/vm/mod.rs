@@ -497,6 +497,9 @@ impl Machine {
             }
             Hook::StopAll => {
                 self.stop_all();
+                let (tick, tick_ns) = (self.tick, self.image.tick_ns);
+                let now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
+                self.kernel.stop_all(&mut self.values, &now);
                 Ok(())
             }
             _ => {

@@ -252,6 +252,31 @@ impl Axis {
         }
     }
 
+    /// Bring the motion on `profile` to rest from its present velocity at `decel` (units/s²),
+    /// starting at time `t`; with no deceleration (0) or no velocity it ends where it stands.
+    /// Returns the owner of a motion that ended at once.
+    pub fn decelerate(&mut self, profile: usize, t: f64, decel: f64) -> Option<Owner> {
+        let p = &mut self.profiles[profile];
+        let m = p.motion.as_mut()?;
+        let v0 = p.velocity;
+        if !(decel.is_finite() && decel > 0.0) || v0 == 0.0 || !m.started {
+            let owner = m.owner.clone();
+            p.last_end = None;
+            p.motion = None;
+            p.velocity = 0.0;
+            return Some(owner);
+        }
+        m.plan = Plan::Finish {
+            v0,
+            decel,
+            distance: v0.signum() * v0 * v0 / (2.0 * decel),
+        };
+        m.domain = Domain::Time;
+        m.start = t;
+        m.base = p.position;
+        None
+    }
+
     /// Put a motion on `profile` (which must be free).
     pub fn begin(&mut self, profile: usize, motion: Motion) {
         let p = &mut self.profiles[profile];
