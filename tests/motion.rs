@@ -249,3 +249,36 @@ fn stop_with_no_stop_deceleration_halts_at_once() {
     assert!((end - 9.5).abs() < 1e-9, "{end}");
     assert_eq!(r.machine.value_of("Profile.0.Busy"), Some(0.0));
 }
+
+#[test]
+fn gear_follows_the_master_at_its_ratio_and_stops() {
+    let program =
+        "Gear.Ratio = 0.5\nGear.Initiate\nWait For Time 1.0\nVar.P = PosnCommand\nGear.Stop\nEnd\n";
+    let r = run(
+        "gear",
+        program,
+        "[variables.P]\ndecimals = 6\n",
+        "[run]\nduration = 2.0\n[master]\nspeed = 20.0\n",
+    );
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // Geared from master 0 at update 0; at 1.0 s the master is at 20: the axis at 10.
+    assert_eq!(r.machine.value_of("Var.P"), Some(10.0));
+    assert_eq!(
+        r.machine.value_of("PosnCommand"),
+        Some(10.0),
+        "stopped where it was"
+    );
+    assert_eq!(r.machine.value_of("Gear.CommandInProgress"), Some(0.0));
+}
+
+#[test]
+fn gear_activate_from_an_assignment_gears_while_the_input_is_on() {
+    let machine = "[[assignment]]\nsource = \"DriveInput.2\"\ndestination = \"Gear.Activate\"\n";
+    let program = "Gear.Ratio = 2\nWait For Time 5\n";
+    let scenario = "[run]\nduration = 3.0\n[master]\nspeed = 10.0\n[[press]]\nname = \"DriveInput.2\"\nat = 0.5\nlength = 1.0\n";
+    let r = run("gear-activate", program, machine, scenario);
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // Geared from master 5 to master 15 at ratio 2.
+    let end = r.machine.value_of("PosnCommand").expect("position");
+    assert!((end - 20.0).abs() < 1e-9, "{end}");
+}

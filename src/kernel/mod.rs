@@ -74,6 +74,7 @@ pub struct Kernel {
     axis_slots: AxisSlots,
     feed_rate: SlotId,
     stop_decel: SlotId,
+    gear: GearSlots,
     free_run: SlotId,
     slot_kinds: Vec<Kind>,
     events: Vec<Event>,
@@ -186,6 +187,14 @@ impl HomeObject {
     }
 }
 
+/// Slots of the gear's members.
+#[derive(Debug, Clone, Copy)]
+struct GearSlots {
+    ratio: SlotId,
+    activate: SlotId,
+    in_progress: SlotId,
+}
+
 /// Slots of the servo axis's members.
 #[derive(Debug, Clone, Copy)]
 struct AxisSlots {
@@ -266,6 +275,11 @@ impl Kernel {
             },
             feed_rate: slot(registry, Kind::Motion, 0, "FeedRateOverride"),
             stop_decel: slot(registry, Kind::Motion, 0, "StopDeceleration"),
+            gear: GearSlots {
+                ratio: slot(registry, Kind::Gear, 0, "Ratio"),
+                activate: slot(registry, Kind::Gear, 0, "Activate"),
+                in_progress: slot(registry, Kind::Gear, 0, "CommandInProgress"),
+            },
             free_run: slot(registry, Kind::Motion, 0, "FreeRunTime"),
             slot_kinds: registry.slots.iter().map(|s| s.kind).collect(),
             events: Vec::new(),
@@ -331,6 +345,20 @@ impl Kernel {
                     return Err(format!("FeedRateOverride must be 0 to 200 %, not {value}"));
                 }
                 v[self.feed_rate as usize] = value;
+            }
+            // Gear.Activate: gear while on (from a program or an assignment).
+            Hook::MotionInput if slot == self.gear.activate => {
+                let was = v[slot as usize] != 0.0;
+                v[slot as usize] = value;
+                if value != 0.0 && !was {
+                    if self.start_motion(Kind::Gear, 0, StartRef::Now, 0, v, now)?
+                        == ActOutcome::ProfileBusy
+                    {
+                        return Err("Gear.Activate: a motion is running on profile 0".into());
+                    }
+                } else if value == 0.0 && was {
+                    self.stop_motion(Kind::Gear, 0, v, now);
+                }
             }
             Hook::OutputWrite | Hook::MotionInput | Hook::Store => v[slot as usize] = value,
             Hook::QueueRemove
@@ -450,8 +478,8 @@ impl Kernel {
         if p >= self.axis.profiles.len() {
             return Err(format!("there is no Profile.{profile}"));
         }
-        if !matches!(kind, Kind::Index | Kind::Home) {
-            return Err(format!("{kind:?} motion is not simulated yet in this build of pacer (Index, Home and dwells are)"));
+        if !matches!(kind, Kind::Index | Kind::Home | Kind::Gear) {
+            return Err(format!("{kind:?} motion is not simulated yet in this build of pacer (Index, Home, Gear and dwells are)"));
         }
         if self.axis.profiles[p].busy() {
             self.axis.profiles[p].chained = true;
@@ -459,6 +487,9 @@ impl Kernel {
         }
         if kind == Kind::Home {
             return self.start_home(instance, start, p, v, now);
+        }
+        if kind == Kind::Gear {
+            return self.start_gear(start, p, v, now);
         }
         let ix = self
             .indexes
@@ -501,6 +532,40 @@ impl Kernel {
         );
         ix.status(v, Phase::Accelerating);
         v[ix.at_vel as usize] = 0.0;
+        v[self.profile_busy[p] as usize] = 1.0;
+        Ok(ActOutcome::Done)
+    }
+
+    /// Start gearing at the ratio of `Gear.Ratio` (read now; a later change needs a new initiate).
+    fn start_gear(
+        &mut self,
+        start: StartRef,
+        p: usize,
+        v: &mut [f64],
+        now: &Now<'_>,
+    ) -> Result<ActOutcome, String> {
+        let ratio = v[self.gear.ratio as usize];
+        if !ratio.is_finite() {
+            return Err(format!("Gear.Ratio must be a number, not {ratio}"));
+        }
+        let at = self.start_point(Domain::Master, start, p, v, now)?;
+        let base = self.axis.profiles[p].position;
+        let owner = Owner {
+            name: "Gear".into(),
+            status: Some((Kind::Gear, 0)),
+        };
+        self.axis.begin(
+            p,
+            Motion {
+                owner,
+                plan: Plan::Gear { ratio },
+                domain: Domain::Master,
+                start: at,
+                base,
+                started: false,
+            },
+        );
+        v[self.gear.in_progress as usize] = 1.0;
         v[self.profile_busy[p] as usize] = 1.0;
         Ok(ActOutcome::Done)
     }
@@ -622,7 +687,11 @@ impl Kernel {
 
     /// Stop an index wherever it is (the motion ends where it stands).
     fn stop_motion(&mut self, kind: Kind, instance: u32, v: &mut [f64], now: &Now<'_>) {
-        let name = format!("{kind:?}.{instance}");
+        let name = if kind == Kind::Gear {
+            "Gear".to_string()
+        } else {
+            format!("{kind:?}.{instance}")
+        };
         let decel = match kind {
             Kind::Index => self
                 .indexes
@@ -654,9 +723,9 @@ impl Kernel {
     }
 
     fn stop_profile(&mut self, profile: usize, decel: f64, v: &mut [f64], now: &Now<'_>) {
-        if let Some(owner) = self
-            .axis
-            .decelerate(profile, now.time_ns as f64 / 1e9, decel)
+        if let Some(owner) =
+            self.axis
+                .decelerate(profile, now.time_ns as f64 / 1e9, now.master, decel)
         {
             self.owner_status(&owner, v, Phase::Done);
             v[self.profile_busy[profile] as usize] = 0.0;
@@ -845,6 +914,9 @@ impl Kernel {
                 if let Some(h) = self.homes.get(i) {
                     h.status(v, phase);
                 }
+            }
+            Some((Kind::Gear, _)) => {
+                v[self.gear.in_progress as usize] = f64::from(phase != Phase::Done)
             }
             _ => {}
         }

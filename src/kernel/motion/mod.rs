@@ -25,6 +25,8 @@ pub enum Plan {
     Dwell(f64),
     /// Accelerate to `velocity` (signed) and keep going until replaced (homing).
     Seek { velocity: f64, accel: f64 },
+    /// Follow the master at `ratio` follower units per master unit, until stopped (gearing).
+    Gear { ratio: f64 },
     /// From speed `v0` (signed), cruise and then decelerate at `decel` to stop after `distance`
     /// (same sign as `v0`, at least the stopping distance).
     Finish { v0: f64, decel: f64, distance: f64 },
@@ -36,7 +38,7 @@ impl Plan {
         match *self {
             Plan::Move(t) => t.duration(),
             Plan::Dwell(l) => l,
-            Plan::Seek { .. } => f64::INFINITY,
+            Plan::Seek { .. } | Plan::Gear { .. } => f64::INFINITY,
             Plan::Finish {
                 v0,
                 decel,
@@ -64,6 +66,7 @@ impl Plan {
                     Phase::AtVelocity
                 },
             ),
+            Plan::Gear { ratio } => (ratio * u, ratio, Phase::AtVelocity),
             Plan::Seek { velocity, accel } => {
                 let ta = velocity.abs() / accel;
                 let sign = velocity.signum();
@@ -255,9 +258,17 @@ impl Axis {
     /// Bring the motion on `profile` to rest from its present velocity at `decel` (units/s²),
     /// starting at time `t`; with no deceleration (0) or no velocity it ends where it stands.
     /// Returns the owner of a motion that ended at once.
-    pub fn decelerate(&mut self, profile: usize, t: f64, decel: f64) -> Option<Owner> {
+    pub fn decelerate(&mut self, profile: usize, t: f64, master: f64, decel: f64) -> Option<Owner> {
         let p = &mut self.profiles[profile];
         let m = p.motion.as_mut()?;
+        // First bring the motion to the instant of the stop.
+        let clock = match m.domain {
+            Domain::Time => t,
+            Domain::Master => master,
+        };
+        if m.started || clock >= m.start {
+            p.position = m.base + m.plan.at(clock - m.start).0;
+        }
         let v0 = p.velocity;
         if !(decel.is_finite() && decel > 0.0) || v0 == 0.0 || !m.started {
             let owner = m.owner.clone();
