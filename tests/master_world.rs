@@ -205,3 +205,36 @@ fn scenario_master_and_product_problems_point_at_their_place() {
         "\"ModuleInput.2\""
     );
 }
+
+#[test]
+fn pls_windows_follow_their_source_with_rollover_and_direction() {
+    let machine = "[pls.0]\nsource = \"MasterPosn\"\nrollover = 10.0\non = 2.0\noff = 4.0\n\
+                   [pls.1]\nrollover = 10.0\non = 8.0\noff = 2.0\n\
+                   [pls.2]\nrollover = 10.0\non = 2.0\noff = 4.0\ndirection = \"Minus\"\n";
+    let r = run(
+        "pls",
+        "Wait For Time 5\n",
+        machine,
+        "[run]\nduration = 1.5\n[master]\nspeed = 10.0\n",
+    );
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    let changes = |name: &str| -> Vec<(u64, bool)> {
+        r.events
+            .iter()
+            .filter(|e| e["kind"] == "change" && e["name"] == name)
+            .map(|e| (e["tick"].as_u64().unwrap_or(0), e["value"] == true))
+            .collect()
+    };
+    // Master at 10 u/s: [2, 4) is 200..400 ms, then again 1200..1400 ms.
+    assert_eq!(
+        changes("PLS.0.Status"),
+        [(200, true), (400, false), (1200, true), (1400, false)]
+    );
+    // On 8, off 2 with rollover: active outside [2, 8): from the start, off at 200, on at 800…
+    assert_eq!(
+        changes("PLS.1.Status"),
+        [(0, true), (200, false), (800, true), (1200, false)]
+    );
+    // Minus only, and the master runs plus: never on.
+    assert!(changes("PLS.2.Status").is_empty());
+}

@@ -37,6 +37,9 @@ pub struct MachineFile {
     /// Home set-up by instance number (`[home.0]`).
     #[serde(default)]
     pub home: IndexMap<String, Spanned<HomeSetup>>,
+    /// PLS set-up by instance number (`[pls.0]`).
+    #[serde(default)]
+    pub pls: IndexMap<String, Spanned<PlsSetup>>,
     /// Source → destination assignments.
     #[serde(default, rename = "assignment")]
     pub assignments: Vec<AssignmentEntry>,
@@ -159,4 +162,21 @@ pub struct HomeSetup {
     /// Specified offset from the reference to the home position; without it the offset is
     /// calculated (the axis stops as soon as it can after the reference).
     pub offset: Option<f64>,
+}
+
+/// `[pls.N]`.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlsSetup {
+    /// What the window is on: MasterPosn (default), FeedbackPosn or CommandPosn.
+    pub source: Option<Spanned<String>>,
+    /// The source position rolls over at this value (0: no rollover).
+    #[serde(default)]
+    pub rollover: f64,
+    /// `PLS.N.OnPosn` at the start.
+    pub on: Option<f64>,
+    /// `PLS.N.OffPosn` at the start.
+    pub off: Option<f64>,
+    /// "Both" (default), "Plus" or "Minus": the direction of travel in which the PLS is active.
+    pub direction: Option<Spanned<String>>,
 }

@@ -9,7 +9,7 @@ pub mod timer;
 
 use crate::compile::bytecode::StartRef;
 use crate::registry::{
-    HomeConfig, Hook, IndexConfig, IndexType, Kind, QueueSource, Registry, SlotId,
+    HomeConfig, Hook, IndexConfig, IndexType, Kind, PlsConfig, QueueSource, Registry, SlotId,
 };
 use crate::trace::{number, Trace};
 use crate::world::Edge;
@@ -79,6 +79,8 @@ pub struct Kernel {
     slot_kinds: Vec<Kind>,
     events: Vec<Event>,
     homes: Vec<HomeObject>,
+    plss: Vec<PlsObject>,
+    master_speed: f64,
     marks: Vec<AxisMarks>,
     /// Time and command position at the previous update, for crossings inside an update.
     previous: (f64, f64),
@@ -144,6 +146,56 @@ impl AxisMarks {
         }
         local.sort_by(|x, y| x.at.total_cmp(&y.at));
         out.extend(local);
+    }
+}
+
+/// A programmable limit switch: a window on a position.
+#[derive(Debug, Clone)]
+struct PlsObject {
+    config: PlsConfig,
+    enable: SlotId,
+    on: SlotId,
+    off: SlotId,
+    direction: SlotId,
+    status: SlotId,
+}
+
+impl PlsObject {
+    fn new(registry: &Registry, i: u32) -> PlsObject {
+        let s = |m: &str| slot(registry, Kind::Pls, i, m);
+        PlsObject {
+            config: registry
+                .pls_setups
+                .get(i as usize)
+                .copied()
+                .unwrap_or_default(),
+            enable: s("Enable"),
+            on: s("OnPosn"),
+            off: s("OffPosn"),
+            direction: s("Direction"),
+            status: s("Status"),
+        }
+    }
+
+    /// On while the position is in [On, Off) (with rollover, On > Off means outside [Off, On)),
+    /// and the source moves in the PLS's direction.
+    fn evaluate(&self, position: f64, velocity: f64, v: &mut [f64]) {
+        let p = if self.config.rollover > 0.0 {
+            position.rem_euclid(self.config.rollover)
+        } else {
+            position
+        };
+        let (on, off) = (v[self.on as usize], v[self.off as usize]);
+        let inside = if on <= off {
+            on <= p && p < off
+        } else {
+            p >= on || p < off
+        };
+        let direction = v[self.direction as usize];
+        let heading = direction == 0.0
+            || (direction > 0.0 && velocity > 0.0)
+            || (direction < 0.0 && velocity < 0.0);
+        v[self.status as usize] = f64::from(v[self.enable as usize] != 0.0 && inside && heading);
     }
 }
 
@@ -286,6 +338,10 @@ impl Kernel {
             homes: (0..count(Kind::Home))
                 .map(|i| HomeObject::new(registry, i))
                 .collect(),
+            plss: (0..count(Kind::Pls))
+                .map(|i| PlsObject::new(registry, i))
+                .collect(),
+            master_speed: 0.0,
             marks: Vec::new(),
             previous: (0.0, 0.0),
             pending_edges: Vec::new(),
@@ -804,6 +860,7 @@ impl Kernel {
         master_speed: f64,
         master_at: &dyn Fn(f64) -> f64,
     ) {
+        self.master_speed = master_speed;
         let clocks = Clocks {
             time: now.time_ns as f64 / 1e9,
             master: now.master,
@@ -930,9 +987,17 @@ impl Kernel {
             .is_some_and(motion::Profile::busy)
     }
 
-    /// Status derived after the motion: queue compares against their source positions.
+    /// Status derived after the motion: queue compares and PLS windows on their sources.
     pub fn derive(&mut self, v: &mut [f64], now: &mut Now<'_>) {
         let command = self.axis.command();
+        let velocity = self.axis.velocity();
+        for pls in &self.plss {
+            let (p, vel) = match pls.config.source {
+                QueueSource::Master => (now.master, self.master_speed),
+                QueueSource::Feedback | QueueSource::Command => (command, velocity),
+            };
+            pls.evaluate(p, vel, v);
+        }
         for (q, source) in self.queues.iter_mut().zip(&self.queue_sources) {
             let position = match source {
                 QueueSource::Master => now.master,

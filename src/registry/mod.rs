@@ -82,6 +82,17 @@ pub struct Registry {
     pub index_setups: Vec<IndexConfig>,
     /// Home set-up: per home instance.
     pub home_setups: Vec<HomeConfig>,
+    /// PLS set-up: per PLS instance.
+    pub pls_setups: Vec<PlsConfig>,
+}
+
+/// The set-up of one PLS that is not a member.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct PlsConfig {
+    /// The position the window is on.
+    pub source: QueueSource,
+    /// Rollover of that position (0: none).
+    pub rollover: f64,
 }
 
 /// The set-up of one home that is not a member.
@@ -379,6 +390,10 @@ impl Registry {
             .find(|t| t.def.kind == Kind::Queue)
             .map_or(0, |t| t.count);
         let mut queue_sizes = vec![(8u32, 8u32); queue_count as usize];
+        let pls_count = types
+            .iter()
+            .find(|t| t.def.kind == Kind::Pls)
+            .map_or(0, |t| t.count);
         let home_count = types
             .iter()
             .find(|t| t.def.kind == Kind::Home)
@@ -394,6 +409,7 @@ impl Registry {
             queue_sources: vec![QueueSource::Master; queue_count as usize],
             index_setups: vec![IndexConfig::default(); index_count as usize],
             home_setups: vec![HomeConfig::default(); home_count as usize],
+            pls_setups: vec![PlsConfig::default(); pls_count as usize],
         };
         for (key, setup) in &machine.queue {
             let span = span_of(setup);
@@ -459,6 +475,7 @@ impl Registry {
         registry.queue_sizes = queue_sizes;
         registry.index_setups(machine, &mut problems);
         registry.home_setups(machine, &mut problems);
+        registry.pls_setups(machine, &mut problems);
         (registry, problems)
     }
 
@@ -610,6 +627,72 @@ impl Registry {
                     } else {
                         self.set_initial(Kind::Home, n, member, v);
                     }
+                }
+            }
+        }
+    }
+
+    /// `[pls.N]` sections: source, rollover, initial window and direction.
+    fn pls_setups(&mut self, machine: &MachineFile, problems: &mut Vec<Problem>) {
+        let count = self.pls_setups.len() as u32;
+        for (key, setup) in &machine.pls {
+            let span = span_of(setup);
+            let Some(n) = key.parse::<u32>().ok().filter(|n| *n < count) else {
+                problems.push(Problem::error(
+                    "pacer::machine::pls",
+                    span,
+                    format!("[pls.{key}]: no such PLS"),
+                    format!("PLS are 0 to {}", count.saturating_sub(1)),
+                ));
+                continue;
+            };
+            let s = setup.get_ref();
+            let mut config = PlsConfig {
+                rollover: s.rollover,
+                ..PlsConfig::default()
+            };
+            if !(s.rollover.is_finite() && s.rollover >= 0.0) {
+                problems.push(Problem::error(
+                    "pacer::machine::pls",
+                    span,
+                    format!("[pls.{n}] rollover {} must be 0 or more", s.rollover),
+                    "out of range",
+                ));
+            }
+            if let Some(src) = &s.source {
+                match src.get_ref().to_ascii_lowercase().as_str() {
+                    "masterposn" => config.source = QueueSource::Master,
+                    "feedbackposn" => config.source = QueueSource::Feedback,
+                    "commandposn" => config.source = QueueSource::Command,
+                    _ => problems.push(Problem::error(
+                        "pacer::machine::pls",
+                        span_of(src),
+                        format!("unknown PLS source `{}`", src.get_ref()),
+                        "MasterPosn, FeedbackPosn or CommandPosn",
+                    )),
+                }
+            }
+            self.pls_setups[n as usize] = config;
+            for (member, value) in [("OnPosn", s.on), ("OffPosn", s.off)] {
+                if let Some(v) = value {
+                    self.set_initial(Kind::Pls, n, member, v);
+                }
+            }
+            if let Some(d) = &s.direction {
+                let dir = match d.get_ref().to_ascii_lowercase().as_str() {
+                    "both" => Some(0.0),
+                    "plus" => Some(1.0),
+                    "minus" => Some(-1.0),
+                    _ => None,
+                };
+                match dir {
+                    Some(x) => self.set_initial(Kind::Pls, n, "Direction", x),
+                    None => problems.push(Problem::error(
+                        "pacer::machine::pls",
+                        span_of(d),
+                        format!("unknown direction `{}`", d.get_ref()),
+                        "Both, Plus or Minus",
+                    )),
                 }
             }
         }
