@@ -113,20 +113,28 @@ fn an_absolute_index_moves_to_its_position_and_profiles_add_up() {
 }
 
 #[test]
-fn motion_objects_not_simulated_yet_stop_the_run_with_a_clear_error() {
-    let r = run(
-        "jog",
-        "Jog.0.PlusInitiate\nEnd\n",
-        "",
-        "[run]\nduration = 1.0\n",
+fn index_types_not_simulated_yet_are_refused_where_they_are_set() {
+    let machine = "[index.0]\ntype = \"Registration\"\n";
+    let dir = common::project(
+        "registration",
+        &[
+            ("program0.pt", "Index.0.Initiate\n"),
+            ("machine.toml", machine),
+        ],
     );
-    let e = r.summary.error.expect("an error");
-    assert_eq!(e.line, 1);
-    assert!(
-        e.message.contains("Jog motion is not simulated yet"),
-        "{}",
-        e.message
-    );
+    let result = pacer::load::load(&pacer::load::LoadRequest {
+        paths: vec![dir.clone()],
+        ..Default::default()
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let Err(d) = result else {
+        panic!("a registration index is not simulated yet")
+    };
+    assert_eq!(d.items.len(), 1);
+    let p = &d.items[0].problem;
+    assert_eq!(p.code, "pacer::machine::index");
+    assert_eq!(&machine[p.span.start..p.span.end], "\"Registration\"");
+    assert!(p.message.contains("not simulated yet"), "{}", p.message);
 }
 
 const HOME: &str = "[home.0]\nreference = \"ModuleInput.3\"\nvelocity = 10.0\nacceleration = 100.0\ndeceleration = 50.0\n";
@@ -281,4 +289,31 @@ fn gear_activate_from_an_assignment_gears_while_the_input_is_on() {
     // Geared from master 5 to master 15 at ratio 2.
     let end = r.machine.value_of("PosnCommand").expect("position");
     assert!((end - 20.0).abs() < 1e-9, "{end}");
+}
+
+const JOGS: &str = "[variables.P]\ndecimals = 6\n";
+
+#[test]
+fn jog_initiates_run_until_stopped_and_ramp_down() {
+    let program = "Jog.0.Velocity = 5\nJog.0.Acceleration = 50\nJog.0.Deceleration = 25\n\
+                   Jog.0.MinusInitiate\nWait For Time 1\nJog.0.Stop\nWait For Time 1\nVar.P = PosnCommand\n";
+    let r = run("jog-initiate", program, JOGS, "[run]\nduration = 3.0\n");
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // Minus: 0.25 u accelerating (0.1 s) + 0.9 s at 5 u/s = 4.75 u; then 5²/(2·25) = 0.5 u.
+    assert_eq!(r.machine.value_of("Var.P"), Some(-5.25));
+    assert_eq!(r.machine.value_of("Jog.0.CommandInProgress"), Some(0.0));
+}
+
+#[test]
+fn jog_activate_is_level_sensitive_and_select_picks_the_jog() {
+    let machine = "[[assignment]]\nsource = \"DriveInput.3\"\ndestination = \"Jog.PlusActivate\"\n";
+    let program = "Jog.1.Velocity = 2\nJog.1.Acceleration = 1000\nJog.1.Deceleration = 1000\nJog.Select = ON\nWait For Time 5\n";
+    let scenario =
+        "[run]\nduration = 3.0\n[[press]]\nname = \"DriveInput.3\"\nat = 0.5\nlength = 1.0\n";
+    let r = run("jog-activate", program, machine, scenario);
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // About 1 s at 2 u/s with near-instant ramps (ramps of 2 ms each way).
+    let end = r.machine.value_of("PosnCommand").expect("position");
+    assert!((end - 2.0).abs() < 0.01, "{end}");
+    assert_eq!(r.machine.value_of("Jog.1.CommandInProgress"), Some(0.0));
 }

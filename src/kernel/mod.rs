@@ -79,6 +79,11 @@ pub struct Kernel {
     slot_kinds: Vec<Kind>,
     events: Vec<Event>,
     homes: Vec<HomeObject>,
+    jogs: Vec<JogObject>,
+    jog_select: SlotId,
+    jog_plus: SlotId,
+    jog_minus: SlotId,
+    minus_initiates: Vec<SlotId>,
     plss: Vec<PlsObject>,
     master_speed: f64,
     marks: Vec<AxisMarks>,
@@ -146,6 +151,27 @@ impl AxisMarks {
         }
         local.sort_by(|x, y| x.at.total_cmp(&y.at));
         out.extend(local);
+    }
+}
+
+/// A jog: the slots of its settings and status.
+#[derive(Debug, Clone)]
+struct JogObject {
+    velocity: SlotId,
+    acceleration: SlotId,
+    deceleration: SlotId,
+    in_progress: SlotId,
+}
+
+impl JogObject {
+    fn new(registry: &Registry, i: u32) -> JogObject {
+        let s = |m: &str| slot(registry, Kind::Jog, i, m);
+        JogObject {
+            velocity: s("Velocity"),
+            acceleration: s("Acceleration"),
+            deceleration: s("Deceleration"),
+            in_progress: s("CommandInProgress"),
+        }
     }
 }
 
@@ -341,6 +367,30 @@ impl Kernel {
             plss: (0..count(Kind::Pls))
                 .map(|i| PlsObject::new(registry, i))
                 .collect(),
+            jogs: (0..count(Kind::Jog))
+                .map(|i| JogObject::new(registry, i))
+                .collect(),
+            jog_select: slot(
+                registry,
+                Kind::Jog,
+                crate::registry::GLOBAL_INSTANCE,
+                "Select",
+            ),
+            jog_plus: slot(
+                registry,
+                Kind::Jog,
+                crate::registry::GLOBAL_INSTANCE,
+                "PlusActivate",
+            ),
+            jog_minus: slot(
+                registry,
+                Kind::Jog,
+                crate::registry::GLOBAL_INSTANCE,
+                "MinusActivate",
+            ),
+            minus_initiates: (0..count(Kind::Jog))
+                .map(|i| slot(registry, Kind::Jog, i, "MinusInitiate"))
+                .collect(),
             master_speed: 0.0,
             marks: Vec::new(),
             previous: (0.0, 0.0),
@@ -407,13 +457,29 @@ impl Kernel {
                 let was = v[slot as usize] != 0.0;
                 v[slot as usize] = value;
                 if value != 0.0 && !was {
-                    if self.start_motion(Kind::Gear, 0, StartRef::Now, 0, v, now)?
+                    if self.start_motion(Kind::Gear, 0, false, StartRef::Now, 0, v, now)?
                         == ActOutcome::ProfileBusy
                     {
                         return Err("Gear.Activate: a motion is running on profile 0".into());
                     }
                 } else if value == 0.0 && was {
                     self.stop_motion(Kind::Gear, 0, v, now);
+                }
+            }
+            // Jog.PlusActivate / MinusActivate: jog while on, with Jog.Select's settings.
+            Hook::MotionInput if slot == self.jog_plus || slot == self.jog_minus => {
+                let was = v[slot as usize] != 0.0;
+                v[slot as usize] = value;
+                let jog = u32::from(v[self.jog_select as usize] != 0.0);
+                if value != 0.0 && !was {
+                    let minus = slot == self.jog_minus;
+                    if self.start_motion(Kind::Jog, jog, minus, StartRef::Now, 0, v, now)?
+                        == ActOutcome::ProfileBusy
+                    {
+                        return Err("jog: a motion is running on profile 0".into());
+                    }
+                } else if value == 0.0 && was {
+                    self.stop_motion(Kind::Jog, jog, v, now);
                 }
             }
             Hook::OutputWrite | Hook::MotionInput | Hook::Store => v[slot as usize] = value,
@@ -472,7 +538,16 @@ impl Kernel {
             Hook::TimerStop => self.timers[i].stop(v),
             Hook::MotionStop => self.stop_motion(self.kind_of(slot), instance, v, now),
             Hook::MotionStart => {
-                return self.start_motion(self.kind_of(slot), instance, start, profile, v, now)
+                let minus = self.minus_initiates.contains(&slot);
+                return self.start_motion(
+                    self.kind_of(slot),
+                    instance,
+                    minus,
+                    start,
+                    profile,
+                    v,
+                    now,
+                );
             }
             other => return Err(format!("{other:?} is not an action")),
         }
@@ -521,10 +596,12 @@ impl Kernel {
     }
 
     /// Start a motion object on a profile, or report that the profile is busy.
+    #[allow(clippy::too_many_arguments)]
     fn start_motion(
         &mut self,
         kind: Kind,
         instance: u32,
+        minus: bool,
         start: StartRef,
         profile: u8,
         v: &mut [f64],
@@ -534,8 +611,10 @@ impl Kernel {
         if p >= self.axis.profiles.len() {
             return Err(format!("there is no Profile.{profile}"));
         }
-        if !matches!(kind, Kind::Index | Kind::Home | Kind::Gear) {
-            return Err(format!("{kind:?} motion is not simulated yet in this build of pacer (Index, Home, Gear and dwells are)"));
+        if !matches!(kind, Kind::Index | Kind::Home | Kind::Gear | Kind::Jog) {
+            return Err(format!(
+                "{kind:?} motion is not simulated yet in this build of pacer"
+            ));
         }
         if self.axis.profiles[p].busy() {
             self.axis.profiles[p].chained = true;
@@ -546,6 +625,9 @@ impl Kernel {
         }
         if kind == Kind::Gear {
             return self.start_gear(start, p, v, now);
+        }
+        if kind == Kind::Jog {
+            return self.start_jog(instance, minus, start, p, v, now);
         }
         let ix = self
             .indexes
@@ -588,6 +670,50 @@ impl Kernel {
         );
         ix.status(v, Phase::Accelerating);
         v[ix.at_vel as usize] = 0.0;
+        v[self.profile_busy[p] as usize] = 1.0;
+        Ok(ActOutcome::Done)
+    }
+
+    /// Jog `instance` plus or minus at its velocity until stopped.
+    fn start_jog(
+        &mut self,
+        instance: u32,
+        minus: bool,
+        start: StartRef,
+        p: usize,
+        v: &mut [f64],
+        now: &Now<'_>,
+    ) -> Result<ActOutcome, String> {
+        let j = self
+            .jogs
+            .get(instance as usize)
+            .ok_or_else(|| format!("no Jog.{instance}"))?
+            .clone();
+        let (velocity, accel) = (v[j.velocity as usize], v[j.acceleration as usize]);
+        if !(velocity.is_finite() && velocity > 0.0 && accel.is_finite() && accel > 0.0) {
+            return Err(format!(
+                "Jog.{instance} needs a velocity and an acceleration above 0"
+            ));
+        }
+        let velocity = if minus { -velocity } else { velocity };
+        let at = self.start_point(Domain::Time, start, p, v, now)?;
+        let base = self.axis.profiles[p].position;
+        let owner = Owner {
+            name: format!("Jog.{instance}"),
+            status: Some((Kind::Jog, instance as usize)),
+        };
+        self.axis.begin(
+            p,
+            Motion {
+                owner,
+                plan: Plan::Seek { velocity, accel },
+                domain: Domain::Time,
+                start: at,
+                base,
+                started: false,
+            },
+        );
+        v[j.in_progress as usize] = 1.0;
         v[self.profile_busy[p] as usize] = 1.0;
         Ok(ActOutcome::Done)
     }
@@ -757,6 +883,10 @@ impl Kernel {
                 .homes
                 .get(instance as usize)
                 .map_or(0.0, |h| v[h.deceleration as usize]),
+            Kind::Jog => self
+                .jogs
+                .get(instance as usize)
+                .map_or(0.0, |j| v[j.deceleration as usize]),
             _ => 0.0,
         };
         for i in 0..self.axis.profiles.len() {
@@ -974,6 +1104,11 @@ impl Kernel {
             }
             Some((Kind::Gear, _)) => {
                 v[self.gear.in_progress as usize] = f64::from(phase != Phase::Done)
+            }
+            Some((Kind::Jog, i)) => {
+                if let Some(j) = self.jogs.get(i) {
+                    v[j.in_progress as usize] = f64::from(phase != Phase::Done);
+                }
             }
             _ => {}
         }
