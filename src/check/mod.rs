@@ -212,8 +212,7 @@ impl Checker<'_, '_> {
             match &s.kind {
                 StmtKind::Label(seg) => {
                     let key = seg.text.to_ascii_lowercase();
-                    if let Some(first) = self.labels.get(&key) {
-                        let _ = first;
+                    if self.labels.contains_key(&key) {
                         self.problems.push(
                             Problem::error(
                                 "pacer::check::label",

@@ -809,7 +809,6 @@ impl Kernel {
         t: f64,
         position: f64,
         v: &[f64],
-        master_at: &dyn Fn(f64) -> f64,
     ) -> Result<(), String> {
         let h = &self.homes[home];
         let name = format!("Home.{home}");
@@ -863,7 +862,6 @@ impl Kernel {
             t,
             base,
         );
-        let _ = master_at;
         warning
     }
 
@@ -1024,7 +1022,7 @@ impl Kernel {
                         } else {
                             1.0
                         };
-                if let Err(message) = self.home_reference(h, e.at, position, v, master_at) {
+                if let Err(message) = self.home_reference(h, e.at, position, v) {
                     now.trace.event(
                         now.tick,
                         "warning",

@@ -631,7 +631,7 @@ impl Machine {
                     let Some(frame) = self.tasks[ti].frames.last().copied() else {
                         continue;
                     };
-                    match self.exec(ti, frame.chunk, retry, true, u64::MAX) {
+                    match self.exec(frame.chunk, retry, true, u64::MAX) {
                         Exit::Probed { value: true, .. } => {
                             self.tasks[ti].state = TaskState::Ready;
                             if let Some(f) = self.tasks[ti].frames.last_mut() {
@@ -659,7 +659,7 @@ impl Machine {
         }
     }
 
-    fn exec(&mut self, _ti: usize, chunk: usize, pc: u32, probe: bool, budget: u64) -> Exit {
+    fn exec(&mut self, chunk: usize, pc: u32, probe: bool, budget: u64) -> Exit {
         let slot_count = self.image.registry.slot_count() as u32;
         let (tick, tick_ns) = (self.tick, self.image.tick_ns);
         let mut ctx = Ctx {
@@ -726,7 +726,7 @@ impl Machine {
                 self.end_task(ti, "end");
                 return;
             };
-            let exit = self.exec(ti, frame.chunk, frame.pc, false, budget_end);
+            let exit = self.exec(frame.chunk, frame.pc, false, budget_end);
             let set_pc = |m: &mut Machine, pc: u32| {
                 if let Some(f) = m.tasks[ti].frames.last_mut() {
                     f.pc = pc;
