@@ -114,7 +114,7 @@ fn an_absolute_index_moves_to_its_position_and_profiles_add_up() {
 
 #[test]
 fn index_types_not_simulated_yet_are_refused_where_they_are_set() {
-    let machine = "[index.0]\ntype = \"Registration\"\n";
+    let machine = "[index.0]\ntype = \"RotaryPlus\"\n";
     let dir = common::project(
         "registration",
         &[
@@ -128,12 +128,12 @@ fn index_types_not_simulated_yet_are_refused_where_they_are_set() {
     });
     let _ = std::fs::remove_dir_all(&dir);
     let Err(d) = result else {
-        panic!("a registration index is not simulated yet")
+        panic!("a rotary index is not simulated yet")
     };
     assert_eq!(d.items.len(), 1);
     let p = &d.items[0].problem;
     assert_eq!(p.code, "pacer::machine::index");
-    assert_eq!(&machine[p.span.start..p.span.end], "\"Registration\"");
+    assert_eq!(&machine[p.span.start..p.span.end], "\"RotaryPlus\"");
     assert!(p.message.contains("not simulated yet"), "{}", p.message);
 }
 
@@ -316,4 +316,44 @@ fn jog_activate_is_level_sensitive_and_select_picks_the_jog() {
     let end = r.machine.value_of("PosnCommand").expect("position");
     assert!((end - 2.0).abs() < 0.01, "{end}");
     assert_eq!(r.machine.value_of("Jog.1.CommandInProgress"), Some(0.0));
+}
+
+fn registration(name: &str, mark_at: f64, offset: f64) -> Run {
+    let machine = format!(
+        "[index.0]\ntype = \"Registration\"\ndistance = 20.0\nvelocity = 10.0\nacceleration = 100.0\ndeceleration = 100.0\nregistration_offset = {offset}\n\
+         [[assignment]]\nsource = \"ModuleInput.3\"\ndestination = \"Index.0.SensorTrigger\"\n"
+    );
+    let scenario = format!("[run]\nduration = 4.0\n[[axis_marks]]\nsensor = \"ModuleInput.3\"\nfirst = {mark_at}\nwidth = 0.2\n");
+    run(
+        name,
+        "Index.0.Initiate\nWait For Index.0.CommandComplete\nEnd\n",
+        &machine,
+        &scenario,
+    )
+}
+
+#[test]
+fn a_registration_index_stops_its_offset_past_the_sensor() {
+    let r = registration("reg", 7.3, 0.75);
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    let end = r.machine.value_of("PosnCommand").expect("position");
+    assert!((end - 8.05).abs() < 1e-9, "{end}");
+    assert_eq!(r.machine.value_of("Index.0.LimitDistHit"), Some(0.0));
+    assert_eq!(r.machine.value_of("Index.0.CommandComplete"), Some(1.0));
+}
+
+#[test]
+fn without_its_sensor_a_registration_index_stops_at_its_limit_and_says_so() {
+    let r = registration("reg-limit", 30.0, 0.75);
+    let end = r.machine.value_of("PosnCommand").expect("position");
+    assert_eq!(end, 20.0);
+    assert_eq!(r.machine.value_of("Index.0.LimitDistHit"), Some(1.0));
+}
+
+#[test]
+fn a_registration_offset_shorter_than_the_stop_stops_as_soon_as_it_can() {
+    // 10 u/s at 100 u/s²: 0.5 u to stop.
+    let r = registration("reg-short", 7.3, 0.1);
+    let end = r.machine.value_of("PosnCommand").expect("position");
+    assert!((end - 7.8).abs() < 1e-9, "{end}");
 }

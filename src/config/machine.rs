@@ -131,7 +131,7 @@ pub struct AssignmentEntry {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct IndexSetup {
-    /// "Incremental" (default) or "Absolute".
+    /// "Incremental" (default), "Absolute" or "Registration".
     #[serde(rename = "type")]
     pub kind: Option<Spanned<String>>,
     /// "Realtime" (default) or "Synchronized" (velocity per master unit, acceleration per
@@ -145,6 +145,8 @@ pub struct IndexSetup {
     pub acceleration: Option<f64>,
     /// Deceleration.
     pub deceleration: Option<f64>,
+    /// Distance past the sensor at which a registration index stops.
+    pub registration_offset: Option<f64>,
 }
 
 /// `[home.N]`.

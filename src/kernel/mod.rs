@@ -79,6 +79,8 @@ pub struct Kernel {
     slot_kinds: Vec<Kind>,
     events: Vec<Event>,
     homes: Vec<HomeObject>,
+    /// Registration indexes still waiting for their sensor.
+    armed: Vec<bool>,
     jogs: Vec<JogObject>,
     jog_select: SlotId,
     jog_plus: SlotId,
@@ -293,6 +295,9 @@ struct IndexObject {
     at_vel: SlotId,
     decelerating: SlotId,
     complete: SlotId,
+    registration_offset: SlotId,
+    limit_hit: SlotId,
+    sensor: SlotId,
 }
 
 impl IndexObject {
@@ -312,6 +317,9 @@ impl IndexObject {
             at_vel: s("AtVel"),
             decelerating: s("Decelerating"),
             complete: s("CommandComplete"),
+            registration_offset: s("RegistrationOffset"),
+            limit_hit: s("LimitDistHit"),
+            sensor: s("SensorTrigger"),
         }
     }
 
@@ -367,6 +375,7 @@ impl Kernel {
             plss: (0..count(Kind::Pls))
                 .map(|i| PlsObject::new(registry, i))
                 .collect(),
+            armed: vec![false; count(Kind::Index) as usize],
             jogs: (0..count(Kind::Jog))
                 .map(|i| JogObject::new(registry, i))
                 .collect(),
@@ -481,6 +490,12 @@ impl Kernel {
                 } else if value == 0.0 && was {
                     self.stop_motion(Kind::Jog, jog, v, now);
                 }
+            }
+            // Index.N.SensorTrigger written by a program: the edge is now.
+            Hook::MotionInput if self.kind_of(slot) == Kind::Index => {
+                self.sensor_edge(instance, value != 0.0, now.time_ns as f64 / 1e9, v, &|_| {
+                    now.master
+                });
             }
             Hook::OutputWrite | Hook::MotionInput | Hook::Store => v[slot as usize] = value,
             Hook::QueueRemove
@@ -636,9 +651,12 @@ impl Kernel {
             .clone();
         let target = v[ix.distance as usize];
         let distance = match ix.config.kind {
-            IndexType::Incremental => target,
+            IndexType::Incremental | IndexType::Registration => target,
             IndexType::Absolute => target - self.axis.command(),
         };
+        // A registration index waits for its sensor until it reaches its limit distance.
+        self.armed[instance as usize] = ix.config.kind == IndexType::Registration;
+        v[ix.limit_hit as usize] = 0.0;
         let plan = Trapezoid::new(
             distance,
             v[ix.velocity as usize],
@@ -716,6 +734,68 @@ impl Kernel {
         v[j.in_progress as usize] = 1.0;
         v[self.profile_busy[p] as usize] = 1.0;
         Ok(ActOutcome::Done)
+    }
+
+    /// `Index.N.SensorTrigger` driven to `on` at `time` seconds. The rising edge of the sensor of
+    /// a running registration index ends the move `RegistrationOffset` past the position the
+    /// axis had at that instant (further when it cannot stop that soon).
+    pub fn sensor_edge(
+        &mut self,
+        instance: u32,
+        on: bool,
+        time: f64,
+        v: &mut [f64],
+        master_at: &dyn Fn(f64) -> f64,
+    ) {
+        let i = instance as usize;
+        let Some(ix) = self.indexes.get(i).cloned() else {
+            return;
+        };
+        let rising = on && v[ix.sensor as usize] == 0.0;
+        v[ix.sensor as usize] = f64::from(on);
+        if !rising || !self.armed.get(i).copied().unwrap_or(false) {
+            return;
+        }
+        let name = format!("Index.{instance}");
+        let Some(p) = self
+            .axis
+            .profiles
+            .iter()
+            .position(|p| p.motion.as_ref().is_some_and(|m| m.owner.name == name))
+        else {
+            return;
+        };
+        let Some(m) = self.axis.profiles[p].motion.clone() else {
+            return;
+        };
+        let clock = match m.domain {
+            Domain::Time => time,
+            Domain::Master => master_at(time),
+        };
+        if !(m.started || clock >= m.start) {
+            return;
+        }
+        let (dp, dv, phase) = m.plan.at(clock - m.start);
+        if phase == Phase::Done || dv == 0.0 {
+            return;
+        }
+        let decel = v[ix.deceleration as usize];
+        let stopping = dv * dv / (2.0 * decel);
+        // The offset is a distance past the sensor in the direction of travel; an offset shorter
+        // than the stopping distance stops as soon as it can.
+        let offset = v[ix.registration_offset as usize].max(stopping);
+        let distance = dv.signum() * offset;
+        self.armed[i] = false;
+        self.axis.replace(
+            p,
+            Plan::Finish {
+                v0: dv,
+                decel,
+                distance,
+            },
+            clock,
+            m.base + dp,
+        );
     }
 
     /// Start gearing at the ratio of `Gear.Ratio` (read now; a later change needs a new initiate).
@@ -1088,11 +1168,16 @@ impl Kernel {
         v[self.axis_slots.velocity as usize] = self.axis.velocity();
     }
 
-    fn owner_status(&self, owner: &Owner, v: &mut [f64], phase: Phase) {
+    fn owner_status(&mut self, owner: &Owner, v: &mut [f64], phase: Phase) {
         match owner.status {
             Some((Kind::Index, i)) => {
                 if let Some(ix) = self.indexes.get(i) {
                     ix.status(v, phase);
+                    // A registration index that reached its limit without seeing its sensor.
+                    if phase == Phase::Done && self.armed.get(i).copied().unwrap_or(false) {
+                        v[ix.limit_hit as usize] = 1.0;
+                        self.armed[i] = false;
+                    }
                 }
             }
             Some((Kind::Home, i)) => {

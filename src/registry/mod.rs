@@ -124,6 +124,8 @@ pub enum IndexType {
     Incremental,
     /// To its distance as a position.
     Absolute,
+    /// Toward its distance (the limit) until the sensor, then `RegistrationOffset` further.
+    Registration,
 }
 
 /// The set-up of one index that is not a member.
@@ -499,21 +501,21 @@ impl Registry {
                 match k.get_ref().to_ascii_lowercase().as_str() {
                     "incremental" => config.kind = IndexType::Incremental,
                     "absolute" => config.kind = IndexType::Absolute,
-                    "registration" | "rotaryplus" | "rotaryminus" | "rotary plus"
-                    | "rotary minus" => problems.push(
+                    "registration" => config.kind = IndexType::Registration,
+                    "rotaryplus" | "rotaryminus" | "rotary plus" | "rotary minus" => problems.push(
                         Problem::error(
                             "pacer::machine::index",
                             span_of(k),
                             format!("{} indexes are not simulated yet", k.get_ref()),
                             "not yet supported",
                         )
-                        .with_help("Incremental and Absolute indexes run today"),
+                        .with_help("Incremental, Absolute and Registration indexes run today"),
                     ),
                     _ => problems.push(Problem::error(
                         "pacer::machine::index",
                         span_of(k),
                         format!("unknown index type `{}`", k.get_ref()),
-                        "Incremental or Absolute",
+                        "Incremental, Absolute or Registration",
                     )),
                 }
             }
@@ -535,9 +537,11 @@ impl Registry {
                 ("Velocity", s.velocity),
                 ("Acceleration", s.acceleration),
                 ("Deceleration", s.deceleration),
+                ("RegistrationOffset", s.registration_offset),
             ] {
                 if let Some(v) = value {
-                    if !v.is_finite() || (member != "Distance" && v <= 0.0) {
+                    let signed = matches!(member, "Distance" | "RegistrationOffset");
+                    if !v.is_finite() || (!signed && v <= 0.0) {
                         problems.push(Problem::error(
                             "pacer::machine::index",
                             span,

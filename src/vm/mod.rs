@@ -415,6 +415,25 @@ impl Machine {
                         Ok(())
                     }
                 }
+                // Index.N.SensorTrigger from an input: the sensor edge at its exact time.
+                (_, Hook::MotionInput) if a.dest.kind == crate::registry::Kind::Index => {
+                    if last != Some(on) {
+                        let edge = if on {
+                            edge_at.unwrap_or(self.seconds())
+                        } else {
+                            self.seconds()
+                        };
+                        let master = &self.world.master;
+                        self.kernel.sensor_edge(
+                            a.dest.instance,
+                            on,
+                            edge,
+                            &mut self.values,
+                            &|t| master.position(t),
+                        );
+                    }
+                    Ok(())
+                }
                 (_, Hook::CaptureActivate) => {
                     if last != Some(on) {
                         let edge = if on {
