@@ -357,3 +357,25 @@ fn a_registration_offset_shorter_than_the_stop_stops_as_soon_as_it_can() {
     let end = r.machine.value_of("PosnCommand").expect("position");
     assert!((end - 7.8).abs() < 1e-9, "{end}");
 }
+
+#[test]
+fn a_timed_index_takes_its_time_or_reports_profile_limited() {
+    let machine = "[variables.T]\n[index.0]\ndistance = 10.0\nvelocity = 100.0\nacceleration = 10.0\ndeceleration = 10.0\ntime = 4.0\n";
+    let program = "Index.0.Initiate\nWait For Index.0.CommandComplete\nVar.T = FreeRunTime\n\
+                   Index.0.Velocity = 5\nIndex.0.Time = 0.5\nIndex.0.Initiate\nEnd\n";
+    let r = run("timed", program, machine, "[run]\nduration = 10.0\n");
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // 10 units in exactly 4 s.
+    assert_eq!(r.machine.value_of("Var.T"), Some(4_000_000.0));
+    let ends: Vec<f64> = r
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "motion" && e["event"] == "done")
+        .map(|e| e["end"].as_f64().unwrap_or(f64::NAN))
+        .collect();
+    assert!((ends[0] - 4.0).abs() < 1e-9, "{ends:?}");
+    // 0.5 s is impossible at 5 u/s: the move takes 2.5 s and says so.
+    assert!((ends[1] - ends[0] - 2.5).abs() < 1e-9, "{ends:?}");
+    assert_eq!(r.machine.value_of("Index.0.ProfileLimited"), Some(1.0));
+    assert_eq!(r.machine.value_of("PosnCommand"), Some(20.0));
+}

@@ -147,6 +147,9 @@ pub struct IndexSetup {
     pub deceleration: Option<f64>,
     /// Distance past the sensor at which a registration index stops.
     pub registration_offset: Option<f64>,
+    /// A timed index: the move takes this long (seconds, or master units when synchronized);
+    /// its velocity is computed, never above `velocity`.
+    pub time: Option<f64>,
 }
 
 /// `[home.N]`.

@@ -298,6 +298,8 @@ struct IndexObject {
     registration_offset: SlotId,
     limit_hit: SlotId,
     sensor: SlotId,
+    time: SlotId,
+    profile_limited: SlotId,
 }
 
 impl IndexObject {
@@ -320,6 +322,8 @@ impl IndexObject {
             registration_offset: s("RegistrationOffset"),
             limit_hit: s("LimitDistHit"),
             sensor: s("SensorTrigger"),
+            time: s("Time"),
+            profile_limited: s("ProfileLimited"),
         }
     }
 
@@ -657,13 +661,18 @@ impl Kernel {
         // A registration index waits for its sensor until it reaches its limit distance.
         self.armed[instance as usize] = ix.config.kind == IndexType::Registration;
         v[ix.limit_hit as usize] = 0.0;
-        let plan = Trapezoid::new(
-            distance,
+        let (velocity, accel, decel) = (
             v[ix.velocity as usize],
             v[ix.acceleration as usize],
             v[ix.deceleration as usize],
-        )
+        );
+        let (plan, limited) = if ix.config.timed {
+            Trapezoid::timed(distance, v[ix.time as usize], velocity, accel, decel)
+        } else {
+            Trapezoid::new(distance, velocity, accel, decel).map(|t| (t, false))
+        }
         .map_err(|e| format!("cannot plan the index: {e}"))?;
+        v[ix.profile_limited as usize] = f64::from(limited);
         let domain = if ix.config.synchronized {
             Domain::Master
         } else {

@@ -135,6 +135,8 @@ pub struct IndexConfig {
     pub kind: IndexType,
     /// Velocity and accelerations per master unit instead of per second.
     pub synchronized: bool,
+    /// The move takes `Index.N.Time`; its velocity is computed.
+    pub timed: bool,
 }
 
 /// Highest instance count accepted for any type.
@@ -531,8 +533,10 @@ impl Registry {
                     )),
                 }
             }
+            config.timed = s.time.is_some();
             self.index_setups[n as usize] = config;
             for (member, value) in [
+                ("Time", s.time),
                 ("Distance", s.distance),
                 ("Velocity", s.velocity),
                 ("Acceleration", s.acceleration),

@@ -69,6 +69,39 @@ impl Trapezoid {
         })
     }
 
+    /// Plan a move of `distance` that takes `time` (domain units) at the given acceleration and
+    /// deceleration, cruising no faster than `max_velocity`. When that cannot be done the move
+    /// is as quick as the limits allow, and the second value is true (ProfileLimited).
+    pub fn timed(
+        distance: f64,
+        time: f64,
+        max_velocity: f64,
+        accel: f64,
+        decel: f64,
+    ) -> Result<(Trapezoid, bool), String> {
+        if !(time.is_finite() && time > 0.0) {
+            return Err(format!("the time must be above 0, not {time}"));
+        }
+        let fastest = Trapezoid::new(distance, max_velocity, accel, decel)?;
+        if fastest.duration() >= time {
+            return Ok((fastest, fastest.duration() > time));
+        }
+        // Cruise velocity v with the given ramps: time = d/v + v·k, k = 1/(2a) + 1/(2d).
+        // The smaller root is the one whose ramps fit inside the move.
+        let d = distance.abs();
+        if d == 0.0 {
+            return Ok((fastest, false));
+        }
+        let k = 1.0 / (2.0 * accel) + 1.0 / (2.0 * decel);
+        let disc = time * time - 4.0 * k * d;
+        let v = if disc >= 0.0 {
+            (time - disc.sqrt()) / (2.0 * k)
+        } else {
+            time / (2.0 * k)
+        };
+        Ok((Trapezoid::new(distance, v, accel, decel)?, false))
+    }
+
     /// Length of the move in its domain (seconds or master units).
     pub fn duration(&self) -> f64 {
         self.t_accel + self.t_cruise + self.t_decel
@@ -139,6 +172,18 @@ mod tests {
         assert!((t.duration() - 2.0 * (0.5f64).sqrt()).abs() < 1e-12);
         assert_eq!(t.at(t.duration()).0, -1.0);
         assert!((t.at(t.duration() / 2.0).0 + 0.5).abs() < 1e-12);
+    }
+
+    #[test]
+    fn a_timed_move_takes_its_time_or_says_it_cannot() {
+        let (t, limited) = Trapezoid::timed(10.0, 4.0, 100.0, 10.0, 10.0).expect("plan");
+        assert!(!limited);
+        assert!((t.duration() - 4.0).abs() < 1e-12, "{}", t.duration());
+        assert_eq!(t.at(4.0).0, 10.0);
+        // Too fast for the velocity limit: as quick as the limits allow.
+        let (t, limited) = Trapezoid::timed(10.0, 0.5, 5.0, 10.0, 10.0).expect("plan");
+        assert!(limited);
+        assert!((t.duration() - 2.5).abs() < 1e-12, "{}", t.duration());
     }
 
     #[test]
