@@ -379,3 +379,44 @@ fn a_timed_index_takes_its_time_or_reports_profile_limited() {
     assert_eq!(r.machine.value_of("Index.0.ProfileLimited"), Some(1.0));
     assert_eq!(r.machine.value_of("PosnCommand"), Some(20.0));
 }
+
+#[test]
+fn a_module_input_assigned_to_initiate_starts_the_index_at_its_exact_edge() {
+    let machine = "[index.0]\ntime_base = \"Synchronized\"\ndistance = 0.2\nvelocity = 1.0\nacceleration = 50.0\ndeceleration = 50.0\n\
+                   [[assignment]]\nsource = \"ModuleInput.2\"\ndestination = \"Index.0.Initiate\"\n";
+    let scenario = "[run]\nduration = 3.0\n[master]\nspeed = 37.0\n[[products]]\nsensor = \"ModuleInput.2\"\nfirst = 3.21\npitch = 5.0\nlength = 1.0\ncount = 10\n";
+    let r = run("edge-initiate", "Wait For Time 10\n", machine, scenario);
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    let starts: Vec<f64> = r
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "motion" && e["event"] == "start")
+        .map(|e| e["master"].as_f64().unwrap_or(f64::NAN))
+        .collect();
+    assert_eq!(starts.len(), 10);
+    for (k, m) in starts.iter().enumerate() {
+        let lead = 3.21 + 5.0 * k as f64;
+        assert!(
+            (m - lead).abs() < 1e-9,
+            "index {k} started at {m}, edge at {lead}"
+        );
+    }
+}
+
+#[test]
+fn a_drive_input_assigned_to_initiate_starts_at_the_update() {
+    let machine = "[index.0]\ntime_base = \"Synchronized\"\ndistance = 0.2\nvelocity = 1.0\nacceleration = 50.0\ndeceleration = 50.0\n\
+                   [[assignment]]\nsource = \"DriveInput.2\"\ndestination = \"Index.0.Initiate\"\n";
+    let scenario = "[run]\nduration = 1.0\n[master]\nspeed = 37.0\n[[press]]\nname = \"DriveInput.2\"\nat = 0.1004\nlength = 0.01\n";
+    let r = run("drive-initiate", "Wait For Time 10\n", machine, scenario);
+    let start = r
+        .events
+        .iter()
+        .find(|e| e["kind"] == "motion" && e["event"] == "start")
+        .map(|e| e["master"].as_f64().unwrap_or(f64::NAN));
+    // Sampled at the update at 0.101 s: the master was at 3.737 there.
+    assert!(
+        (start.unwrap_or(f64::NAN) - 3.737).abs() < 1e-9,
+        "{start:?}"
+    );
+}

@@ -81,6 +81,8 @@ pub struct Kernel {
     homes: Vec<HomeObject>,
     /// Registration indexes still waiting for their sensor.
     armed: Vec<bool>,
+    /// The edge (time, master position) an initiate from an input starts at, while it runs.
+    edge_start: Option<(f64, f64)>,
     jogs: Vec<JogObject>,
     jog_select: SlotId,
     jog_plus: SlotId,
@@ -380,6 +382,7 @@ impl Kernel {
                 .map(|i| PlsObject::new(registry, i))
                 .collect(),
             armed: vec![false; count(Kind::Index) as usize],
+            edge_start: None,
             jogs: (0..count(Kind::Jog))
                 .map(|i| JogObject::new(registry, i))
                 .collect(),
@@ -590,9 +593,13 @@ impl Kernel {
         v: &[f64],
         now: &Now<'_>,
     ) -> Result<f64, String> {
+        // An initiate from a capture-capable input starts at the input's edge.
+        let (time_now, master_now) = self
+            .edge_start
+            .unwrap_or((now.time_ns as f64 / 1e9, now.master));
         let clock = match domain {
-            Domain::Time => now.time_ns as f64 / 1e9,
-            Domain::Master => now.master,
+            Domain::Time => time_now,
+            Domain::Master => master_now,
         };
         let p = &self.axis.profiles[profile];
         let last = || p.last_end.filter(|(d, _)| *d == domain).map(|(_, at)| at);
@@ -743,6 +750,25 @@ impl Kernel {
         v[j.in_progress as usize] = 1.0;
         v[self.profile_busy[p] as usize] = 1.0;
         Ok(ActOutcome::Done)
+    }
+
+    /// Run a motion initiate from a capture-capable input whose edge came at `time`, with the
+    /// master at `master` then: the motion starts there, as with `Using Capture`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn initiate_from_edge(
+        &mut self,
+        hook: Hook,
+        slot: SlotId,
+        instance: u32,
+        time: f64,
+        master: f64,
+        v: &mut [f64],
+        now: &mut Now<'_>,
+    ) -> Result<ActOutcome, String> {
+        self.edge_start = Some((time, master));
+        let r = self.act(hook, slot, instance, StartRef::Now, 0, v, now);
+        self.edge_start = None;
+        r
     }
 
     /// `Index.N.SensorTrigger` driven to `on` at `time` seconds. The rising edge of the sensor of

@@ -408,6 +408,46 @@ impl Machine {
             });
             let edge_at = edge_at.reduce(f64::min);
             let result = match (a.dest.access, a.dest.hook) {
+                // A module input (it latches in hardware) initiating a motion starts it at its
+                // exact edge, as `Using Capture` would.
+                (Access::Action, Hook::MotionStart)
+                    if on
+                        && last != Some(true)
+                        && edge_at.is_some()
+                        && a.sources.iter().any(|(src, _)| {
+                            self.image.registry.slots[*src as usize].kind
+                                == crate::registry::Kind::ModuleInput
+                        }) =>
+                {
+                    let edge = edge_at.unwrap_or(0.0);
+                    let master = self.world.master.position(edge);
+                    let (tick, tick_ns) = (self.tick, self.image.tick_ns);
+                    let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
+                    match self.kernel.initiate_from_edge(
+                        a.dest.hook,
+                        a.dest.slot,
+                        a.dest.instance,
+                        edge,
+                        master,
+                        &mut self.values,
+                        &mut now,
+                    ) {
+                        Ok(crate::kernel::ActOutcome::ProfileBusy) => {
+                            let message = format!("{} from an assignment: a motion is running on its profile; ignored", a.dest.name);
+                            self.trace.event(
+                                self.tick,
+                                "warning",
+                                &[
+                                    ("task", serde_json::Value::Null),
+                                    ("line", serde_json::Value::Null),
+                                    ("message", message.into()),
+                                ],
+                            );
+                            Ok(())
+                        }
+                        other => other.map(|_| ()),
+                    }
+                }
                 (Access::Action, _) => {
                     if on && last != Some(true) {
                         self.control_or_act(a.dest.hook, a.dest.instance, a.dest.slot)
