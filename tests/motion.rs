@@ -113,10 +113,10 @@ fn an_absolute_index_moves_to_its_position_and_profiles_add_up() {
 }
 
 #[test]
-fn index_types_not_simulated_yet_are_refused_where_they_are_set() {
-    let machine = "[index.0]\ntype = \"RotaryPlus\"\n";
+fn an_unknown_index_type_is_refused_where_it_is_set() {
+    let machine = "[index.0]\ntype = \"Spiral\"\n";
     let dir = common::project(
-        "registration",
+        "spiral",
         &[
             ("program0.pt", "Index.0.Initiate\n"),
             ("machine.toml", machine),
@@ -128,13 +128,18 @@ fn index_types_not_simulated_yet_are_refused_where_they_are_set() {
     });
     let _ = std::fs::remove_dir_all(&dir);
     let Err(d) = result else {
-        panic!("a rotary index is not simulated yet")
+        panic!("no such index type")
     };
     assert_eq!(d.items.len(), 1);
     let p = &d.items[0].problem;
     assert_eq!(p.code, "pacer::machine::index");
-    assert_eq!(&machine[p.span.start..p.span.end], "\"RotaryPlus\"");
-    assert!(p.message.contains("not simulated yet"), "{}", p.message);
+    assert_eq!(&machine[p.span.start..p.span.end], "\"Spiral\"");
+    assert!(p.message.contains("unknown index type"), "{}", p.message);
+    assert!(
+        p.label.contains("Registration") && p.label.contains("RotaryPlus"),
+        "{}",
+        p.label
+    );
 }
 
 const HOME: &str = "[home.0]\nreference = \"ModuleInput.3\"\nvelocity = 10.0\nacceleration = 100.0\ndeceleration = 50.0\n";
@@ -419,4 +424,50 @@ fn a_drive_input_assigned_to_initiate_starts_at_the_update() {
         (start.unwrap_or(f64::NAN) - 3.737).abs() < 1e-9,
         "{start:?}"
     );
+}
+
+#[test]
+fn rotary_indexes_go_round_a_rolled_over_axis_in_their_direction() {
+    let machine = "[machine]\nrollover = 360.0\n[variables.A]\ndecimals = 3\n[variables.B]\ndecimals = 3\n\
+                   [index.0]\ntype = \"RotaryPlus\"\ndistance = 90.0\nvelocity = 720.0\nacceleration = 7200.0\ndeceleration = 7200.0\n\
+                   [index.1]\ntype = \"RotaryMinus\"\ndistance = 300.0\nvelocity = 720.0\nacceleration = 7200.0\ndeceleration = 7200.0\n";
+    let program = "Index.0.Initiate\nIndex.1.Initiate\nWait For Index.1.CommandComplete\nVar.A = PosnCommand\n\
+                   Index.0.Distance = 10\nIndex.0.Initiate\nWait For Index.0.CommandComplete\nVar.B = PosnCommand\nEnd\n";
+    let r = run("rotary", program, machine, "[run]\nduration = 3.0\n");
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // 0 → 90 plus; 90 → 300 minus (150° back); 300 → 10 plus (70° on).
+    assert_eq!(r.machine.value_of("Var.A"), Some(300.0));
+    assert_eq!(r.machine.value_of("Var.B"), Some(10.0));
+    let moves: Vec<f64> = r
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "motion" && e["event"] == "done")
+        .map(|e| e["position"].as_f64().unwrap_or(f64::NAN))
+        .collect();
+    // Unwrapped positions along the way: 90, -60, 10.
+    assert_eq!(moves, [90.0, -60.0, 10.0]);
+}
+
+#[test]
+fn a_rotary_index_needs_an_axis_rollover() {
+    let machine = "[index.0]\ntype = \"RotaryMinus\"\n";
+    let dir = common::project(
+        "rotary-norollover",
+        &[
+            ("program0.pt", "Index.0.Initiate\n"),
+            ("machine.toml", machine),
+        ],
+    );
+    let result = pacer::load::load(&pacer::load::LoadRequest {
+        paths: vec![dir.clone()],
+        ..Default::default()
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let Err(d) = result else {
+        panic!("a rotary index without rollover must be refused")
+    };
+    let p = &d.items[0].problem;
+    assert_eq!(p.code, "pacer::machine::index");
+    assert!(p.message.contains("no rollover"), "{}", p.message);
+    assert_eq!(&machine[p.span.start..p.span.end], "\"RotaryMinus\"");
 }

@@ -57,6 +57,9 @@ pub struct MachineSection {
     pub budget: Option<Spanned<u64>>,
     /// Number of tasks (default 4).
     pub tasks: Option<Spanned<u32>>,
+    /// The servo axis's positions roll over at this value, e.g. 360 for a rotary table
+    /// (default 0: no rollover).
+    pub rollover: Option<Spanned<f64>>,
 }
 
 /// `[[program]]`.

@@ -81,6 +81,8 @@ pub struct Kernel {
     homes: Vec<HomeObject>,
     /// Registration indexes still waiting for their sensor.
     armed: Vec<bool>,
+    /// Rollover of the axis's reported positions (0: none).
+    rollover: f64,
     /// The edge (time, master position) an initiate from an input starts at, while it runs.
     edge_start: Option<(f64, f64)>,
     jogs: Vec<JogObject>,
@@ -382,6 +384,7 @@ impl Kernel {
                 .map(|i| PlsObject::new(registry, i))
                 .collect(),
             armed: vec![false; count(Kind::Index) as usize],
+            rollover: registry.axis_rollover,
             edge_start: None,
             jogs: (0..count(Kind::Jog))
                 .map(|i| JogObject::new(registry, i))
@@ -419,9 +422,19 @@ impl Kernel {
         self.marks = marks;
     }
 
-    /// The command position at any instant of the coming update (for captures).
+    /// The command position at any instant of the coming update (for captures), as reported
+    /// (rolled over).
     pub fn command_at(&self, t: f64, master_at: &dyn Fn(f64) -> f64) -> f64 {
-        self.axis.position_at(t, master_at)
+        self.wrap(self.axis.position_at(t, master_at))
+    }
+
+    /// A position as the axis reports it: rolled over when the machine sets a rollover.
+    fn wrap(&self, p: f64) -> f64 {
+        if self.rollover > 0.0 {
+            p.rem_euclid(self.rollover)
+        } else {
+            p
+        }
     }
 
     /// Bring derived members in line with the initial values.
@@ -661,9 +674,14 @@ impl Kernel {
             .ok_or_else(|| format!("no Index.{instance}"))?
             .clone();
         let target = v[ix.distance as usize];
+        let r = self.rollover;
+        let here = self.axis.command();
         let distance = match ix.config.kind {
             IndexType::Incremental | IndexType::Registration => target,
-            IndexType::Absolute => target - self.axis.command(),
+            IndexType::Absolute => target - here,
+            // On a rolled-over axis, to the target position the short or long way round.
+            IndexType::RotaryPlus => (target - here.rem_euclid(r)).rem_euclid(r),
+            IndexType::RotaryMinus => -(here.rem_euclid(r) - target).rem_euclid(r),
         };
         // A registration index waits for its sensor until it reaches its limit distance.
         self.armed[instance as usize] = ix.config.kind == IndexType::Registration;
@@ -1198,8 +1216,9 @@ impl Kernel {
         for (i, p) in self.axis.profiles.iter().enumerate() {
             v[self.profile_busy[i] as usize] = f64::from(p.busy());
         }
-        v[self.axis_slots.command as usize] = self.axis.command();
-        v[self.axis_slots.feedback as usize] = self.axis.command();
+        let reported = self.wrap(self.axis.command());
+        v[self.axis_slots.command as usize] = reported;
+        v[self.axis_slots.feedback as usize] = reported;
         v[self.axis_slots.velocity as usize] = self.axis.velocity();
     }
 

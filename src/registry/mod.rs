@@ -84,6 +84,8 @@ pub struct Registry {
     pub home_setups: Vec<HomeConfig>,
     /// PLS set-up: per PLS instance.
     pub pls_setups: Vec<PlsConfig>,
+    /// Rollover of the servo axis (0: none).
+    pub axis_rollover: f64,
 }
 
 /// The set-up of one PLS that is not a member.
@@ -126,6 +128,10 @@ pub enum IndexType {
     Absolute,
     /// Toward its distance (the limit) until the sensor, then `RegistrationOffset` further.
     Registration,
+    /// To its distance as a position on the rolled-over axis, moving plus.
+    RotaryPlus,
+    /// To its distance as a position on the rolled-over axis, moving minus.
+    RotaryMinus,
 }
 
 /// The set-up of one index that is not a member.
@@ -414,6 +420,7 @@ impl Registry {
             index_setups: vec![IndexConfig::default(); index_count as usize],
             home_setups: vec![HomeConfig::default(); home_count as usize],
             pls_setups: vec![PlsConfig::default(); pls_count as usize],
+            axis_rollover: 0.0,
         };
         for (key, setup) in &machine.queue {
             let span = span_of(setup);
@@ -480,6 +487,37 @@ impl Registry {
         registry.index_setups(machine, &mut problems);
         registry.home_setups(machine, &mut problems);
         registry.pls_setups(machine, &mut problems);
+        if let Some(r) = &machine.machine.rollover {
+            let value = *r.get_ref();
+            if value.is_finite() && value >= 0.0 {
+                registry.axis_rollover = value;
+            } else {
+                problems.push(Problem::error(
+                    "pacer::machine::rollover",
+                    span_of(r),
+                    format!("a rollover of {value} is not possible"),
+                    "0 (none) or more",
+                ));
+            }
+        }
+        if registry.axis_rollover <= 0.0 {
+            for (key, setup) in &machine.index {
+                let Some(kind) = setup.get_ref().kind.as_ref() else {
+                    continue;
+                };
+                if kind.get_ref().to_ascii_lowercase().starts_with("rotary") {
+                    problems.push(
+                        Problem::error(
+                            "pacer::machine::index",
+                            span_of(kind),
+                            format!("[index.{key}] is rotary, but the axis has no rollover"),
+                            "needs [machine] rollover",
+                        )
+                        .with_help("set e.g. rollover = 360.0 under [machine]"),
+                    );
+                }
+            }
+        }
         (registry, problems)
     }
 
@@ -504,20 +542,13 @@ impl Registry {
                     "incremental" => config.kind = IndexType::Incremental,
                     "absolute" => config.kind = IndexType::Absolute,
                     "registration" => config.kind = IndexType::Registration,
-                    "rotaryplus" | "rotaryminus" | "rotary plus" | "rotary minus" => problems.push(
-                        Problem::error(
-                            "pacer::machine::index",
-                            span_of(k),
-                            format!("{} indexes are not simulated yet", k.get_ref()),
-                            "not yet supported",
-                        )
-                        .with_help("Incremental, Absolute and Registration indexes run today"),
-                    ),
+                    "rotaryplus" | "rotary plus" => config.kind = IndexType::RotaryPlus,
+                    "rotaryminus" | "rotary minus" => config.kind = IndexType::RotaryMinus,
                     _ => problems.push(Problem::error(
                         "pacer::machine::index",
                         span_of(k),
                         format!("unknown index type `{}`", k.get_ref()),
-                        "Incremental, Absolute or Registration",
+                        "Incremental, Absolute, Registration, RotaryPlus or RotaryMinus",
                     )),
                 }
             }
