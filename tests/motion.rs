@@ -471,3 +471,56 @@ fn a_rotary_index_needs_an_axis_rollover() {
     assert!(p.message.contains("no rollover"), "{}", p.message);
     assert_eq!(&machine[p.span.start..p.span.end], "\"RotaryMinus\"");
 }
+
+/// 10 units at 1 u/s with near-instant ramps: 10.001 s at 100 %.
+const SLOW_INDEX: &str = "[variables.T]\n[index.0]\ndistance = 10.0\nvelocity = 1.0\nacceleration = 1000.0\ndeceleration = 1000.0\n";
+
+#[test]
+fn feed_rate_override_scales_realtime_motion_in_time() {
+    let program = "FeedRateOverride = 50\nIndex.0.Initiate\nWait For Index.0.CommandComplete\nVar.T = FreeRunTime\nEnd\n";
+    let r = run(
+        "override-50",
+        program,
+        SLOW_INDEX,
+        "[run]\nduration = 30.0\n",
+    );
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // 10.001 s of motion at half speed: 20.002 s.
+    assert_eq!(r.machine.value_of("Var.T"), Some(20_002_000.0));
+    assert_eq!(r.machine.value_of("PosnCommand"), Some(10.0));
+}
+
+#[test]
+fn feed_rate_override_takes_effect_at_once() {
+    let program = "Index.0.Initiate\nWait For Time 2\nFeedRateOverride = 200\nWait For Index.0.CommandComplete\nVar.T = FreeRunTime\nEnd\n";
+    let r = run(
+        "override-change",
+        program,
+        SLOW_INDEX,
+        "[run]\nduration = 30.0\n",
+    );
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // 2 s at 100 %, then the remaining 8.001 s of motion at twice the speed: about 6 s.
+    let t = r.machine.value_of("Var.T").expect("T") / 1e6;
+    assert!((t - 6.0005).abs() <= 0.0015, "{t}");
+}
+
+#[test]
+fn feed_rate_override_scales_dwells_but_not_program_waits() {
+    let program = "FeedRateOverride = 25\nDwell For Time 1\nDwell For Time 0\nVar.T = FreeRunTime\nWait For Time 1\nVar.T = FreeRunTime - Var.T\nEnd\n";
+    let r = run(
+        "override-dwell",
+        program,
+        "[variables.T]\n",
+        "[run]\nduration = 10.0\n",
+    );
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // The dwell took 4 s; the program's own 1 s wait is still 1 s.
+    assert_eq!(r.machine.value_of("Var.T"), Some(1_000_000.0));
+    let dwell_end = r
+        .events
+        .iter()
+        .find(|e| e["kind"] == "motion" && e["event"] == "done")
+        .map(|e| e["tick"].clone());
+    assert_eq!(dwell_end, Some(serde_json::json!(4000)));
+}

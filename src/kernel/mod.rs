@@ -83,6 +83,9 @@ pub struct Kernel {
     armed: Vec<bool>,
     /// Rollover of the axis's reported positions (0: none).
     rollover: f64,
+    /// The motion clock (realtime motions run on it) and the real time it was last read at.
+    motion_time: f64,
+    motion_read_at: f64,
     /// The edge (time, master position) an initiate from an input starts at, while it runs.
     edge_start: Option<(f64, f64)>,
     jogs: Vec<JogObject>,
@@ -385,6 +388,8 @@ impl Kernel {
                 .collect(),
             armed: vec![false; count(Kind::Index) as usize],
             rollover: registry.axis_rollover,
+            motion_time: 0.0,
+            motion_read_at: 0.0,
             edge_start: None,
             jogs: (0..count(Kind::Jog))
                 .map(|i| JogObject::new(registry, i))
@@ -424,8 +429,21 @@ impl Kernel {
 
     /// The command position at any instant of the coming update (for captures), as reported
     /// (rolled over).
-    pub fn command_at(&self, t: f64, master_at: &dyn Fn(f64) -> f64) -> f64 {
-        self.wrap(self.axis.position_at(t, master_at))
+    pub fn command_at(&self, t: f64, master_at: &dyn Fn(f64) -> f64, v: &[f64]) -> f64 {
+        self.wrap(
+            self.axis
+                .position_at(self.motion_time_of(t, v), master_at(t)),
+        )
+    }
+
+    /// Motion seconds per real second: the feed-rate override.
+    fn rate(&self, v: &[f64]) -> f64 {
+        v[self.feed_rate as usize] / 100.0
+    }
+
+    /// The motion clock at real time `t` (near the last update), at the present override.
+    fn motion_time_of(&self, t: f64, v: &[f64]) -> f64 {
+        self.motion_time + (t - self.motion_read_at) * self.rate(v)
     }
 
     /// A position as the axis reports it: rolled over when the machine sets a rollover.
@@ -611,7 +629,7 @@ impl Kernel {
             .edge_start
             .unwrap_or((now.time_ns as f64 / 1e9, now.master));
         let clock = match domain {
-            Domain::Time => time_now,
+            Domain::Time => self.motion_time_of(time_now, v),
             Domain::Master => master_now,
         };
         let p = &self.axis.profiles[profile];
@@ -627,7 +645,7 @@ impl Kernel {
                     .ok_or_else(|| format!("no Capture.{c}"))?;
                 let (time, master) = capture.latched(v);
                 match domain {
-                    Domain::Time => time,
+                    Domain::Time => self.motion_time_of(time, v),
                     Domain::Master => master,
                 }
             }
@@ -822,7 +840,7 @@ impl Kernel {
             return;
         };
         let clock = match m.domain {
-            Domain::Time => time,
+            Domain::Time => self.motion_time_of(time, v),
             Domain::Master => master_at(time),
         };
         if !(m.started || clock >= m.start) {
@@ -1040,10 +1058,12 @@ impl Kernel {
     }
 
     fn stop_profile(&mut self, profile: usize, decel: f64, v: &mut [f64], now: &Now<'_>) {
-        if let Some(owner) =
-            self.axis
-                .decelerate(profile, now.time_ns as f64 / 1e9, now.master, decel)
-        {
+        if let Some(owner) = self.axis.decelerate(
+            profile,
+            self.motion_time_of(now.time_ns as f64 / 1e9, v),
+            now.master,
+            decel,
+        ) {
             self.owner_status(&owner, v, Phase::Done);
             v[self.profile_busy[profile] as usize] = 0.0;
         }
@@ -1122,8 +1142,13 @@ impl Kernel {
         master_at: &dyn Fn(f64) -> f64,
     ) {
         self.master_speed = master_speed;
+        let t = now.time_ns as f64 / 1e9;
+        self.motion_time = self.motion_time_of(t, v);
+        self.motion_read_at = t;
         let clocks = Clocks {
-            time: now.time_ns as f64 / 1e9,
+            time: t,
+            motion_time: self.motion_time,
+            rate: self.rate(v),
             master: now.master,
             master_speed,
         };
@@ -1155,7 +1180,8 @@ impl Kernel {
                         } else {
                             1.0
                         };
-                if let Err(message) = self.home_reference(h, e.at, position, v) {
+                let at = self.motion_time_of(e.at, v);
+                if let Err(message) = self.home_reference(h, at, position, v) {
                     now.trace.event(
                         now.tick,
                         "warning",

@@ -482,7 +482,9 @@ impl Machine {
                             self.seconds()
                         };
                         let master = &self.world.master;
-                        let command = self.kernel.command_at(edge, &|t| master.position(t));
+                        let command =
+                            self.kernel
+                                .command_at(edge, &|t| master.position(t), &self.values);
                         let at = crate::kernel::capture::Positions {
                             master: master.position(edge),
                             command,

@@ -137,13 +137,6 @@ pub struct Motion {
 }
 
 impl Motion {
-    fn domain_clock(&self, t: f64, master_at: &dyn Fn(f64) -> f64) -> f64 {
-        match self.domain {
-            Domain::Time => t,
-            Domain::Master => master_at(t),
-        }
-    }
-
     /// Where in the domain it ends.
     pub fn end(&self) -> f64 {
         self.start + self.plan.duration()
@@ -202,8 +195,12 @@ pub struct Axis {
 /// The two clocks a motion can run on, at one update.
 #[derive(Debug, Clone, Copy)]
 pub struct Clocks {
-    /// Seconds.
+    /// Real seconds.
     pub time: f64,
+    /// The motion clock realtime motions run on: it advances at the feed-rate override.
+    pub motion_time: f64,
+    /// Motion seconds per real second (FeedRateOverride / 100).
+    pub rate: f64,
     /// Master position.
     pub master: f64,
     /// Master velocity, per second.
@@ -213,8 +210,17 @@ pub struct Clocks {
 impl Clocks {
     fn of(&self, d: Domain) -> f64 {
         match d {
-            Domain::Time => self.time,
+            Domain::Time => self.motion_time,
             Domain::Master => self.master,
+        }
+    }
+
+    /// The real time at which the motion clock read `motion_time` (at the present rate).
+    fn real_time_of(&self, motion_time: f64) -> f64 {
+        if self.rate > 0.0 {
+            self.time - (self.motion_time - motion_time) / self.rate
+        } else {
+            self.time
         }
     }
 }
@@ -232,14 +238,22 @@ impl Axis {
 
     /// The command position at any instant `t` (seconds), from the plans themselves: exact
     /// between updates too. `master_at` gives the master position at a time.
-    pub fn position_at(&self, t: f64, master_at: &dyn Fn(f64) -> f64) -> f64 {
+    pub fn position_at(&self, motion_time: f64, master: f64) -> f64 {
         self.profiles
             .iter()
             .map(|p| match &p.motion {
-                Some(m) if m.started || m.domain_clock(t, master_at) >= m.start => {
-                    m.base + m.plan.at(m.domain_clock(t, master_at) - m.start).0
+                Some(m) => {
+                    let clock = match m.domain {
+                        Domain::Time => motion_time,
+                        Domain::Master => master,
+                    };
+                    if m.started || clock >= m.start {
+                        m.base + m.plan.at(clock - m.start).0
+                    } else {
+                        p.position
+                    }
                 }
-                _ => p.position,
+                None => p.position,
             })
             .sum()
     }
@@ -313,7 +327,7 @@ impl Axis {
                 m.started = true;
                 let master = match m.domain {
                     Domain::Master => m.start,
-                    Domain::Time => master_at(m.start),
+                    Domain::Time => master_at(now.real_time_of(m.start)),
                 };
                 events.push(Event::Started {
                     owner: m.owner.clone(),
@@ -324,7 +338,7 @@ impl Axis {
             let u = clock - m.start;
             let (dp, dv, phase) = m.plan.at(u);
             let rate = match m.domain {
-                Domain::Time => 1.0,
+                Domain::Time => now.rate,
                 Domain::Master => now.master_speed,
             };
             self.profiles[i].position = m.base + dp;
@@ -354,6 +368,16 @@ impl Axis {
 mod tests {
     use super::*;
 
+    fn clocks(time: f64, master: f64, master_speed: f64) -> Clocks {
+        Clocks {
+            time,
+            motion_time: time,
+            rate: 1.0,
+            master,
+            master_speed,
+        }
+    }
+
     fn owner() -> Owner {
         Owner {
             name: "Index.0".into(),
@@ -378,27 +402,11 @@ mod tests {
             },
         );
         let mut ev = Vec::new();
-        axis.update(
-            Clocks {
-                time: 1.0,
-                master: 100.5,
-                master_speed: 50.0,
-            },
-            &|_| 0.0,
-            &mut ev,
-        );
+        axis.update(clocks(1.0, 100.5, 50.0), &|_| 0.0, &mut ev);
         assert!(matches!(ev[0], Event::Started { master, .. } if master == 100.0));
         assert!((axis.command() - 0.125).abs() < 1e-12, "{}", axis.command());
         ev.clear();
-        axis.update(
-            Clocks {
-                time: 2.0,
-                master: 111.0,
-                master_speed: 50.0,
-            },
-            &|_| 0.0,
-            &mut ev,
-        );
+        axis.update(clocks(2.0, 111.0, 50.0), &|_| 0.0, &mut ev);
         assert_eq!(axis.command(), 10.0);
         assert!(matches!(ev[0], Event::Done { .. }));
         assert_eq!(axis.profiles[0].last_end, Some((Domain::Master, 111.0)));
@@ -429,30 +437,14 @@ mod tests {
             },
         );
         let mut ev = Vec::new();
-        axis.update(
-            Clocks {
-                time: 0.25,
-                master: 0.0,
-                master_speed: 0.0,
-            },
-            &|_| 0.0,
-            &mut ev,
-        );
+        axis.update(clocks(0.25, 0.0, 0.0), &|_| 0.0, &mut ev);
         assert!(axis.profiles[0].busy());
         assert_eq!(
             ev.len(),
             2,
             "profile 0 waits silently; profile 1 starts and runs: {ev:?}"
         );
-        axis.update(
-            Clocks {
-                time: 5.0,
-                master: 0.0,
-                master_speed: 0.0,
-            },
-            &|_| 0.0,
-            &mut ev,
-        );
+        axis.update(clocks(5.0, 0.0, 0.0), &|_| 0.0, &mut ev);
         assert_eq!(axis.command(), 5.0);
     }
 }
