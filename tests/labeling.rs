@@ -158,3 +158,95 @@ fn a_burst_of_products_overflows_the_label_queue_onto_drive_io_3() {
     assert!(overflow_on, "QueueOverflow reached DriveIO.3.Out");
     assert_eq!(r.machine.value_of("Queue.0.QueueOverflow"), Some(1.0));
 }
+
+#[test]
+fn without_using_capture_labels_start_late_by_the_scheduling_delay_times_line_speed() {
+    // A copy of Program 1 with `Using Capture.1` removed (programs/labeling stays verbatim).
+    let dir = std::env::temp_dir().join(format!("pacer-labeling-nocapture-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    for f in [
+        "program0.pt",
+        "program2.pt",
+        "machine.toml",
+        "scenario.toml",
+    ] {
+        std::fs::copy(folder().join(f), dir.join(f)).expect("copy");
+    }
+    let p1 = std::fs::read_to_string(folder().join("program1.pt")).expect("program 1");
+    assert!(p1.contains("Index.0.Initiate Using Capture.1"));
+    std::fs::write(
+        dir.join("program1.pt"),
+        p1.replace("Index.0.Initiate Using Capture.1", "Index.0.Initiate"),
+    )
+    .expect("write");
+    let r = run(vec![dir.clone()], None);
+    let _ = std::fs::remove_dir_all(&dir);
+
+    // Without the capture, the index for product k starts when Program 1 reaches it: right
+    // after it removed product k-1 at that product's exit. The start is then
+    // exit(k-1) + (the delay from that exit to the initiate) × line speed.
+    let exits: Vec<(u64, f64)> = kind(&r, "queue_exit")
+        .iter()
+        .filter(|e| e["object"] == "Queue.0")
+        .map(|e| (e["tick"].as_u64().unwrap_or(0), f(e, "exit")))
+        .collect();
+    let starts: Vec<(u64, f64)> = kind(&r, "motion")
+        .iter()
+        .filter(|e| e["object"] == "Index.0" && e["event"] == "start")
+        .map(|e| (e["tick"].as_u64().unwrap_or(0), f(e, "master")))
+        .collect();
+    assert!(starts.len() > 1900, "{} labels", starts.len());
+    // Line speed at a tick, from the master positions the trace records at captures.
+    let captures: Vec<(u64, f64, f64)> = kind(&r, "capture")
+        .iter()
+        .map(|c| {
+            (
+                c["tick"].as_u64().unwrap_or(0),
+                f(c, "master"),
+                f(c, "time"),
+            )
+        })
+        .collect();
+    let mut by_speed: std::collections::BTreeMap<i64, (f64, f64, usize)> = Default::default();
+    for k in 1..starts.len().min(exits.len()) {
+        let (start_tick, start) = starts[k];
+        let (_, prev_exit) = exits[k - 1];
+        let intended = exits[k].1;
+        // Speed from the two captures around this product (master distance over time).
+        let (a, b) = (
+            captures[k.min(captures.len() - 1) - 1],
+            captures[k.min(captures.len() - 1)],
+        );
+        let speed = if b.2 > a.2 {
+            (b.1 - a.1) / (b.2 - a.2)
+        } else {
+            0.0
+        };
+        if speed <= 1.0 || start_tick == 0 {
+            continue; // stopped line: no meaningful speed
+        }
+        let late = start - prev_exit;
+        let error = start - intended;
+        let band = (speed / 5.0).round() as i64 * 5;
+        let e = by_speed.entry(band).or_insert((0.0, f64::NEG_INFINITY, 0));
+        e.0 += late / speed;
+        e.1 = e.1.max(error.abs());
+        e.2 += 1;
+        // The delay is at most a few updates (three tasks take turns).
+        assert!(
+            late >= -1e-9 && late <= 4.0 * 0.001 * speed + 1e-6,
+            "product {k}: {late} units late at {speed} u/s"
+        );
+    }
+    eprintln!("labels without Using Capture.1, by line speed:");
+    eprintln!("  speed (u/s)  labels  mean delay after the previous exit  worst error vs captured + offset");
+    for (band, (delay, worst, n)) in &by_speed {
+        eprintln!(
+            "  {band:>10}  {n:>6}  {:>10.2} ms ({:.4} units)  {worst:>10.3} units",
+            delay / *n as f64 * 1000.0,
+            delay / *n as f64 * *band as f64
+        );
+    }
+    assert!(by_speed.len() >= 3, "several line speeds were seen");
+}
