@@ -524,3 +524,20 @@ fn feed_rate_override_scales_dwells_but_not_program_waits() {
         .map(|e| e["tick"].clone());
     assert_eq!(dwell_end, Some(serde_json::json!(4000)));
 }
+
+#[test]
+fn index_pls_status_follows_the_distance_the_index_has_travelled() {
+    let machine = "[index.0]\ndistance = 10.0\nvelocity = 10.0\nacceleration = 1000.0\ndeceleration = 1000.0\n";
+    let program =
+        "Index.0.PLSOnPoint = 2.034\nIndex.0.PLSOffPoint = 5.073\nIndex.0.Initiate\nEnd\n";
+    let r = run("index-pls", program, machine, "[run]\nduration = 2.0\n");
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    let changes: Vec<(u64, bool)> = r
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "change" && e["name"] == "Index.0.PLSStatus")
+        .map(|e| (e["tick"].as_u64().unwrap_or(0), e["value"] == true))
+        .collect();
+    // 10 u/s after a 10 ms ramp (0.05 u): 2.034 u at 0.2084 s, 5.073 u at 0.5123 s.
+    assert_eq!(changes, [(209, true), (513, false)]);
+}

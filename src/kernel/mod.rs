@@ -307,6 +307,9 @@ struct IndexObject {
     sensor: SlotId,
     time: SlotId,
     profile_limited: SlotId,
+    pls_status: SlotId,
+    pls_on: SlotId,
+    pls_off: SlotId,
 }
 
 impl IndexObject {
@@ -331,6 +334,9 @@ impl IndexObject {
             sensor: s("SensorTrigger"),
             time: s("Time"),
             profile_limited: s("ProfileLimited"),
+            pls_status: s("PLSStatus"),
+            pls_on: s("PLSOnPoint"),
+            pls_off: s("PLSOffPoint"),
         }
     }
 
@@ -1242,6 +1248,19 @@ impl Kernel {
         for (i, p) in self.axis.profiles.iter().enumerate() {
             v[self.profile_busy[i] as usize] = f64::from(p.busy());
         }
+        // Index PLS: on while the distance the index has travelled is in [PLSOnPoint, PLSOffPoint).
+        for p in &self.axis.profiles {
+            let Some(m) = &p.motion else { continue };
+            if let Some((Kind::Index, i)) = m.owner.status {
+                if let Some(ix) = self.indexes.get(i) {
+                    let travelled = (p.position - m.base).abs();
+                    let on = m.started
+                        && v[ix.pls_on as usize] <= travelled
+                        && travelled < v[ix.pls_off as usize];
+                    v[ix.pls_status as usize] = f64::from(on);
+                }
+            }
+        }
         let reported = self.wrap(self.axis.command());
         v[self.axis_slots.command as usize] = reported;
         v[self.axis_slots.feedback as usize] = reported;
@@ -1253,6 +1272,9 @@ impl Kernel {
             Some((Kind::Index, i)) => {
                 if let Some(ix) = self.indexes.get(i) {
                     ix.status(v, phase);
+                    if phase == Phase::Done {
+                        v[ix.pls_status as usize] = 0.0;
+                    }
                     // A registration index that reached its limit without seeing its sensor.
                     if phase == Phase::Done && self.armed.get(i).copied().unwrap_or(false) {
                         v[ix.limit_hit as usize] = 1.0;

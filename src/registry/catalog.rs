@@ -431,7 +431,24 @@ const INDEX: &[MemberDef] = &[
     m("AtVel", Bit, Read, "at velocity"),
     m("Decelerating", Bit, Read, "on the deceleration ramp"),
     m("CommandComplete", Bit, Read, "done, until initiated again"),
-    m("PLSStatus", Bit, Read, "PLS window of the index"),
+    m(
+        "PLSStatus",
+        Bit,
+        Read,
+        "on while the distance travelled by the index is in [PLSOnPoint, PLSOffPoint)",
+    ),
+    m(
+        "PLSOnPoint",
+        Real,
+        ReadWrite,
+        "distance from the index's start where PLSStatus turns on",
+    ),
+    m(
+        "PLSOffPoint",
+        Real,
+        ReadWrite,
+        "distance from the index's start where PLSStatus turns off",
+    ),
     m(
         "LimitDistHit",
         Bit,
