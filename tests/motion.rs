@@ -541,3 +541,43 @@ fn index_pls_status_follows_the_distance_the_index_has_travelled() {
     // 10 u/s after a 10 ms ramp (0.05 u): 2.034 u at 0.2084 s, 5.073 u at 0.5123 s.
     assert_eq!(changes, [(209, true), (513, false)]);
 }
+
+#[test]
+fn user_units_give_motor_revolutions_and_encoder_counts() {
+    let machine = "[units]\nmotor = \"mm\"\nmotor_per_rev = 10.0\nmotor_counts_per_rev = 4096\nmaster = \"in\"\nmaster_counts_per_unit = 100\n\
+                   [index.0]\ndistance = 25.0\nvelocity = 100.0\nacceleration = 1000.0\ndeceleration = 1000.0\n";
+    let r = run(
+        "units",
+        "Index.0.Initiate\nEnd\n",
+        machine,
+        "[run]\nduration = 1.0\n[master]\nspeed = 12.345\n",
+    );
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    assert_eq!(r.machine.value_of("MotorRevs"), Some(2.5));
+    assert_eq!(r.machine.value_of("MotorCounts"), Some(10240.0));
+    assert_eq!(r.machine.value_of("MasterCounts"), Some(1234.0));
+    assert_eq!(
+        r.events[0]["units"],
+        serde_json::json!({"motor": "mm", "master": "in"})
+    );
+}
+
+#[test]
+fn bad_units_point_at_the_value() {
+    let machine = "[units]\nmotor_per_rev = 0\n";
+    let dir = common::project(
+        "bad-units",
+        &[("program0.pt", "End\n"), ("machine.toml", machine)],
+    );
+    let result = pacer::load::load(&pacer::load::LoadRequest {
+        paths: vec![dir.clone()],
+        ..Default::default()
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let Err(d) = result else {
+        panic!("0 units per revolution is refused")
+    };
+    let p = &d.items[0].problem;
+    assert_eq!(p.code, "pacer::machine::units");
+    assert_eq!(&machine[p.span.start..p.span.end], "0");
+}

@@ -31,6 +31,9 @@ pub struct MachineFile {
     /// Queue set-up by instance number (`[queue.0]`).
     #[serde(default)]
     pub queue: IndexMap<String, Spanned<QueueSetup>>,
+    /// User units of the servo axis and the master.
+    #[serde(default)]
+    pub units: UnitsSection,
     /// Index set-up by instance number (`[index.0]`).
     #[serde(default)]
     pub index: IndexMap<String, Spanned<IndexSetup>>,
@@ -187,4 +190,38 @@ pub struct PlsSetup {
     pub off: Option<f64>,
     /// "Both" (default), "Plus" or "Minus": the direction of travel in which the PLS is active.
     pub direction: Option<Spanned<String>>,
+}
+
+/// `[units]`: what a unit of the servo axis and of the master is.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct UnitsSection {
+    /// Name of the servo axis's user unit (default "units").
+    #[serde(default = "default_unit")]
+    pub motor: String,
+    /// Servo user units per motor revolution (default 1).
+    pub motor_per_rev: Option<Spanned<f64>>,
+    /// Motor encoder counts per revolution (default 4096).
+    pub motor_counts_per_rev: Option<Spanned<f64>>,
+    /// Name of the master's user unit (default "units").
+    #[serde(default = "default_unit")]
+    pub master: String,
+    /// Master encoder counts per master unit (default 1000).
+    pub master_counts_per_unit: Option<Spanned<f64>>,
+}
+
+impl Default for UnitsSection {
+    fn default() -> Self {
+        UnitsSection {
+            motor: default_unit(),
+            motor_per_rev: None,
+            motor_counts_per_rev: None,
+            master: default_unit(),
+            master_counts_per_unit: None,
+        }
+    }
+}
+
+fn default_unit() -> String {
+    "units".to_string()
 }

@@ -83,6 +83,8 @@ pub struct Kernel {
     armed: Vec<bool>,
     /// Rollover of the axis's reported positions (0: none).
     rollover: f64,
+    /// User units.
+    units: crate::registry::Units,
     /// The motion clock (realtime motions run on it) and the real time it was last read at.
     motion_time: f64,
     motion_read_at: f64,
@@ -288,6 +290,9 @@ struct AxisSlots {
     command: SlotId,
     feedback: SlotId,
     velocity: SlotId,
+    revs: SlotId,
+    counts: SlotId,
+    master_counts: SlotId,
 }
 
 /// An index: its set-up and the slots of its settings and status.
@@ -375,6 +380,9 @@ impl Kernel {
                 command: slot(registry, Kind::Motion, 0, "PosnCommand"),
                 feedback: slot(registry, Kind::Motion, 0, "PosnFeedback"),
                 velocity: slot(registry, Kind::Motion, 0, "VelCommand"),
+                revs: slot(registry, Kind::Motion, 0, "MotorRevs"),
+                counts: slot(registry, Kind::Motion, 0, "MotorCounts"),
+                master_counts: slot(registry, Kind::Motion, 0, "MasterCounts"),
             },
             feed_rate: slot(registry, Kind::Motion, 0, "FeedRateOverride"),
             stop_decel: slot(registry, Kind::Motion, 0, "StopDeceleration"),
@@ -394,6 +402,7 @@ impl Kernel {
                 .collect(),
             armed: vec![false; count(Kind::Index) as usize],
             rollover: registry.axis_rollover,
+            units: registry.units.clone(),
             motion_time: 0.0,
             motion_read_at: 0.0,
             edge_start: None,
@@ -1264,6 +1273,12 @@ impl Kernel {
         let reported = self.wrap(self.axis.command());
         v[self.axis_slots.command as usize] = reported;
         v[self.axis_slots.feedback as usize] = reported;
+        // In motor revolutions and encoder counts (the encoders count whole counts).
+        let revs = self.axis.command() / self.units.motor_per_rev;
+        v[self.axis_slots.revs as usize] = revs;
+        v[self.axis_slots.counts as usize] = (revs * self.units.motor_counts_per_rev).floor();
+        v[self.axis_slots.master_counts as usize] =
+            (now.master * self.units.master_counts_per_unit).floor();
         v[self.axis_slots.velocity as usize] = self.axis.velocity();
     }
 

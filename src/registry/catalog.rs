@@ -611,6 +611,24 @@ const MOTION: &[MemberDef] = &[
         Read,
         "motor command velocity, units per second",
     )),
+    continuous(m(
+        "MotorRevs",
+        Real,
+        Read,
+        "motor position in revolutions (feedback / units per revolution)",
+    )),
+    continuous(m(
+        "MotorCounts",
+        Integer,
+        Read,
+        "motor encoder position in counts",
+    )),
+    continuous(m(
+        "MasterCounts",
+        Integer,
+        Read,
+        "master encoder position in counts",
+    )),
 ];
 
 /// Every object type, in the order the docs list them.

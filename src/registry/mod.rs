@@ -86,6 +86,35 @@ pub struct Registry {
     pub pls_setups: Vec<PlsConfig>,
     /// Rollover of the servo axis (0: none).
     pub axis_rollover: f64,
+    /// User units.
+    pub units: Units,
+}
+
+/// User units: names, and how they relate to motor revolutions and encoder counts.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Units {
+    /// The servo axis's unit.
+    pub motor: String,
+    /// Servo units per motor revolution.
+    pub motor_per_rev: f64,
+    /// Motor encoder counts per revolution.
+    pub motor_counts_per_rev: f64,
+    /// The master's unit.
+    pub master: String,
+    /// Master encoder counts per master unit.
+    pub master_counts_per_unit: f64,
+}
+
+impl Default for Units {
+    fn default() -> Self {
+        Units {
+            motor: "units".into(),
+            motor_per_rev: 1.0,
+            motor_counts_per_rev: 4096.0,
+            master: "units".into(),
+            master_counts_per_unit: 1000.0,
+        }
+    }
 }
 
 /// The set-up of one PLS that is not a member.
@@ -421,6 +450,7 @@ impl Registry {
             home_setups: vec![HomeConfig::default(); home_count as usize],
             pls_setups: vec![PlsConfig::default(); pls_count as usize],
             axis_rollover: 0.0,
+            units: Units::default(),
         };
         for (key, setup) in &machine.queue {
             let span = span_of(setup);
@@ -498,6 +528,40 @@ impl Registry {
                     format!("a rollover of {value} is not possible"),
                     "0 (none) or more",
                 ));
+            }
+        }
+        let u = &machine.units;
+        registry.units.motor = u.motor.clone();
+        registry.units.master = u.master.clone();
+        for (value, target, what) in [
+            (
+                &u.motor_per_rev,
+                &mut registry.units.motor_per_rev,
+                "motor_per_rev",
+            ),
+            (
+                &u.motor_counts_per_rev,
+                &mut registry.units.motor_counts_per_rev,
+                "motor_counts_per_rev",
+            ),
+            (
+                &u.master_counts_per_unit,
+                &mut registry.units.master_counts_per_unit,
+                "master_counts_per_unit",
+            ),
+        ] {
+            if let Some(x) = value {
+                let x_value = *x.get_ref();
+                if x_value.is_finite() && x_value > 0.0 {
+                    *target = x_value;
+                } else {
+                    problems.push(Problem::error(
+                        "pacer::machine::units",
+                        span_of(x),
+                        format!("[units] {what} must be above 0, not {x_value}"),
+                        "out of range",
+                    ));
+                }
             }
         }
         if registry.axis_rollover <= 0.0 {

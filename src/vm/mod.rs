@@ -258,6 +258,7 @@ impl Machine {
                 ("machine", self.image.name.clone().into()),
                 ("update", crate::trace::number(tick_ns as f64 / 1e9)),
                 ("tasks", self.image.tasks.into()),
+                ("units", serde_json::json!({"motor": self.image.registry.units.motor, "master": self.image.registry.units.master})),
             ],
         );
         let autostart = self.image.autostart.clone();
