@@ -69,6 +69,19 @@ impl Trace {
         }
     }
 
+    /// A warning or error of the machine itself, not of a program line (`task` and `line` null).
+    pub fn machine_message(&mut self, tick: u64, kind: &'static str, message: String) {
+        self.event(
+            tick,
+            kind,
+            &[
+                ("task", Value::Null),
+                ("line", Value::Null),
+                ("message", message.into()),
+            ],
+        );
+    }
+
     /// Flush; report the first write error, if any.
     pub fn finish(&mut self) -> std::io::Result<()> {
         if let Some(e) = self.failed.take() {

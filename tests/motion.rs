@@ -115,21 +115,13 @@ fn an_absolute_index_moves_to_its_position_and_profiles_add_up() {
 #[test]
 fn an_unknown_index_type_is_refused_where_it_is_set() {
     let machine = "[index.0]\ntype = \"Spiral\"\n";
-    let dir = common::project(
+    let d = common::load_error(
         "spiral",
         &[
             ("program0.pt", "Index.0.Initiate\n"),
             ("machine.toml", machine),
         ],
     );
-    let result = pacer::load::load(&pacer::load::LoadRequest {
-        paths: vec![dir.clone()],
-        ..Default::default()
-    });
-    let _ = std::fs::remove_dir_all(&dir);
-    let Err(d) = result else {
-        panic!("no such index type")
-    };
     assert_eq!(d.items.len(), 1);
     let p = &d.items[0].problem;
     assert_eq!(p.code, "pacer::machine::index");
@@ -451,21 +443,13 @@ fn rotary_indexes_go_round_a_rolled_over_axis_in_their_direction() {
 #[test]
 fn a_rotary_index_needs_an_axis_rollover() {
     let machine = "[index.0]\ntype = \"RotaryMinus\"\n";
-    let dir = common::project(
+    let d = common::load_error(
         "rotary-norollover",
         &[
             ("program0.pt", "Index.0.Initiate\n"),
             ("machine.toml", machine),
         ],
     );
-    let result = pacer::load::load(&pacer::load::LoadRequest {
-        paths: vec![dir.clone()],
-        ..Default::default()
-    });
-    let _ = std::fs::remove_dir_all(&dir);
-    let Err(d) = result else {
-        panic!("a rotary index without rollover must be refused")
-    };
     let p = &d.items[0].problem;
     assert_eq!(p.code, "pacer::machine::index");
     assert!(p.message.contains("no rollover"), "{}", p.message);
@@ -565,18 +549,10 @@ fn user_units_give_motor_revolutions_and_encoder_counts() {
 #[test]
 fn bad_units_point_at_the_value() {
     let machine = "[units]\nmotor_per_rev = 0\n";
-    let dir = common::project(
+    let d = common::load_error(
         "bad-units",
         &[("program0.pt", "End\n"), ("machine.toml", machine)],
     );
-    let result = pacer::load::load(&pacer::load::LoadRequest {
-        paths: vec![dir.clone()],
-        ..Default::default()
-    });
-    let _ = std::fs::remove_dir_all(&dir);
-    let Err(d) = result else {
-        panic!("0 units per revolution is refused")
-    };
     let p = &d.items[0].problem;
     assert_eq!(p.code, "pacer::machine::units");
     assert_eq!(&machine[p.span.start..p.span.end], "0");

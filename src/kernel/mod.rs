@@ -1197,15 +1197,7 @@ impl Kernel {
                         };
                 let at = self.motion_time_of(e.at, v);
                 if let Err(message) = self.home_reference(h, at, position, v) {
-                    now.trace.event(
-                        now.tick,
-                        "warning",
-                        &[
-                            ("task", serde_json::Value::Null),
-                            ("line", serde_json::Value::Null),
-                            ("message", message.into()),
-                        ],
-                    );
+                    now.trace.machine_message(now.tick, "warning", message);
                 }
                 // Re-evaluate the profile on its new plan at this update.
                 events.retain(|x| !matches!(x, Event::Running { owner, .. } if owner.status == Some((Kind::Home, h))));

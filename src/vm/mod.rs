@@ -297,15 +297,8 @@ impl Machine {
                 }
                 if self.tick >= max_tick {
                     stop_reason = format!("stopped after {DEFAULT_MAX_SECONDS} s simulated (no duration set and programs still running)");
-                    self.trace.event(
-                        self.tick,
-                        "warning",
-                        &[
-                            ("task", serde_json::Value::Null),
-                            ("line", serde_json::Value::Null),
-                            ("message", stop_reason.clone().into()),
-                        ],
-                    );
+                    self.trace
+                        .machine_message(self.tick, "warning", stop_reason.clone());
                     break;
                 }
             }
@@ -435,15 +428,7 @@ impl Machine {
                     ) {
                         Ok(crate::kernel::ActOutcome::ProfileBusy) => {
                             let message = format!("{} from an assignment: a motion is running on its profile; ignored", a.dest.name);
-                            self.trace.event(
-                                self.tick,
-                                "warning",
-                                &[
-                                    ("task", serde_json::Value::Null),
-                                    ("line", serde_json::Value::Null),
-                                    ("message", message.into()),
-                                ],
-                            );
+                            self.trace.machine_message(self.tick, "warning", message);
                             Ok(())
                         }
                         other => other.map(|_| ()),
@@ -531,15 +516,8 @@ impl Machine {
     fn fail_assignment(&mut self, a: &Assignment, message: String) {
         let time = self.trace.seconds(self.tick);
         let message = format!("assignment to {}: {message}", a.dest.name);
-        self.trace.event(
-            self.tick,
-            "error",
-            &[
-                ("task", serde_json::Value::Null),
-                ("line", serde_json::Value::Null),
-                ("message", message.clone().into()),
-            ],
-        );
+        self.trace
+            .machine_message(self.tick, "error", message.clone());
         self.error = Some(RunError {
             task: 0,
             program: 0,
@@ -593,18 +571,10 @@ impl Machine {
                     .iter()
                     .any(|f| self.image.chunks[f.chunk].program == program)
         }) {
-            self.trace.event(
+            self.trace.machine_message(
                 self.tick,
                 "warning",
-                &[
-                    ("task", serde_json::Value::Null),
-                    ("line", serde_json::Value::Null),
-                    (
-                        "message",
-                        format!("Program.{program}.Initiate: the program is already running")
-                            .into(),
-                    ),
-                ],
+                format!("Program.{program}.Initiate: the program is already running"),
             );
             return Ok(());
         }

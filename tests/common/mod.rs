@@ -95,3 +95,17 @@ pub fn run_project(name: &str, program: &str, machine: &str, scenario: &str) -> 
         Err(d) => panic!("{}", d.render_plain()),
     }
 }
+
+/// Load a project of `files` that must be refused; its diagnostics.
+pub fn load_error(name: &str, files: &[(&str, &str)]) -> pacer::diag::Diagnostics {
+    let dir = project(name, files);
+    let result = load(&LoadRequest {
+        paths: vec![dir.clone()],
+        ..Default::default()
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    match result {
+        Ok(_) => panic!("{name}: the project should have been refused"),
+        Err(d) => d,
+    }
+}
