@@ -286,14 +286,19 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
                         ));
                     }
                     // Sources assigned to the same destination are ORed.
+                    let latched = s.kind == crate::registry::Kind::ModuleInput;
                     match assignments
                         .iter_mut()
                         .find(|x: &&mut Assignment| x.dest.slot == d.slot)
                     {
-                        Some(existing) => existing.sources.push((s.slot, active_off)),
+                        Some(existing) => {
+                            existing.sources.push((s.slot, active_off));
+                            existing.latched |= latched;
+                        }
                         None => assignments.push(Assignment {
                             sources: vec![(s.slot, active_off)],
                             dest: d,
+                            latched,
                         }),
                     }
                 }

@@ -38,6 +38,8 @@ pub struct Assignment {
     pub sources: Vec<(SlotId, bool)>,
     /// The destination member.
     pub dest: Resolved,
+    /// A source latches in hardware (a module input): its edges carry exact times.
+    pub latched: bool,
 }
 
 /// Everything a run needs, loaded and compiled.
@@ -383,40 +385,48 @@ impl Machine {
     }
 
     fn assignments(&mut self) {
-        for i in 0..self.image.assignments.len() {
-            let a = self.image.assignments[i].clone();
+        // Moved out for the loop, so the kernel and tasks can be borrowed beside it.
+        let assignments = std::mem::take(&mut self.image.assignments);
+        for (i, a) in assignments.iter().enumerate() {
             let on = a
                 .sources
                 .iter()
                 .any(|(src, off)| (self.values[*src as usize] != 0.0) != *off);
             let last = self.assign_last[i];
             self.assign_last[i] = Some(on);
+            if last == Some(on) {
+                continue;
+            }
             // The earliest source edge that makes the destination go on, at its exact time.
-            let edge_at = a.sources.iter().filter_map(|(src, off)| {
-                let x = self.activity.iter().find(|x| x.slot == *src)?;
-                if *off {
-                    x.first_fall
-                } else {
-                    x.first_rise
-                }
-            });
-            let edge_at = edge_at.reduce(f64::min);
+            let edge_at = a
+                .sources
+                .iter()
+                .filter_map(|(src, off)| {
+                    let x = self.activity.iter().find(|x| x.slot == *src)?;
+                    if *off {
+                        x.first_fall
+                    } else {
+                        x.first_rise
+                    }
+                })
+                .reduce(f64::min);
+            let edge = if on {
+                edge_at.unwrap_or(self.seconds())
+            } else {
+                self.seconds()
+            };
+            let mut now = Now::at(
+                self.tick,
+                self.image.tick_ns,
+                self.master_now,
+                &mut self.trace,
+            );
             let result = match (a.dest.access, a.dest.hook) {
+                (Access::Action, _) if !on => Ok(()),
                 // A module input (it latches in hardware) initiating a motion starts it at its
                 // exact edge, as `Using Capture` would.
-                (Access::Action, Hook::MotionStart)
-                    if on
-                        && last != Some(true)
-                        && edge_at.is_some()
-                        && a.sources.iter().any(|(src, _)| {
-                            self.image.registry.slots[*src as usize].kind
-                                == crate::registry::Kind::ModuleInput
-                        }) =>
-                {
-                    let edge = edge_at.unwrap_or(0.0);
+                (Access::Action, Hook::MotionStart) if a.latched && edge_at.is_some() => {
                     let master = self.world.master.position(edge);
-                    let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-                    let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
                     match self.kernel.initiate_from_edge(
                         a.dest.hook,
                         a.dest.slot,
@@ -435,82 +445,52 @@ impl Machine {
                     }
                 }
                 (Access::Action, _) => {
-                    if on && last != Some(true) {
-                        self.control_or_act(a.dest.hook, a.dest.instance, a.dest.slot)
-                    } else {
-                        Ok(())
-                    }
+                    self.control_or_act(a.dest.hook, a.dest.instance, a.dest.slot)
                 }
                 // Index.N.SensorTrigger from an input: the sensor edge at its exact time.
                 (_, Hook::MotionInput) if a.dest.kind == crate::registry::Kind::Index => {
-                    if last != Some(on) {
-                        let edge = if on {
-                            edge_at.unwrap_or(self.seconds())
-                        } else {
-                            self.seconds()
-                        };
-                        let master = &self.world.master;
-                        self.kernel.sensor_edge(
-                            a.dest.instance,
-                            on,
-                            edge,
-                            &mut self.values,
-                            &|t| master.position(t),
-                        );
-                    }
+                    let master = &self.world.master;
+                    self.kernel
+                        .sensor_edge(a.dest.instance, on, edge, &mut self.values, &|t| {
+                            master.position(t)
+                        });
                     Ok(())
                 }
                 (_, Hook::CaptureActivate) => {
-                    if last != Some(on) {
-                        let edge = if on {
-                            edge_at.unwrap_or(self.seconds())
-                        } else {
-                            self.seconds()
-                        };
-                        let master = &self.world.master;
-                        let command =
-                            self.kernel
-                                .command_at(edge, &|t| master.position(t), &self.values);
-                        let at = crate::kernel::capture::Positions {
-                            master: master.position(edge),
-                            command,
-                            feedback: command,
-                        };
-                        let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-                        let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
-                        self.kernel.capture_edge(
-                            a.dest.instance,
-                            on,
-                            edge,
-                            at,
-                            &mut self.values,
-                            &mut now,
-                        );
-                    }
+                    let master = &self.world.master;
+                    let command =
+                        self.kernel
+                            .command_at(edge, &|t| master.position(t), &self.values);
+                    let at = crate::kernel::capture::Positions {
+                        master: master.position(edge),
+                        command,
+                        feedback: command,
+                    };
+                    self.kernel.capture_edge(
+                        a.dest.instance,
+                        on,
+                        edge,
+                        at,
+                        &mut self.values,
+                        &mut now,
+                    );
                     Ok(())
                 }
-                _ => {
-                    if last != Some(on) {
-                        let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-                        let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
-                        self.kernel.write(
-                            a.dest.hook,
-                            a.dest.instance,
-                            a.dest.slot,
-                            f64::from(on),
-                            &mut self.values,
-                            &mut now,
-                        )
-                    } else {
-                        Ok(())
-                    }
-                }
+                _ => self.kernel.write(
+                    a.dest.hook,
+                    a.dest.instance,
+                    a.dest.slot,
+                    f64::from(on),
+                    &mut self.values,
+                    &mut now,
+                ),
             };
             if let Err(message) = result {
-                self.fail_assignment(&a, message);
-                return;
+                self.fail_assignment(a, message);
+                break;
             }
         }
+        self.image.assignments = assignments;
     }
 
     fn fail_assignment(&mut self, a: &Assignment, message: String) {
