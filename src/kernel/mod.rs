@@ -736,27 +736,14 @@ impl Kernel {
         } else {
             Domain::Time
         };
-        let at = self.start_point(domain, start, p, v, now)?;
         let owner = Owner {
             name: format!("Index.{instance}"),
             status: Some((Kind::Index, instance as usize)),
         };
-        let base = self.axis.profiles[p].position;
-        self.axis.begin(
-            p,
-            Motion {
-                owner,
-                plan: Plan::Move(plan),
-                domain,
-                start: at,
-                base,
-                started: false,
-            },
-        );
+        let started = self.launch(p, owner, Plan::Move(plan), domain, start, v, now)?;
         ix.status(v, Phase::Accelerating);
         v[ix.at_vel as usize] = 0.0;
-        v[self.profile_busy[p] as usize] = 1.0;
-        Ok(ActOutcome::Done)
+        Ok(started)
     }
 
     /// Jog `instance` plus or minus at its velocity until stopped.
@@ -781,26 +768,21 @@ impl Kernel {
             ));
         }
         let velocity = if minus { -velocity } else { velocity };
-        let at = self.start_point(Domain::Time, start, p, v, now)?;
-        let base = self.axis.profiles[p].position;
         let owner = Owner {
             name: format!("Jog.{instance}"),
             status: Some((Kind::Jog, instance as usize)),
         };
-        self.axis.begin(
+        let started = self.launch(
             p,
-            Motion {
-                owner,
-                plan: Plan::Seek { velocity, accel },
-                domain: Domain::Time,
-                start: at,
-                base,
-                started: false,
-            },
-        );
+            owner,
+            Plan::Seek { velocity, accel },
+            Domain::Time,
+            start,
+            v,
+            now,
+        )?;
         v[j.in_progress as usize] = 1.0;
-        v[self.profile_busy[p] as usize] = 1.0;
-        Ok(ActOutcome::Done)
+        Ok(started)
     }
 
     /// Run a motion initiate from a capture-capable input whose edge came at `time`, with the
@@ -884,6 +866,35 @@ impl Kernel {
         );
     }
 
+    /// Put a motion on free profile `p`, starting per `start` on its domain's timeline.
+    #[allow(clippy::too_many_arguments)]
+    fn launch(
+        &mut self,
+        p: usize,
+        owner: Owner,
+        plan: Plan,
+        domain: Domain,
+        start: StartRef,
+        v: &mut [f64],
+        now: &Now<'_>,
+    ) -> Result<ActOutcome, String> {
+        let at = self.start_point(domain, start, p, v, now)?;
+        let base = self.axis.profiles[p].position;
+        self.axis.begin(
+            p,
+            Motion {
+                owner,
+                plan,
+                domain,
+                start: at,
+                base,
+                started: false,
+            },
+        );
+        v[self.profile_busy[p] as usize] = 1.0;
+        Ok(ActOutcome::Done)
+    }
+
     /// Start gearing at the ratio of `Gear.Ratio` (read now; a later change needs a new initiate).
     fn start_gear(
         &mut self,
@@ -896,26 +907,21 @@ impl Kernel {
         if !ratio.is_finite() {
             return Err(format!("Gear.Ratio must be a number, not {ratio}"));
         }
-        let at = self.start_point(Domain::Master, start, p, v, now)?;
-        let base = self.axis.profiles[p].position;
         let owner = Owner {
             name: "Gear".into(),
             status: Some((Kind::Gear, 0)),
         };
-        self.axis.begin(
+        let started = self.launch(
             p,
-            Motion {
-                owner,
-                plan: Plan::Gear { ratio },
-                domain: Domain::Master,
-                start: at,
-                base,
-                started: false,
-            },
-        );
+            owner,
+            Plan::Gear { ratio },
+            Domain::Master,
+            start,
+            v,
+            now,
+        )?;
         v[self.gear.in_progress as usize] = 1.0;
-        v[self.profile_busy[p] as usize] = 1.0;
-        Ok(ActOutcome::Done)
+        Ok(started)
     }
 
     /// Start homing: seek the reference at home velocity.
@@ -945,26 +951,21 @@ impl Kernel {
         {
             return Err(format!("Home.{instance} needs a velocity other than 0 and an acceleration and deceleration above 0"));
         }
-        let at = self.start_point(Domain::Time, start, p, v, now)?;
-        let base = self.axis.profiles[p].position;
         let owner = Owner {
             name: format!("Home.{instance}"),
             status: Some((Kind::Home, instance as usize)),
         };
-        self.axis.begin(
+        let started = self.launch(
             p,
-            Motion {
-                owner,
-                plan: Plan::Seek { velocity, accel },
-                domain: Domain::Time,
-                start: at,
-                base,
-                started: false,
-            },
-        );
+            owner,
+            Plan::Seek { velocity, accel },
+            Domain::Time,
+            start,
+            v,
+            now,
+        )?;
         h.status(v, Phase::Accelerating);
-        v[self.profile_busy[p] as usize] = 1.0;
-        Ok(ActOutcome::Done)
+        Ok(started)
     }
 
     /// A seeking home whose reference rose at `t` with the axis at `position`: finish the move
@@ -1084,67 +1085,32 @@ impl Kernel {
         }
     }
 
-    /// A dwell on profile 0, in time or master distance.
-    fn dwell(
+    /// `Dwell For Time` / `Dwell For Master Dist`: a motion on profile 0 lasting `length`
+    /// seconds or master units.
+    pub fn dwell(
         &mut self,
         length: f64,
         domain: Domain,
         v: &mut [f64],
         now: &Now<'_>,
     ) -> Result<ActOutcome, String> {
+        if !(length.is_finite() && length >= 0.0) {
+            return Err(match domain {
+                Domain::Time => format!("Dwell For Time needs 0 seconds or more, not {length}"),
+                Domain::Master => {
+                    format!("Dwell For Master Dist needs a distance of 0 or more, not {length}")
+                }
+            });
+        }
         if self.axis.profiles[0].busy() {
             self.axis.profiles[0].chained = true;
             return Ok(ActOutcome::ProfileBusy);
         }
-        let at = self.start_point(domain, StartRef::Now, 0, v, now)?;
-        let base = self.axis.profiles[0].position;
         let owner = Owner {
             name: "Dwell".into(),
             status: None,
         };
-        self.axis.begin(
-            0,
-            Motion {
-                owner,
-                plan: Plan::Dwell(length),
-                domain,
-                start: at,
-                base,
-                started: false,
-            },
-        );
-        v[self.profile_busy[0] as usize] = 1.0;
-        Ok(ActOutcome::Done)
-    }
-
-    /// `Dwell For Time`.
-    pub fn dwell_time(
-        &mut self,
-        seconds: f64,
-        v: &mut [f64],
-        now: &Now<'_>,
-    ) -> Result<ActOutcome, String> {
-        if !(seconds.is_finite() && seconds >= 0.0) {
-            return Err(format!(
-                "Dwell For Time needs 0 seconds or more, not {seconds}"
-            ));
-        }
-        self.dwell(seconds, Domain::Time, v, now)
-    }
-
-    /// `Dwell For Master Dist`.
-    pub fn dwell_master(
-        &mut self,
-        distance: f64,
-        v: &mut [f64],
-        now: &Now<'_>,
-    ) -> Result<ActOutcome, String> {
-        if !(distance.is_finite() && distance >= 0.0) {
-            return Err(format!(
-                "Dwell For Master Dist needs a distance of 0 or more, not {distance}"
-            ));
-        }
-        self.dwell(distance, Domain::Master, v, now)
+        self.launch(0, owner, Plan::Dwell(length), domain, StartRef::Now, v, now)
     }
 
     /// The motion generator, in the control loop before the task runs: every motion advanced

@@ -3,6 +3,7 @@
 
 use crate::compile::bytecode::{BinaryOp, Op, REAL_STORE};
 use crate::compile::Chunk;
+use crate::kernel::motion::Domain;
 use crate::kernel::{ActOutcome, Kernel, Now};
 use crate::registry::{Hook, Registry};
 use crate::trace::value_json;
@@ -366,11 +367,8 @@ pub fn run(
                 }
             }
             Op::Dwell { src, master } => {
-                let started = if master {
-                    ctx.kernel.dwell_master(v[src as usize], v, &ctx.now)
-                } else {
-                    ctx.kernel.dwell_time(v[src as usize], v, &ctx.now)
-                };
+                let domain = if master { Domain::Master } else { Domain::Time };
+                let started = ctx.kernel.dwell(v[src as usize], domain, v, &ctx.now);
                 match started {
                     Ok(ActOutcome::Done) => sync_snapshot(ctx, v),
                     Ok(ActOutcome::ProfileBusy) => {
