@@ -121,8 +121,9 @@ pub struct AxisMarks {
 }
 
 impl AxisMarks {
-    /// Edges when the axis moves from `a` (at `ta`) to `b` (at `tb`), times interpolated.
-    fn crossings(&self, a: f64, b: f64, ta: f64, tb: f64, out: &mut Vec<Edge>) {
+    /// Edges (with the axis position at each) when the axis moves from `a` (at `ta`) to `b`
+    /// (at `tb`), times interpolated.
+    fn crossings(&self, a: f64, b: f64, ta: f64, tb: f64, out: &mut Vec<(Edge, f64)>) {
         if a == b || self.count == 0 {
             return;
         }
@@ -152,15 +153,18 @@ impl AxisMarks {
                     b <= edge && edge < a
                 };
                 if crossed {
-                    local.push(Edge {
-                        at: time(edge),
-                        slot: self.slot,
-                        on: on_when_plus == (a < b),
-                    });
+                    local.push((
+                        Edge {
+                            at: time(edge),
+                            slot: self.slot,
+                            on: on_when_plus == (a < b),
+                        },
+                        edge,
+                    ));
                 }
             }
         }
-        local.sort_by(|x, y| x.at.total_cmp(&y.at));
+        local.sort_by(|x, y| x.0.at.total_cmp(&y.0.at));
         out.extend(local);
     }
 }
@@ -976,31 +980,30 @@ impl Kernel {
         t: f64,
         position: f64,
         v: &[f64],
-    ) -> Result<(), String> {
+    ) -> Option<(usize, Option<String>)> {
         let h = &self.homes[home];
         let name = format!("Home.{home}");
-        let Some(p) = self.axis.profiles.iter().position(|p| {
-            p.motion
-                .as_ref()
-                .is_some_and(|m| m.owner.name == name && matches!(m.plan, Plan::Seek { .. }))
-        }) else {
-            return Ok(());
-        };
-        let Some(Plan::Seek { velocity, accel }) =
-            self.axis.profiles[p].motion.as_ref().map(|m| m.plan)
-        else {
-            return Ok(());
-        };
+        let (p, velocity, accel, start) =
+            self.axis
+                .profiles
+                .iter()
+                .enumerate()
+                .find_map(|(i, p)| match &p.motion {
+                    Some(m) if m.owner.name == name => match m.plan {
+                        Plan::Seek { velocity, accel } => Some((i, velocity, accel, m.start)),
+                        _ => None,
+                    },
+                    _ => None,
+                })?;
         let decel = v[h.deceleration as usize];
         // Speed at the reference (the seek may still be accelerating).
-        let start = self.axis.profiles[p].motion.as_ref().map_or(t, |m| m.start);
         let v0 = velocity.signum() * (accel * (t - start)).min(velocity.abs());
         let stopping = v0 * v0 / (2.0 * decel);
-        let mut warning = Ok(());
+        let mut warning = None;
         let distance = if h.config.specified_offset {
             let offset = v[h.offset as usize];
             if offset * velocity.signum() < stopping - 1e-12 {
-                warning = Err(format!(
+                warning = Some(format!(
                     "{name}: the specified offset {offset} is shorter than the distance needed to stop ({stopping}); stopping at the calculated offset"
                 ));
                 velocity.signum() * stopping
@@ -1018,7 +1021,6 @@ impl Kernel {
             .filter(|(i, _)| *i != p)
             .map(|(_, q)| q.position)
             .sum();
-        let base = position - other;
         self.axis.replace(
             p,
             Plan::Finish {
@@ -1027,9 +1029,9 @@ impl Kernel {
                 distance,
             },
             t,
-            base,
+            position - other,
         );
-        warning
+        Some((p, warning))
     }
 
     /// Stop an index wherever it is (the motion ends where it stands).
@@ -1148,29 +1150,25 @@ impl Kernel {
                 &mut crossings,
             );
         }
-        crossings.sort_by(|a, b| a.at.total_cmp(&b.at));
-        for e in &crossings {
-            let homes: Vec<usize> = (0..self.homes.len())
-                .filter(|&h| e.on && self.homes[h].config.reference == Some(e.slot))
-                .collect();
-            for h in homes {
-                let position = cmd_prev
-                    + (self.axis.command() - cmd_prev)
-                        * if clocks.time > t_prev {
-                            (e.at - t_prev) / (clocks.time - t_prev)
-                        } else {
-                            1.0
-                        };
-                let at = self.motion_time_of(e.at, v);
-                if let Err(message) = self.home_reference(h, at, position, v) {
-                    now.trace.machine_message(now.tick, "warning", message);
+        crossings.sort_by(|a, b| a.0.at.total_cmp(&b.0.at));
+        for (e, position) in &crossings {
+            for h in 0..self.homes.len() {
+                if !(e.on && self.homes[h].config.reference == Some(e.slot)) {
+                    continue;
                 }
-                // Re-evaluate the profile on its new plan at this update.
-                events.retain(|x| !matches!(x, Event::Running { owner, .. } if owner.status == Some((Kind::Home, h))));
-                self.axis.update(clocks, master_at, &mut events);
+                let at = self.motion_time_of(e.at, v);
+                if let Some((p, warning)) = self.home_reference(h, at, *position, v) {
+                    if let Some(message) = warning {
+                        now.trace.machine_message(now.tick, "warning", message);
+                    }
+                    // The profile's new plan at this update; its status events come after the
+                    // stale ones, so they win.
+                    self.axis.update_profile(p, clocks, master_at, &mut events);
+                }
             }
         }
-        self.pending_edges.extend(crossings);
+        self.pending_edges
+            .extend(crossings.into_iter().map(|(e, _)| e));
         self.previous = (clocks.time, self.axis.command());
         for e in &events {
             match e {

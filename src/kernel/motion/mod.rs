@@ -312,54 +312,64 @@ impl Axis {
     /// Advance every motion to the clocks of this update; report what happened, in profile
     /// order. `master_at` gives the master position at a time (for realtime starts).
     pub fn update(&mut self, now: Clocks, master_at: &dyn Fn(f64) -> f64, events: &mut Vec<Event>) {
-        for i in 0..2 {
-            let Some(mut m) = self.profiles[i].motion.take() else {
+        for i in 0..self.profiles.len() {
+            self.update_profile(i, now, master_at, events);
+        }
+    }
+
+    /// Advance the motion on one profile to the clocks of this update.
+    pub fn update_profile(
+        &mut self,
+        i: usize,
+        now: Clocks,
+        master_at: &dyn Fn(f64) -> f64,
+        events: &mut Vec<Event>,
+    ) {
+        let Some(mut m) = self.profiles[i].motion.take() else {
+            self.profiles[i].velocity = 0.0;
+            return;
+        };
+        let clock = now.of(m.domain);
+        if !m.started {
+            if clock < m.start {
                 self.profiles[i].velocity = 0.0;
-                continue;
-            };
-            let clock = now.of(m.domain);
-            if !m.started {
-                if clock < m.start {
-                    self.profiles[i].velocity = 0.0;
-                    self.profiles[i].motion = Some(m);
-                    continue;
-                }
-                m.started = true;
-                let master = match m.domain {
-                    Domain::Master => m.start,
-                    Domain::Time => master_at(now.real_time_of(m.start)),
-                };
-                events.push(Event::Started {
-                    owner: m.owner.clone(),
-                    master,
-                    position: self.command(),
-                });
-            }
-            let u = clock - m.start;
-            let (dp, dv, phase) = m.plan.at(u);
-            let rate = match m.domain {
-                Domain::Time => now.rate,
-                Domain::Master => now.master_speed,
-            };
-            self.profiles[i].position = m.base + dp;
-            self.profiles[i].velocity = dv * rate;
-            if phase == Phase::Done {
-                self.profiles[i].last_end = Some((m.domain, m.end()));
-                self.profiles[i].velocity = 0.0;
-                let position = self.command();
-                let end = m.end();
-                events.push(Event::Done {
-                    owner: m.owner,
-                    end,
-                    position,
-                });
-            } else {
-                events.push(Event::Running {
-                    owner: m.owner.clone(),
-                    phase,
-                });
                 self.profiles[i].motion = Some(m);
+                return;
             }
+            m.started = true;
+            let master = match m.domain {
+                Domain::Master => m.start,
+                Domain::Time => master_at(now.real_time_of(m.start)),
+            };
+            events.push(Event::Started {
+                owner: m.owner.clone(),
+                master,
+                position: self.command(),
+            });
+        }
+        let (dp, dv, phase) = m.plan.at(clock - m.start);
+        let rate = match m.domain {
+            Domain::Time => now.rate,
+            Domain::Master => now.master_speed,
+        };
+        self.profiles[i].position = m.base + dp;
+        self.profiles[i].velocity = dv * rate;
+        if phase == Phase::Done {
+            let end = m.end();
+            self.profiles[i].last_end = Some((m.domain, end));
+            self.profiles[i].velocity = 0.0;
+            let position = self.command();
+            events.push(Event::Done {
+                owner: m.owner,
+                end,
+                position,
+            });
+        } else {
+            events.push(Event::Running {
+                owner: m.owner.clone(),
+                phase,
+            });
+            self.profiles[i].motion = Some(m);
         }
     }
 }
