@@ -8,7 +8,6 @@ use crate::config::scenario::ScenarioFile;
 use crate::config::{parse_toml, span_of};
 use crate::diag::{Diagnostics, Problem, SourceFile};
 use crate::registry::{Access, Registry, DEFAULT_UPDATE_NS};
-use crate::syntax::ast::Name;
 use crate::syntax::span::Span;
 use crate::vm::{Assignment, MachineImage};
 use indexmap::IndexMap;
@@ -502,34 +501,11 @@ fn number_in_name(p: &Path) -> Option<u32> {
     }
 }
 
-/// Resolve a member name written as a TOML string; spans point inside the string.
+/// Resolve a member name written as a TOML string, reporting a problem in place.
 fn resolve_text(
     reg: &Registry,
     text: &toml::Spanned<String>,
     problems: &mut Vec<Problem>,
 ) -> Option<crate::registry::Resolved> {
-    let span = span_of(text);
-    let s = text.get_ref();
-    let valid = !s.is_empty()
-        && s.split('.').all(|seg| {
-            !seg.is_empty() && seg.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-        });
-    if !valid {
-        problems.push(Problem::error(
-            "pacer::machine::name",
-            span,
-            format!("`{s}` is not a member name"),
-            "expected e.g. ModuleInput.2 or Capture.0.CaptureActivate",
-        ));
-        return None;
-    }
-    // The span starts at the opening quote.
-    let name = Name::from_token(s, span.start + 1);
-    match reg.resolve(&name) {
-        Ok(r) => Some(r),
-        Err(p) => {
-            problems.push(p);
-            None
-        }
-    }
+    reg.resolve_text(text).map_err(|p| problems.push(p)).ok()
 }

@@ -10,6 +10,7 @@ pub use resolve::Resolved;
 use crate::config::machine::MachineFile;
 use crate::config::span_of;
 use crate::diag::{nearest, Problem};
+use crate::syntax::span::Span;
 use indexmap::IndexMap;
 
 /// Default update period: 1 ms.
@@ -454,13 +455,15 @@ impl Registry {
         };
         for (key, setup) in &machine.queue {
             let span = span_of(setup);
-            let Some(n) = key.parse::<u32>().ok().filter(|n| *n < queue_count) else {
-                problems.push(Problem::error(
-                    "pacer::machine::queue",
-                    span,
-                    format!("[queue.{key}]: no such queue"),
-                    format!("queues are 0 to {}", queue_count.saturating_sub(1)),
-                ));
+            let Some(n) = section_instance(
+                key,
+                queue_count,
+                span,
+                "pacer::machine::queue",
+                "queue",
+                ("queue", "queues"),
+                &mut problems,
+            ) else {
                 continue;
             };
             let s = setup.get_ref();
@@ -590,13 +593,15 @@ impl Registry {
         let count = self.index_setups.len() as u32;
         for (key, setup) in &machine.index {
             let span = span_of(setup);
-            let Some(n) = key.parse::<u32>().ok().filter(|n| *n < count) else {
-                problems.push(Problem::error(
-                    "pacer::machine::index",
-                    span,
-                    format!("[index.{key}]: no such index"),
-                    format!("indexes are 0 to {}", count.saturating_sub(1)),
-                ));
+            let Some(n) = section_instance(
+                key,
+                count,
+                span,
+                "pacer::machine::index",
+                "index",
+                ("index", "indexes"),
+                problems,
+            ) else {
                 continue;
             };
             let s = setup.get_ref();
@@ -663,29 +668,19 @@ impl Registry {
         let count = self.home_setups.len() as u32;
         for (key, setup) in &machine.home {
             let span = span_of(setup);
-            let Some(n) = key.parse::<u32>().ok().filter(|n| *n < count) else {
-                problems.push(Problem::error(
-                    "pacer::machine::home",
-                    span,
-                    format!("[home.{key}]: no such home"),
-                    format!("homes are 0 to {}", count.saturating_sub(1)),
-                ));
+            let Some(n) = section_instance(
+                key,
+                count,
+                span,
+                "pacer::machine::home",
+                "home",
+                ("home", "homes"),
+                problems,
+            ) else {
                 continue;
             };
             let s = setup.get_ref();
-            let name = crate::syntax::ast::Name::from_token(
-                s.reference.get_ref(),
-                span_of(&s.reference).start + 1,
-            );
-            let valid =
-                s.reference.get_ref().split('.').all(|p| {
-                    !p.is_empty() && p.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
-                });
-            let reference = if valid {
-                self.resolve(&name).ok()
-            } else {
-                None
-            };
+            let reference = self.resolve_text(&s.reference).ok();
             match reference {
                 Some(r)
                     if r.ty.is_bit()
@@ -740,13 +735,15 @@ impl Registry {
         let count = self.pls_setups.len() as u32;
         for (key, setup) in &machine.pls {
             let span = span_of(setup);
-            let Some(n) = key.parse::<u32>().ok().filter(|n| *n < count) else {
-                problems.push(Problem::error(
-                    "pacer::machine::pls",
-                    span,
-                    format!("[pls.{key}]: no such PLS"),
-                    format!("PLS are 0 to {}", count.saturating_sub(1)),
-                ));
+            let Some(n) = section_instance(
+                key,
+                count,
+                span,
+                "pacer::machine::pls",
+                "pls",
+                ("PLS", "PLS"),
+                problems,
+            ) else {
                 continue;
             };
             let s = setup.get_ref();
@@ -851,3 +848,26 @@ fn valid_ident(s: &str) -> bool {
 }
 
 pub use crate::fixed::{round_to, POW10};
+
+/// The instance a `[section.N]` key names, or a problem located on the section; `what` is its
+/// object in the singular and the plural.
+fn section_instance(
+    key: &str,
+    count: u32,
+    span: Span,
+    code: &'static str,
+    section: &str,
+    what: (&str, &str),
+    problems: &mut Vec<Problem>,
+) -> Option<u32> {
+    let n = key.parse::<u32>().ok().filter(|n| *n < count);
+    if n.is_none() {
+        problems.push(Problem::error(
+            code,
+            span,
+            format!("[{section}.{key}]: no such {}", what.0),
+            format!("{} are 0 to {}", what.1, count.saturating_sub(1)),
+        ));
+    }
+    n
+}

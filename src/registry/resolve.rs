@@ -97,6 +97,28 @@ impl Registry {
         }
     }
 
+    /// Resolve a member name written as a TOML string (in `machine.toml` or `scenario.toml`);
+    /// spans point inside the string.
+    pub fn resolve_text(&self, text: &toml::Spanned<String>) -> Result<Resolved, Problem> {
+        let range = text.span();
+        let span = crate::syntax::span::Span::new(range.start, range.end);
+        let s = text.get_ref();
+        let valid = !s.is_empty()
+            && s.split('.').all(|seg| {
+                !seg.is_empty() && seg.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+            });
+        if !valid {
+            return Err(Problem::error(
+                "pacer::machine::name",
+                span,
+                format!("`{s}` is not a member name"),
+                "expected e.g. ModuleInput.2 or Capture.0.CaptureActivate",
+            ));
+        }
+        // The span starts at the opening quote.
+        self.resolve(&Name::from_token(s, span.start + 1))
+    }
+
     /// Resolve a reference to an instance, as in `Using Capture.1` or `On Profile.1`.
     pub fn resolve_instance(&self, name: &Name, kind: Kind) -> Result<u32, Problem> {
         let t = self.of(kind);
