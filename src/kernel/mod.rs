@@ -50,6 +50,11 @@ pub struct Now<'a> {
 }
 
 impl Now<'_> {
+    /// The time of this update, seconds.
+    pub fn seconds(&self) -> f64 {
+        self.time_ns as f64 / 1e9
+    }
+
     /// The moment of update `tick` with period `tick_ns`.
     pub fn at(tick: u64, tick_ns: u64, master: f64, trace: &mut Trace) -> Now<'_> {
         Now {
@@ -503,7 +508,7 @@ impl Kernel {
             // Written by a program: the edge is now, at this update's positions.
             Hook::CaptureActivate => self.captures[i].activate(
                 value != 0.0,
-                now.time_ns as f64 / 1e9,
+                now.seconds(),
                 Positions {
                     master: now.master,
                     ..Positions::default()
@@ -550,9 +555,7 @@ impl Kernel {
             }
             // Index.N.SensorTrigger written by a program: the edge is now.
             Hook::MotionInput if self.kind_of(slot) == Kind::Index => {
-                self.sensor_edge(instance, value != 0.0, now.time_ns as f64 / 1e9, v, &|_| {
-                    now.master
-                });
+                self.sensor_edge(instance, value != 0.0, now.seconds(), v, &|_| now.master);
             }
             Hook::OutputWrite | Hook::MotionInput | Hook::Store => v[slot as usize] = value,
             Hook::QueueRemove
@@ -644,9 +647,7 @@ impl Kernel {
         now: &Now<'_>,
     ) -> Result<f64, String> {
         // An initiate from a capture-capable input starts at the input's edge.
-        let (time_now, master_now) = self
-            .edge_start
-            .unwrap_or((now.time_ns as f64 / 1e9, now.master));
+        let (time_now, master_now) = self.edge_start.unwrap_or((now.seconds(), now.master));
         let clock = match domain {
             Domain::Time => self.motion_time_of(time_now, v),
             Domain::Master => master_now,
@@ -1078,7 +1079,7 @@ impl Kernel {
     fn stop_profile(&mut self, profile: usize, decel: f64, v: &mut [f64], now: &Now<'_>) {
         if let Some(owner) = self.axis.decelerate(
             profile,
-            self.motion_time_of(now.time_ns as f64 / 1e9, v),
+            self.motion_time_of(now.seconds(), v),
             now.master,
             decel,
         ) {
@@ -1125,7 +1126,7 @@ impl Kernel {
         master_at: &dyn Fn(f64) -> f64,
     ) {
         self.master_speed = master_speed;
-        let t = now.time_ns as f64 / 1e9;
+        let t = now.seconds();
         self.motion_time = self.motion_time_of(t, v);
         self.motion_read_at = t;
         let clocks = Clocks {

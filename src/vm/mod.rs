@@ -355,11 +355,14 @@ impl Machine {
         {
             // The control loop: motion generators, derived status (queue compares on the new
             // positions), timers. The task runs after it, as on the drive.
-            let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-            let t = self.seconds();
-            let master_speed = self.world.master.speed(t);
+            let master_speed = self.world.master.speed(self.seconds());
             let master = &self.world.master;
-            let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
+            let mut now = Now::at(
+                self.tick,
+                self.image.tick_ns,
+                self.master_now,
+                &mut self.trace,
+            );
             self.kernel
                 .generate(&mut self.values, &mut now, master_speed, &|at| {
                     master.position(at)
@@ -517,14 +520,22 @@ impl Machine {
             }
             Hook::StopAll => {
                 self.stop_all();
-                let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-                let now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
+                let now = Now::at(
+                    self.tick,
+                    self.image.tick_ns,
+                    self.master_now,
+                    &mut self.trace,
+                );
                 self.kernel.stop_all(&mut self.values, &now);
                 Ok(())
             }
             _ => {
-                let (tick, tick_ns) = (self.tick, self.image.tick_ns);
-                let mut now = Now::at(tick, tick_ns, self.master_now, &mut self.trace);
+                let mut now = Now::at(
+                    self.tick,
+                    self.image.tick_ns,
+                    self.master_now,
+                    &mut self.trace,
+                );
                 self.kernel
                     .act(
                         hook,
@@ -673,12 +684,16 @@ impl Machine {
 
     fn exec(&mut self, chunk: usize, pc: u32, probe: bool, budget: u64) -> Exit {
         let slot_count = self.image.registry.slot_count() as u32;
-        let (tick, tick_ns) = (self.tick, self.image.tick_ns);
         let mut ctx = Ctx {
             kernel: &mut self.kernel,
             registry: &self.image.registry,
             snapshot: &mut self.snapshot,
-            now: Now::at(tick, tick_ns, self.master_now, &mut self.trace),
+            now: Now::at(
+                self.tick,
+                self.image.tick_ns,
+                self.master_now,
+                &mut self.trace,
+            ),
             slot_count,
         };
         let mut executed = self.instructions;
