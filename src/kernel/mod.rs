@@ -523,34 +523,33 @@ impl Kernel {
                 }
                 v[self.feed_rate as usize] = value;
             }
-            // Gear.Activate: gear while on (from a program or an assignment).
-            Hook::MotionInput if slot == self.gear.activate => {
+            // Level-sensitive motion: Gear.Activate gears while on; Jog.PlusActivate /
+            // MinusActivate jog while on, with Jog.Select's settings.
+            Hook::MotionInput
+                if slot == self.gear.activate
+                    || slot == self.jog_plus
+                    || slot == self.jog_minus =>
+            {
+                let (kind, instance, name) = if slot == self.gear.activate {
+                    (Kind::Gear, 0, "Gear.Activate")
+                } else {
+                    (
+                        Kind::Jog,
+                        u32::from(v[self.jog_select as usize] != 0.0),
+                        "jog",
+                    )
+                };
                 let was = v[slot as usize] != 0.0;
                 v[slot as usize] = value;
-                if value != 0.0 && !was {
-                    if self.start_motion(Kind::Gear, 0, false, StartRef::Now, 0, v, now)?
-                        == ActOutcome::ProfileBusy
-                    {
-                        return Err("Gear.Activate: a motion is running on profile 0".into());
-                    }
-                } else if value == 0.0 && was {
-                    self.stop_motion(Kind::Gear, 0, v, now);
-                }
-            }
-            // Jog.PlusActivate / MinusActivate: jog while on, with Jog.Select's settings.
-            Hook::MotionInput if slot == self.jog_plus || slot == self.jog_minus => {
-                let was = v[slot as usize] != 0.0;
-                v[slot as usize] = value;
-                let jog = u32::from(v[self.jog_select as usize] != 0.0);
                 if value != 0.0 && !was {
                     let minus = slot == self.jog_minus;
-                    if self.start_motion(Kind::Jog, jog, minus, StartRef::Now, 0, v, now)?
+                    if self.start_motion(kind, instance, minus, StartRef::Now, 0, v, now)?
                         == ActOutcome::ProfileBusy
                     {
-                        return Err("jog: a motion is running on profile 0".into());
+                        return Err(format!("{name}: a motion is running on profile 0"));
                     }
                 } else if value == 0.0 && was {
-                    self.stop_motion(Kind::Jog, jog, v, now);
+                    self.stop_motion(kind, instance, v, now);
                 }
             }
             // Index.N.SensorTrigger written by a program: the edge is now.
