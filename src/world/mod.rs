@@ -45,6 +45,8 @@ pub struct World {
     pub master: MasterProfile,
     /// Edges made by the servo axis during the last update, applied first at the next advance.
     pending: Vec<Edge>,
+    /// Inputs showing a caught pulse (sampled opposite to their level) this update.
+    caught: Vec<SlotId>,
 }
 
 impl World {
@@ -57,6 +59,7 @@ impl World {
             levels: Default::default(),
             master,
             pending: Vec::new(),
+            caught: Vec::new(),
         }
     }
 
@@ -125,12 +128,17 @@ impl World {
             };
             v[a.slot as usize] = f64::from(a.sampled);
         }
-        // An input showing a caught pulse returns to its level at the next update.
-        for (slot, level) in &self.levels {
-            if !out.iter().any(|a| a.slot == *slot) {
-                v[*slot as usize] = f64::from(*level);
+        // An input that showed a caught pulse returns to its level at the next update.
+        for slot in std::mem::take(&mut self.caught) {
+            if !out.iter().any(|a| a.slot == slot) {
+                v[slot as usize] = f64::from(self.levels.get(&slot).copied().unwrap_or(false));
             }
         }
+        self.caught.extend(
+            out.iter()
+                .filter(|a| self.levels.get(&a.slot) != Some(&a.sampled))
+                .map(|a| a.slot),
+        );
     }
 }
 
