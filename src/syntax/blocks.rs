@@ -42,6 +42,46 @@ impl Frame {
         }
     }
 
+    /// The statement this block makes once closed.
+    fn into_stmt(self) -> Stmt {
+        match self {
+            Frame::If {
+                cond,
+                span,
+                then_body,
+                else_body,
+            } => Stmt {
+                kind: StmtKind::If {
+                    cond,
+                    then_body,
+                    else_body: else_body.map(|(_, b)| b),
+                },
+                span,
+            },
+            Frame::Do { cond, span, body } => Stmt {
+                kind: StmtKind::DoWhile { cond, body },
+                span,
+            },
+            Frame::For {
+                var,
+                from,
+                to,
+                step,
+                span,
+                body,
+            } => Stmt {
+                kind: StmtKind::For {
+                    var,
+                    from,
+                    to,
+                    step,
+                    body,
+                },
+                span,
+            },
+        }
+    }
+
     fn describe(&self) -> (&'static str, &'static str, Span) {
         match self {
             Frame::If { span, .. } => ("If", "Endif", *span),
@@ -136,115 +176,48 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>) -> Vec
                     &line_no,
                 )),
             },
-            LineKind::Endif => match stack.last() {
-                Some(Frame::If { .. }) => {
-                    if let Some(Frame::If {
-                        cond,
-                        span: s,
-                        then_body,
-                        else_body,
-                    }) = stack.pop()
-                    {
-                        let stmt = Stmt {
-                            kind: StmtKind::If {
-                                cond,
-                                then_body,
-                                else_body: else_body.map(|(_, b)| b),
-                            },
-                            span: s,
-                        };
-                        push(&mut stack, &mut top, stmt);
-                    }
-                }
-                other => problems.push(mismatch(
-                    "Endif",
-                    "If",
-                    span,
-                    other.map(|f| f.describe()),
-                    &line_no,
-                )),
-            },
-            LineKind::Loop => match stack.last() {
-                Some(Frame::Do { .. }) => {
-                    if let Some(Frame::Do {
-                        cond,
-                        span: s,
-                        body,
-                    }) = stack.pop()
-                    {
-                        push(
-                            &mut stack,
-                            &mut top,
-                            Stmt {
-                                kind: StmtKind::DoWhile { cond, body },
-                                span: s,
-                            },
+            LineKind::Endif => close(
+                &mut stack,
+                &mut top,
+                |f| matches!(f, Frame::If { .. }),
+                ("Endif", "If"),
+                span,
+                problems,
+                &line_no,
+            ),
+            LineKind::Loop => close(
+                &mut stack,
+                &mut top,
+                |f| matches!(f, Frame::Do { .. }),
+                ("Loop", "Do While"),
+                span,
+                problems,
+                &line_no,
+            ),
+            LineKind::Next(name) => {
+                if let (Some(n), Some(Frame::For { var, .. })) = (&name, stack.last()) {
+                    if !n.text().eq_ignore_ascii_case(&var.text()) {
+                        problems.push(
+                            Problem::error(
+                                "pacer::syntax::next",
+                                n.span,
+                                format!("Next {} closes the loop over {}", n.text(), var.text()),
+                                "not the loop variable",
+                            )
+                            .with_help(format!("write `Next {}` or just `Next`", var.text())),
                         );
                     }
                 }
-                other => problems.push(mismatch(
-                    "Loop",
-                    "Do While",
+                close(
+                    &mut stack,
+                    &mut top,
+                    |f| matches!(f, Frame::For { .. }),
+                    ("Next", "For"),
                     span,
-                    other.map(|f| f.describe()),
+                    problems,
                     &line_no,
-                )),
-            },
-            LineKind::Next(name) => match stack.last() {
-                Some(Frame::For { .. }) => {
-                    if let Some(Frame::For {
-                        var,
-                        from,
-                        to,
-                        step,
-                        span: s,
-                        body,
-                    }) = stack.pop()
-                    {
-                        if let Some(n) = &name {
-                            if !n.text().eq_ignore_ascii_case(&var.text()) {
-                                problems.push(
-                                    Problem::error(
-                                        "pacer::syntax::next",
-                                        n.span,
-                                        format!(
-                                            "Next {} closes the loop over {}",
-                                            n.text(),
-                                            var.text()
-                                        ),
-                                        "not the loop variable",
-                                    )
-                                    .with_help(format!(
-                                        "write `Next {}` or just `Next`",
-                                        var.text()
-                                    )),
-                                );
-                            }
-                        }
-                        push(
-                            &mut stack,
-                            &mut top,
-                            Stmt {
-                                kind: StmtKind::For {
-                                    var,
-                                    from,
-                                    to,
-                                    step,
-                                    body,
-                                },
-                                span: s,
-                            },
-                        );
-                    }
-                }
-                other => problems.push(mismatch(
-                    "Next",
-                    "For",
-                    span,
-                    other.map(|f| f.describe()),
-                    &line_no,
-                )),
-            },
+                )
+            }
         }
     }
     // Report unclosed blocks, but keep their bodies so later passes still check them.
@@ -259,45 +232,36 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>) -> Vec
             )
             .with_help(format!("add `{close}` where the block ends")),
         );
-        let stmt = match frame {
-            Frame::If {
-                cond,
-                span,
-                then_body,
-                else_body,
-            } => Stmt {
-                kind: StmtKind::If {
-                    cond,
-                    then_body,
-                    else_body: else_body.map(|(_, b)| b),
-                },
-                span,
-            },
-            Frame::Do { cond, span, body } => Stmt {
-                kind: StmtKind::DoWhile { cond, body },
-                span,
-            },
-            Frame::For {
-                var,
-                from,
-                to,
-                step,
-                span,
-                body,
-            } => Stmt {
-                kind: StmtKind::For {
-                    var,
-                    from,
-                    to,
-                    step,
-                    body,
-                },
-                span,
-            },
-        };
-        push(&mut stack, &mut top, stmt);
+        push(&mut stack, &mut top, frame.into_stmt());
     }
     top
+}
+
+/// A closing line: close the innermost block if `opens` it, else report the mismatch.
+fn close(
+    stack: &mut Vec<Frame>,
+    top: &mut Vec<Stmt>,
+    opens: fn(&Frame) -> bool,
+    (word, opener): (&str, &str),
+    span: Span,
+    problems: &mut Vec<Problem>,
+    line_no: &dyn Fn(Span) -> usize,
+) {
+    match stack.pop() {
+        Some(frame) if opens(&frame) => push(stack, top, frame.into_stmt()),
+        other => {
+            problems.push(mismatch(
+                word,
+                opener,
+                span,
+                other.as_ref().map(Frame::describe),
+                line_no,
+            ));
+            if let Some(frame) = other {
+                stack.push(frame);
+            }
+        }
+    }
 }
 
 fn push(stack: &mut [Frame], top: &mut Vec<Stmt>, stmt: Stmt) {
