@@ -111,7 +111,15 @@ fn exercise(src: &str, m: &Machines, stats: &Stats) {
         }
         stats.check_clean.fetch_add(1, Ordering::Relaxed);
         let mut layout = Layout::new(reg);
-        match compile(&ast, src, "fuzz.pt", 0, reg, &mut layout) {
+        match compile(
+            &ast,
+            src,
+            "fuzz.pt",
+            0,
+            reg,
+            &mut layout,
+            pacer::syntax::Dialect::PowerTools,
+        ) {
             Ok(chunk) => {
                 stats.compiled.fetch_add(1, Ordering::Relaxed);
                 std::hint::black_box(chunk);

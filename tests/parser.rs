@@ -76,6 +76,11 @@ fn shape(e: &Expr) -> String {
             format!("{}[{}]", f.text, args.join(", "))
         }
         ExprKind::Paren(x) => format!("<{}>", shape(x)),
+        ExprKind::Str(t) => format!("{t:?}"),
+        ExprKind::AxisSet(items) => {
+            let items: Vec<String> = items.iter().map(shape).collect();
+            format!("{{{}}}", items.join(", "))
+        }
     }
 }
 

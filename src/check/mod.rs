@@ -1,6 +1,7 @@
 //! The checker: resolves every name against the registry and checks types and usage,
 //! reporting every problem of a file (not only the first).
 
+pub mod basic;
 pub mod functions;
 
 use crate::diag::{nearest, Problem};
@@ -104,6 +105,12 @@ pub fn expr_type(e: &Expr, registry: &Registry) -> Result<Ty, Problem> {
                 }
             }
         }
+        ExprKind::Str(_) | ExprKind::AxisSet(_) => Err(Problem::error(
+            "pacer::check::dialect",
+            e.span,
+            "strings and axis sets are MotionBASIC values",
+            "not PowerTools",
+        )),
         ExprKind::Call(f, args) => {
             let Some((_, arity)) = functions::find(&f.text) else {
                 let names = functions::FUNCTIONS.iter().map(|f| f.0);
@@ -363,6 +370,16 @@ impl Checker<'_, '_> {
                 }
             }
             StmtKind::Label(_) | StmtKind::End => {}
+            StmtKind::SetCall { .. }
+            | StmtKind::Gosub(_)
+            | StmtKind::Return
+            | StmtKind::Gear { .. }
+            | StmtKind::Move { .. } => self.problems.push(Problem::error(
+                "pacer::check::dialect",
+                s.span,
+                "not a PowerTools statement",
+                "MotionBASIC only",
+            )),
         }
     }
 

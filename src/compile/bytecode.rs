@@ -81,6 +81,25 @@ pub enum BinaryOp {
     BitAnd,
     BitOr,
     BitXor,
+    /// MotionBASIC `\`: both operands rounded to integers, quotient truncated toward zero.
+    IntDiv,
+}
+
+/// A MotionBASIC motion statement; its operands are in consecutive registers from `args`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MotionCmd {
+    /// `GEAR … AT out TO in [IN pacer] [AFTER input]`: args out, in, pacer, input slot.
+    GearAt { pacer: bool, after: bool },
+    /// `GEAR … FOR dist IN pacer`: args dist, pacer.
+    GearFor,
+    /// `MOVE … AT speed [IN time]`: args speed, time.
+    MoveAt { time: bool },
+    /// `MOVE … TO|FOR pos [AT speed] [IN time]`: args pos, speed, time.
+    MovePos {
+        relative: bool,
+        speed: bool,
+        time: bool,
+    },
 }
 
 /// One instruction.
@@ -215,6 +234,35 @@ pub enum Op {
     },
     /// Run another program on this task, then come back.
     CallProgram { program: u32 },
+    /// Fail with "Overflow" unless `r` fits a 32-bit long integer (MotionBASIC `&` arithmetic).
+    CheckLong { r: Reg },
+    /// `dst` = the axis set holding axis number `a` (1..16).
+    AxisBit { dst: Reg, a: Reg },
+    /// Read member `member` of the DSP axis in the set `axes`; `truth` gives -1/0 for a bit
+    /// and, for a set of several axes, is true when it holds on every axis.
+    AxisRead {
+        dst: Reg,
+        axes: Reg,
+        member: u8,
+        truth: bool,
+    },
+    /// Write member `member` of every DSP axis in the set `axes`.
+    AxisWrite {
+        axes: Reg,
+        src: Reg,
+        member: u8,
+        hook: Hook,
+    },
+    /// A MotionBASIC motion statement on the axes in `axes`.
+    Motion {
+        cmd: MotionCmd,
+        axes: Reg,
+        args: Reg,
+    },
+    /// `GOSUB`: run the subroutine at `target`, then come back here.
+    Gosub { target: u32 },
+    /// `RETURN` from a subroutine.
+    Return,
     /// End of this program (returns to a caller if called).
     End,
 }

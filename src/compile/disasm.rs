@@ -159,6 +159,33 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 )
             }
             Op::CallProgram { program } => format!("call      Program.{program}"),
+            Op::CheckLong { r: x } => format!("chk.long  {}", r(x)),
+            Op::AxisBit { dst, a } => format!("axis      {} <- {{{}}}", r(dst), r(a)),
+            Op::AxisRead {
+                dst,
+                axes,
+                member,
+                truth,
+            } => format!(
+                "axis.rd   {} <- Axis[{}].{}{}",
+                r(dst),
+                r(axes),
+                axis_member_name(member),
+                if truth { " (truth)" } else { "" }
+            ),
+            Op::AxisWrite {
+                axes, src, member, ..
+            } => format!(
+                "axis.wr   Axis[{}].{} <- {}",
+                r(axes),
+                axis_member_name(member),
+                r(src)
+            ),
+            Op::Motion { cmd, axes, args } => {
+                format!("motion    {cmd:?} Axis[{}] args from {}", r(axes), r(args))
+            }
+            Op::Gosub { target } => format!("gosub     @{target}"),
+            Op::Return => "return".to_string(),
             Op::End => "end".to_string(),
         };
         let _ = writeln!(out, "{line_col} @{pc:<4} {text}");
@@ -180,7 +207,14 @@ fn op_names(op: BinaryOp) -> (&'static str, &'static str) {
         BinaryOp::BitAnd => ("band", "AND"),
         BinaryOp::BitOr => ("bor", "OR"),
         BinaryOp::BitXor => ("bxor", "XOR"),
+        BinaryOp::IntDiv => ("idiv", "\\"),
     }
+}
+
+fn axis_member_name(member: u8) -> &'static str {
+    crate::registry::catalog::find_type("Axis")
+        .and_then(|d| d.members.get(member as usize))
+        .map_or("?", |m| m.name)
 }
 
 fn fused(name: &str, decimals: u8, dst: String, a: String, sym: &str, b: String) -> String {

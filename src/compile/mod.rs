@@ -3,12 +3,16 @@
 pub mod bytecode;
 pub mod disasm;
 
+use crate::check::basic::{self, BasicTy};
 use crate::check::{expr_type, functions, Ty};
 use crate::diag::Problem;
 use crate::registry::{Access, Hook, Kind, Registry, ValueType};
-use crate::syntax::ast::{BinOp, Expr, ExprKind, Name, ProgramAst, Stmt, StmtKind, UnOp, Using};
+use crate::syntax::ast::{
+    BinOp, Expr, ExprKind, GearForm, MoveForm, Name, ProgramAst, Stmt, StmtKind, UnOp, Using,
+};
 use crate::syntax::span::{LineIndex, Span};
-use bytecode::{BinaryOp, Cmp, Op, Reg, StartRef, REAL_STORE};
+use crate::syntax::Dialect;
+use bytecode::{BinaryOp, Cmp, MotionCmd, Op, Reg, StartRef, REAL_STORE};
 use indexmap::IndexMap;
 use std::collections::BTreeMap;
 
@@ -23,6 +27,8 @@ pub struct Layout {
     /// Constants and loop limits after the temporaries, with their initial values.
     pub extra: Vec<f64>,
     const_index: BTreeMap<u64, Reg>,
+    /// String literals (MotionBASIC); a string value is its index here.
+    pub strings: Vec<String>,
 }
 
 impl Layout {
@@ -32,7 +38,20 @@ impl Layout {
             slot_count: registry.slot_count() as u32,
             extra: Vec::new(),
             const_index: BTreeMap::new(),
+            strings: Vec::new(),
         }
+    }
+
+    /// The value standing for a string literal.
+    pub fn string(&mut self, s: &str) -> f64 {
+        let i = match self.strings.iter().position(|x| x == s) {
+            Some(i) => i,
+            None => {
+                self.strings.push(s.to_string());
+                self.strings.len() - 1
+            }
+        };
+        i as f64
     }
 
     /// First temporary.
@@ -116,9 +135,12 @@ pub fn compile(
     program: u32,
     registry: &Registry,
     layout: &mut Layout,
+    dialect: Dialect,
 ) -> Result<Chunk, Vec<Problem>> {
     let mut c = Compiler {
         registry,
+        dialect,
+        basic_labels: Vec::new(),
         layout,
         lines_of: LineIndex::new(src),
         ops: Vec::new(),
@@ -130,15 +152,18 @@ pub fn compile(
         gotos: Vec::new(),
         problems: Vec::new(),
     };
+    if dialect == Dialect::MotionBasic {
+        collect_labels(&ast.body, &mut c.basic_labels);
+    }
     c.block(&ast.body);
     c.emit(Op::End);
     for (at, label, span) in std::mem::take(&mut c.gotos) {
         match c.labels.get(&label) {
             Some(&target) => {
-                c.ops[at] = if target as usize <= at {
-                    Op::Loop { target }
-                } else {
-                    Op::Jump { target }
+                c.ops[at] = match c.ops[at] {
+                    Op::Gosub { .. } => Op::Gosub { target },
+                    _ if target as usize <= at => Op::Loop { target },
+                    _ => Op::Jump { target },
                 };
             }
             None => c.problems.push(Problem::error(
@@ -161,8 +186,40 @@ pub fn compile(
     }
 }
 
+/// Every label of a MotionBASIC program (lower-case), wherever it is.
+fn collect_labels(body: &[Stmt], out: &mut Vec<String>) {
+    for s in body {
+        match &s.kind {
+            StmtKind::Label(seg) => out.push(seg.text.to_ascii_lowercase()),
+            StmtKind::If {
+                then_body,
+                else_body,
+                ..
+            } => {
+                collect_labels(then_body, out);
+                if let Some(e) = else_body {
+                    collect_labels(e, out);
+                }
+            }
+            StmtKind::DoWhile { body, .. } | StmtKind::For { body, .. } => {
+                collect_labels(body, out)
+            }
+            _ => {}
+        }
+    }
+}
+
+/// The index of a member of the DSP axis object.
+fn axis_member(name: &str) -> Option<(u8, Hook)> {
+    let def = crate::registry::catalog::find_type("Axis")?;
+    let i = def.members.iter().position(|m| m.name == name)?;
+    Some((i as u8, def.members[i].hook))
+}
+
 struct Compiler<'a> {
     registry: &'a Registry,
+    dialect: Dialect,
+    basic_labels: Vec<String>,
     layout: &'a mut Layout,
     lines_of: LineIndex,
     ops: Vec<Op>,
@@ -232,7 +289,11 @@ impl Compiler<'_> {
     }
 
     fn resolve(&mut self, n: &Name) -> Option<crate::registry::Resolved> {
-        match self.registry.resolve(n) {
+        let r = match self.dialect {
+            Dialect::PowerTools => self.registry.resolve(n),
+            Dialect::MotionBasic => basic::resolve(self.registry, n),
+        };
+        match r {
             Ok(r) => Some(r),
             Err(p) => {
                 self.problems.push(p);
@@ -432,10 +493,236 @@ impl Compiler<'_> {
             StmtKind::End => {
                 self.emit(Op::End);
             }
+            StmtKind::Return => {
+                self.emit(Op::Return);
+            }
+            StmtKind::Gosub(seg) => {
+                let key = seg.text.to_ascii_lowercase();
+                if self.basic_labels.contains(&key) {
+                    let at = self.emit(Op::Gosub { target: 0 });
+                    self.gotos.push((at, key, seg.span));
+                } else {
+                    // Not a label: an object action written bare (`Queue.0.QueueRemove`).
+                    let name = Name::from_token(&seg.text, seg.span.start);
+                    if let Some(r) = self.resolve(&name) {
+                        self.emit(Op::Act {
+                            hook: r.hook,
+                            slot: r.slot,
+                            instance: r.instance,
+                            start: StartRef::Now,
+                            profile: 0,
+                        });
+                    }
+                }
+            }
+            StmtKind::SetCall {
+                target,
+                args,
+                value,
+            } => {
+                let Some((member, hook)) =
+                    basic::controller(&target.text).and_then(|c| axis_member(c.member))
+                else {
+                    return;
+                };
+                let Some(axis) = args.first() else { return };
+                let axes = self.axis_set(axis);
+                let src = self.expr(value);
+                self.emit(Op::AxisWrite {
+                    axes,
+                    src,
+                    member,
+                    hook,
+                });
+            }
+            StmtKind::Gear { axis, form } => {
+                let (cmd, operands, after): (MotionCmd, Vec<Option<&Expr>>, Option<&Expr>) =
+                    match form {
+                        GearForm::At {
+                            out,
+                            inn,
+                            pacer,
+                            after,
+                        } => (
+                            MotionCmd::GearAt {
+                                pacer: pacer.is_some(),
+                                after: after.is_some(),
+                            },
+                            vec![Some(out), Some(inn), pacer.as_ref()],
+                            after.as_ref(),
+                        ),
+                        GearForm::For { dist, pacer } => {
+                            (MotionCmd::GearFor, vec![Some(dist), Some(pacer)], None)
+                        }
+                    };
+                self.motion(cmd, axis, &operands, after);
+            }
+            StmtKind::Move { axis, form } => {
+                let (cmd, operands): (MotionCmd, Vec<Option<&Expr>>) = match form {
+                    MoveForm::At { speed, time } => (
+                        MotionCmd::MoveAt {
+                            time: time.is_some(),
+                        },
+                        vec![Some(speed), time.as_ref()],
+                    ),
+                    MoveForm::Position {
+                        relative,
+                        target,
+                        speed,
+                        time,
+                    } => (
+                        MotionCmd::MovePos {
+                            relative: *relative,
+                            speed: speed.is_some(),
+                            time: time.is_some(),
+                        },
+                        vec![Some(target), speed.as_ref(), time.as_ref()],
+                    ),
+                };
+                self.motion(cmd, axis, &operands, None);
+            }
+        }
+    }
+
+    /// A motion statement: the operands go to consecutive registers (absent ones are 0), and
+    /// an `AFTER` input's slot number after them.
+    fn motion(
+        &mut self,
+        cmd: MotionCmd,
+        axis: &Expr,
+        operands: &[Option<&Expr>],
+        after: Option<&Expr>,
+    ) {
+        let axes = self.axis_set(axis);
+        let hold = self.temp(axis.span);
+        self.emit(Op::Move {
+            dst: hold,
+            src: axes,
+        });
+        let count = operands.len() + usize::from(after.is_some());
+        let regs: Vec<Reg> = (0..count).map(|_| self.temp(axis.span)).collect();
+        let top = self.temp_top;
+        for (e, &dst) in operands.iter().zip(&regs) {
+            let src = match e {
+                Some(x) => self.expr(x),
+                None => self.layout.constant(0.0),
+            };
+            self.temp_top = top;
+            self.emit(Op::Move { dst, src });
+        }
+        if let (Some(ExprKind::Name(n)), Some(&dst)) = (after.map(|a| &a.kind), regs.last()) {
+            match self.registry.resolve(n) {
+                Ok(r) => {
+                    let src = self.layout.constant(f64::from(r.slot));
+                    self.emit(Op::Move { dst, src });
+                }
+                Err(p) => self.problems.push(p),
+            }
+        }
+        let args = regs.first().copied().unwrap_or(hold);
+        self.emit(Op::Motion {
+            cmd,
+            axes: hold,
+            args,
+        });
+    }
+
+    /// An axis-set value: axis numbers become sets, sets are joined.
+    fn axis_set(&mut self, e: &Expr) -> Reg {
+        match &e.kind {
+            ExprKind::Paren(inner) => self.axis_set(inner),
+            ExprKind::AxisSet(items) => {
+                let mark = self.temp_top;
+                let mut acc: Option<Reg> = None;
+                for item in items {
+                    let r = self.axis_set(item);
+                    acc = Some(match acc {
+                        None => r,
+                        Some(prev) => {
+                            let dst = self.temp(e.span);
+                            self.emit(Op::Binary {
+                                op: BinaryOp::BitOr,
+                                dst,
+                                a: prev,
+                                b: r,
+                            });
+                            dst
+                        }
+                    });
+                }
+                let Some(r) = acc else {
+                    return self.layout.constant(0.0);
+                };
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
+                if r != dst {
+                    self.emit(Op::Move { dst, src: r });
+                }
+                dst
+            }
+            _ if self.basic_ty(e) == BasicTy::Axis => self.expr(e),
+            _ => {
+                if let ExprKind::Number(n) = e.kind {
+                    if n.fract() == 0.0 && (1.0..=16.0).contains(&n) {
+                        return self.layout.constant(f64::from(1u32 << (n as u32 - 1)));
+                    }
+                }
+                let mark = self.temp_top;
+                let a = self.expr(e);
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
+                self.emit(Op::AxisBit { dst, a });
+                dst
+            }
+        }
+    }
+
+    /// The MotionBASIC type of an expression (the checker has accepted it).
+    fn basic_ty(&self, e: &Expr) -> BasicTy {
+        match &e.kind {
+            ExprKind::AxisSet(_) => BasicTy::Axis,
+            ExprKind::Str(_) => BasicTy::Str,
+            ExprKind::Paren(x) => self.basic_ty(x),
+            ExprKind::Name(n) => match basic::resolve(self.registry, n) {
+                Ok(r) if r.kind == Kind::BasicVar => {
+                    basic::var_type(&r.name).map_or(BasicTy::Num, |t| t.1)
+                }
+                _ => BasicTy::Num,
+            },
+            ExprKind::Call(f, _) => basic::controller(&f.text).map_or(BasicTy::Num, |c| c.ty),
+            _ => BasicTy::Num,
+        }
+    }
+
+    /// True when a MotionBASIC expression is a long integer (its arithmetic overflows at 32
+    /// bits, as in Microsoft BASIC).
+    fn is_long(&self, e: &Expr) -> bool {
+        match &e.kind {
+            ExprKind::Number(v) => v.fract() == 0.0 && v.abs() <= f64::from(i32::MAX),
+            ExprKind::Bool(_) => true,
+            ExprKind::Paren(x) | ExprKind::Unary(UnOp::Neg, x) => self.is_long(x),
+            ExprKind::Name(n) => matches!(
+                basic::resolve(self.registry, n),
+                Ok(r) if r.kind == Kind::BasicVar && r.ty == ValueType::Fixed(0)
+            ),
+            ExprKind::Binary(BinOp::IntDiv | BinOp::Mod, _, _) => true,
+            ExprKind::Binary(BinOp::Add | BinOp::Sub | BinOp::Mul, a, b) => {
+                self.is_long(a) && self.is_long(b)
+            }
+            _ => false,
         }
     }
 
     fn store(&mut self, r: &crate::registry::Resolved, src: Reg) {
+        // Storing into a 32-bit variable checks the range itself.
+        if let (Some(&Op::CheckLong { r: checked }), ValueType::Fixed(_) | ValueType::Integer) =
+            (self.ops.last(), r.ty)
+        {
+            if checked == src && self.ops.len() > self.stmt_start {
+                self.ops.pop();
+                self.lines.pop();
+            }
+        }
         if let (Hook::Store, ValueType::Fixed(_) | ValueType::Integer) = (r.hook, r.ty) {
             let decimals = if let ValueType::Fixed(d) = r.ty { d } else { 0 };
             // The value was just computed into a temporary by this statement: compute it
@@ -576,26 +863,60 @@ impl Compiler<'_> {
     }
 
     fn ty(&self, e: &Expr) -> Ty {
-        expr_type(e, self.registry).unwrap_or(Ty::Num)
+        match self.dialect {
+            Dialect::PowerTools => expr_type(e, self.registry).unwrap_or(Ty::Num),
+            Dialect::MotionBasic => {
+                if truth_valued(e) {
+                    Ty::Bool
+                } else {
+                    Ty::Num
+                }
+            }
+        }
     }
 
     fn expr(&mut self, e: &Expr) -> Reg {
         match &e.kind {
             ExprKind::Number(v) => self.layout.constant(*v),
-            ExprKind::Bool(b) => self.layout.constant(if *b { 1.0 } else { 0.0 }),
-            ExprKind::Name(n) => self.resolve(n).map_or(0, |r| r.slot),
+            ExprKind::Bool(b) => {
+                let truth = if self.dialect == Dialect::MotionBasic {
+                    -1.0
+                } else {
+                    1.0
+                };
+                self.layout.constant(if *b { truth } else { 0.0 })
+            }
+            ExprKind::Name(n) => {
+                let Some(r) = self.resolve(n) else { return 0 };
+                if self.dialect == Dialect::MotionBasic && r.ty.is_bit() {
+                    // MotionBASIC's true is -1.
+                    let dst = self.temp(e.span);
+                    self.emit(Op::Neg { dst, a: r.slot });
+                    return dst;
+                }
+                r.slot
+            }
             ExprKind::Paren(inner) => self.expr(inner),
+            ExprKind::Str(text) => {
+                let id = self.layout.string(text);
+                self.layout.constant(id)
+            }
+            ExprKind::AxisSet(_) => self.axis_set(e),
             ExprKind::Unary(op, inner) => {
                 let mark = self.temp_top;
                 let a = self.expr(inner);
                 self.temp_top = mark;
                 let dst = self.temp(e.span);
+                let basic = self.dialect == Dialect::MotionBasic;
                 let op = match (op, self.ty(inner)) {
                     (UnOp::Neg, _) => Op::Neg { dst, a },
-                    (UnOp::Not, Ty::Bool) => Op::Not { dst, a },
-                    (UnOp::Not, Ty::Num) => Op::BitNot { dst, a },
+                    (UnOp::Not, Ty::Bool) if !basic => Op::Not { dst, a },
+                    (UnOp::Not, _) => Op::BitNot { dst, a },
                 };
                 self.emit(op);
+                if basic && matches!(e.kind, ExprKind::Unary(UnOp::Neg, _)) && self.is_long(e) {
+                    self.emit(Op::CheckLong { r: dst });
+                }
                 dst
             }
             ExprKind::Binary(op, l, r) => {
@@ -604,8 +925,17 @@ impl Compiler<'_> {
                 let b = self.expr(r);
                 self.temp_top = mark;
                 let dst = self.temp(e.span);
-                let boolean = self.ty(l) == Ty::Bool;
+                let basic = self.dialect == Dialect::MotionBasic;
+                // MotionBASIC's AND/OR/XOR are bitwise on integers (true is -1).
+                let boolean = !basic && self.ty(l) == Ty::Bool;
+                let binop = *op;
                 let op = match op {
+                    BinOp::IntDiv => Op::Binary {
+                        op: BinaryOp::IntDiv,
+                        dst,
+                        a,
+                        b,
+                    },
                     BinOp::Add => Op::Add { dst, a, b },
                     BinOp::Sub => Op::Sub { dst, a, b },
                     BinOp::Mul => Op::Mul { dst, a, b },
@@ -655,6 +985,41 @@ impl Compiler<'_> {
                     },
                 };
                 self.emit(op);
+                if basic {
+                    if cmp_of(binop).is_some() {
+                        self.emit(Op::Neg { dst, a: dst });
+                    } else if matches!(binop, BinOp::Add | BinOp::Sub | BinOp::Mul)
+                        && self.is_long(e)
+                    {
+                        self.emit(Op::CheckLong { r: dst });
+                    }
+                }
+                dst
+            }
+            ExprKind::Call(f, args)
+                if self.dialect == Dialect::MotionBasic && basic::controller(&f.text).is_some() =>
+            {
+                let Some((member, _)) =
+                    basic::controller(&f.text).and_then(|c| axis_member(c.member))
+                else {
+                    return 0;
+                };
+                let mark = self.temp_top;
+                let axes = match args.first() {
+                    Some(a) => self.axis_set(a),
+                    None => self.layout.constant(0.0),
+                };
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
+                let truth = self.registry.of(Kind::Axis).def.members[member as usize]
+                    .ty
+                    .is_bit();
+                self.emit(Op::AxisRead {
+                    dst,
+                    axes,
+                    member,
+                    truth,
+                });
                 dst
             }
             ExprKind::Call(f, args) => {
@@ -702,7 +1067,24 @@ fn fault_free(e: &Expr) -> bool {
             fault_free(a) && matches!(b.kind, ExprKind::Number(v) if v != 0.0)
         }
         ExprKind::Binary(_, a, b) => fault_free(a) && fault_free(b),
-        ExprKind::Call(_, args) => args.iter().all(fault_free),
+        ExprKind::Call(_, args) | ExprKind::AxisSet(args) => args.iter().all(fault_free),
+        ExprKind::Str(_) => true,
+    }
+}
+
+/// A MotionBASIC expression whose value is a truth value (-1 or 0), so a condition on it may
+/// short-circuit: comparisons, TRUE/FALSE, and NOT/AND/OR of truth values.
+fn truth_valued(e: &Expr) -> bool {
+    match &e.kind {
+        ExprKind::Bool(_) => true,
+        ExprKind::Paren(x) | ExprKind::Unary(UnOp::Not, x) => truth_valued(x),
+        ExprKind::Binary(op, a, b) => {
+            cmp_of(*op).is_some()
+                || (matches!(op, BinOp::And | BinOp::Or | BinOp::Xor)
+                    && truth_valued(a)
+                    && truth_valued(b))
+        }
+        _ => false,
     }
 }
 

@@ -46,6 +46,27 @@ pub struct MachineFile {
     /// Source → destination assignments.
     #[serde(default, rename = "assignment")]
     pub assignments: Vec<AssignmentEntry>,
+    /// ORION DSP axes by number (`[axis.1]`), for MotionBASIC programs.
+    #[serde(default)]
+    pub axis: IndexMap<String, Spanned<AxisSetup>>,
+}
+
+/// `[axis.N]`: one DSP axis (the motor data and links MotionBASIC's set-up menus give).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct AxisSetup {
+    /// A name for messages (`web`, `knife`).
+    pub name: Option<String>,
+    /// User units per motor revolution (speeds in MOVE … AT are RPM).
+    pub units_per_rev: Option<Spanned<f64>>,
+    /// The axis whose position drives this axis's GEAR statements (the MotionData link).
+    pub pacer: Option<Spanned<u32>>,
+    /// Depth of the axis's motion queue (default 4).
+    pub queue: Option<Spanned<u32>>,
+    /// Acceleration for MOVE TO/FOR without IN, units/s² (default: 10 revolutions/s²).
+    pub accel: Option<Spanned<f64>>,
+    /// Speed for MOVE TO/FOR without AT, RPM (default 100).
+    pub speed: Option<Spanned<f64>>,
 }
 
 /// `[machine]`.

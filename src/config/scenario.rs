@@ -30,6 +30,61 @@ pub struct ScenarioFile {
     /// Sensors tied to the servo axis (home reference, label-edge marks).
     #[serde(default)]
     pub axis_marks: Vec<AxisMarksEntry>,
+    /// Marks printed on the material a DSP axis moves, seen by a sensor on a DSP card input.
+    #[serde(default)]
+    pub marks: Vec<PrintedMarks>,
+}
+
+/// `[[marks]]`: printed registration marks on a DSP axis's material (a web), with pitch drift,
+/// steps, print jitter and spurious marks.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PrintedMarks {
+    /// The DSP axis that moves the material.
+    pub axis: Spanned<u32>,
+    /// The card input the mark sensor is wired to: "ASEN" (default), "BSEN" or "ZREF".
+    pub sensor: Option<Spanned<String>>,
+    /// Axis position of the first mark.
+    pub first: f64,
+    /// Printed pitch at the first mark, axis units.
+    pub pitch: Spanned<f64>,
+    /// Number of marks.
+    pub count: Spanned<u32>,
+    /// Length of a mark along the material (default 50 units).
+    pub width: Option<Spanned<f64>>,
+    /// Change of the pitch per mark (stretch, humidity), units.
+    #[serde(default)]
+    pub drift: f64,
+    /// Print jitter: each mark is displaced uniformly within ± this many units.
+    pub jitter: Option<Spanned<f64>>,
+    /// Seed of the jitter.
+    #[serde(default)]
+    pub seed: u64,
+    /// Pitch steps: from mark `at` on, the pitch is `pitch` (drift continues from there).
+    #[serde(default)]
+    pub steps: Vec<PitchStep>,
+    /// Spurious marks (print defects): one `offset` units after every `every`-th mark.
+    pub spurious: Option<Spurious>,
+}
+
+/// A step of the printed pitch.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PitchStep {
+    /// First mark (0-based) printed at the new pitch.
+    pub at: u32,
+    /// The new pitch.
+    pub pitch: f64,
+}
+
+/// Spurious marks between the real ones.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Spurious {
+    /// After every this-many marks.
+    pub every: Spanned<u32>,
+    /// Distance after the real mark.
+    pub offset: Spanned<f64>,
 }
 
 /// `[[axis_marks]]`: a sensor that is on while the servo axis is over a mark.

@@ -3,7 +3,9 @@
 //! initiating one is a clear run-time error.
 
 pub mod capture;
+pub mod dsp;
 pub mod motion;
+pub mod orion;
 pub mod queue;
 pub mod timer;
 
@@ -24,6 +26,13 @@ pub fn slot(registry: &Registry, kind: Kind, instance: u32, member: &str) -> Slo
     registry.slot_of(kind, instance, member).unwrap_or_else(|| {
         panic!("catalog has no {kind:?}.{instance}.{member} (a bug in pacer's catalog)")
     })
+}
+
+/// Axis number and member index of a slot of DSP axis `instance` (0-based).
+fn registry_axis_layout(slot: SlotId, instance: u32, orion: &orion::Orion) -> (u32, u32) {
+    let n = instance + 1;
+    let first = orion.slot(n, 0).unwrap_or(slot);
+    (n, slot.saturating_sub(first))
 }
 
 /// What an action did.
@@ -107,6 +116,8 @@ pub struct Kernel {
     previous: (f64, f64),
     /// Sensor edges made by the axis crossing marks, for the world to apply next update.
     pub pending_edges: Vec<Edge>,
+    /// The ORION DSP axes (machine.toml `[axis.N]`), when the machine has any.
+    pub orion: Option<orion::Orion>,
 }
 
 /// Sensor marks tied to the servo axis: the sensor is on while the axis is within
@@ -443,6 +454,7 @@ impl Kernel {
             marks: Vec::new(),
             previous: (0.0, 0.0),
             pending_edges: Vec::new(),
+            orion: None,
         }
     }
 
@@ -517,6 +529,13 @@ impl Kernel {
                 now.trace,
                 now.tick,
             ),
+            Hook::AxisLatch | Hook::AxisSetting => {
+                let Some(orion) = self.orion.as_mut() else {
+                    return Err("this machine has no DSP axes".into());
+                };
+                let axes = registry_axis_layout(slot, instance, orion);
+                orion.write(hook, axes.0, axes.1, value, v)?;
+            }
             Hook::FeedRateOverride => {
                 if !(0.0..=200.0).contains(&value) {
                     return Err(format!("FeedRateOverride must be 0 to 200 %, not {value}"));

@@ -9,9 +9,11 @@ use crate::config::{parse_toml, span_of};
 use crate::diag::{Diagnostics, Problem, SourceFile};
 use crate::registry::{Access, Registry, DEFAULT_UPDATE_NS};
 use crate::syntax::span::Span;
+use crate::syntax::Dialect;
 use crate::vm::{Assignment, MachineImage};
 use indexmap::IndexMap;
 
+mod marks;
 mod scenario;
 use std::path::{Path, PathBuf};
 
@@ -153,15 +155,12 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
         return Err(diags);
     }
     let numbers: Vec<u32> = programs.iter().map(|p| p.number).collect();
-    // Problems in the machine file do not stop the checks of the rest of it, nor of the
-    // programs: everything wrong is reported at once.
-    let (registry, registry_problems) = Registry::build_reporting(&machine, &numbers);
-    machine_problems.extend(registry_problems);
-    let registry = Some(registry);
 
-    // Read, parse and check every program, collecting every problem.
+    // Read and parse every program first: MotionBASIC variables are declared by use, and the
+    // registry needs them.
     let mut sources: IndexMap<u32, SourceFile> = IndexMap::new();
-    let mut asts = Vec::new();
+    let mut parsed = Vec::new();
+    let mut basic_vars = crate::check::basic::Variables::default();
     for p in &programs {
         let text = match std::fs::read_to_string(&p.path) {
             Ok(t) => t,
@@ -176,19 +175,43 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
                 continue;
             }
         };
+        let dialect = Dialect::of_path(&p.path).unwrap_or_default();
         let file = SourceFile::new(p.path.display().to_string(), text.as_str());
         let mut problems = Vec::new();
-        let ast = crate::syntax::parse_program(&text, &mut problems);
-        if let Some(reg) = &registry {
-            let env = CheckEnv {
-                registry: reg,
-                loaded_programs: &numbers,
-            };
-            problems.extend(check_program(&ast, &env));
+        let ast = crate::syntax::parse_program_as(&text, dialect, &mut problems);
+        if dialect == Dialect::MotionBasic {
+            basic_vars.collect(&ast);
         }
-        diags.extend_file(&file, problems);
         sources.insert(p.number, file);
-        asts.push((p.number, ast));
+        parsed.push((p.number, dialect, ast, problems));
+    }
+    // Problems in the machine file do not stop the checks of the rest of it, nor of the
+    // programs: everything wrong is reported at once.
+    let (registry, registry_problems) =
+        Registry::build_with_basic(&machine, &numbers, &basic_vars.list());
+    machine_problems.extend(registry_problems);
+    let registry = Some(registry);
+
+    let mut asts = Vec::new();
+    for (number, dialect, ast, mut problems) in parsed {
+        if let Some(reg) = &registry {
+            match dialect {
+                Dialect::PowerTools => {
+                    let env = CheckEnv {
+                        registry: reg,
+                        loaded_programs: &numbers,
+                    };
+                    problems.extend(check_program(&ast, &env));
+                }
+                Dialect::MotionBasic => {
+                    problems.extend(crate::check::basic::check(&ast, reg, &basic_vars));
+                }
+            }
+        }
+        if let Some(file) = sources.get(&number) {
+            diags.extend_file(file, problems);
+        }
+        asts.push((number, dialect, ast));
     }
 
     let update_ns = machine
@@ -322,7 +345,13 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
     let mut master = crate::world::master::MasterProfile::default();
     let mut axis_marks = Vec::new();
     let mut products = Vec::new();
+    let mut mark_tracks = Vec::new();
     let mut duration_ns = None;
+    let dsp_numbers: Vec<u32> = machine
+        .axis
+        .keys()
+        .filter_map(|k| k.parse::<u32>().ok())
+        .collect();
     if let Some(p) = &scenario_path {
         let src = read(p, &mut diags)?;
         match parse_toml::<ScenarioFile>(&src.text, "scenario") {
@@ -336,6 +365,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
                     axis_marks = world.marks;
                     products = world.products;
                 }
+                mark_tracks = marks::tracks(&sc.marks, &dsp_numbers, &mut problems);
                 duration_ns = sc.run.duration.as_ref().map(|d| d.get_ref().0);
                 diags.extend_file(&src, problems);
             }
@@ -352,11 +382,19 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
     let mut layout = Layout::new(&registry);
     let mut chunks = Vec::new();
     let mut program_chunks = IndexMap::new();
-    for (number, ast) in &asts {
+    for (number, dialect, ast) in &asts {
         let Some(file) = sources.get(number) else {
             continue;
         };
-        match compile(ast, &file.text, &file.name, *number, &registry, &mut layout) {
+        match compile(
+            ast,
+            &file.text,
+            &file.name,
+            *number,
+            &registry,
+            &mut layout,
+            *dialect,
+        ) {
             Ok(chunk) => {
                 program_chunks.insert(*number, chunks.len());
                 chunks.push(chunk);
@@ -367,6 +405,37 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
     if diags.has_errors() {
         return Err(diags);
     }
+    let orion = if machine.axis.is_empty() {
+        None
+    } else {
+        let configs = dsp_configs(&machine);
+        match crate::kernel::orion::Orion::new(
+            &registry,
+            configs,
+            &mark_tracks,
+            layout.strings.clone(),
+        ) {
+            Ok(o) => Some(o),
+            Err(message) => {
+                let span = machine
+                    .axis
+                    .values()
+                    .next()
+                    .map(span_of)
+                    .unwrap_or_default();
+                diags.extend_file(
+                    &machine_file,
+                    vec![Problem::error(
+                        "pacer::machine::axis",
+                        span,
+                        message,
+                        "here",
+                    )],
+                );
+                return Err(diags);
+            }
+        }
+    };
     let initial = layout.initial_values(&registry);
     let name = machine.machine.name.clone().unwrap_or_else(|| {
         folder
@@ -391,6 +460,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
         axis_marks,
         products,
         duration_ns,
+        orion,
     };
     Ok(Loaded {
         image,
@@ -458,12 +528,33 @@ fn split_paths(
     Ok((folder, files))
 }
 
+/// The DSP axes of `[axis.N]` (already checked by the registry).
+fn dsp_configs(machine: &MachineFile) -> Vec<crate::kernel::dsp::DspAxisConfig> {
+    machine
+        .axis
+        .iter()
+        .filter_map(|(k, setup)| {
+            let n = k.parse::<u32>().ok()?;
+            let s = setup.get_ref();
+            let mut c = crate::kernel::dsp::DspAxisConfig::new(
+                n,
+                s.pacer.as_ref().map(|p| *p.get_ref()),
+                s.units_per_rev.as_ref().map_or(1.0, |u| *u.get_ref()),
+            );
+            if let Some(q) = &s.queue {
+                c.queue_depth = *q.get_ref() as usize;
+            }
+            Some(c)
+        })
+        .collect()
+}
+
 fn program_files_in(folder: &Path, diags: &mut Diagnostics) -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> = match std::fs::read_dir(folder) {
         Ok(rd) => rd
             .filter_map(Result::ok)
             .map(|e| e.path())
-            .filter(|p| p.extension().is_some_and(|x| x.eq_ignore_ascii_case("pt")))
+            .filter(|p| Dialect::of_path(p).is_some())
             .collect(),
         Err(e) => {
             let f = SourceFile::new(folder.display().to_string(), "");

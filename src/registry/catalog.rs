@@ -61,6 +61,10 @@ pub enum Hook {
     /// `Stop`: programs and motion.
     StopAll,
     FeedRateOverride,
+    /// Re-arms a DSP axis latch (`ASEN@(axis) = 0`).
+    AxisLatch,
+    /// A DSP axis setting the kernel applies at once (POS.MOD@, PLS…@, SENS.MODE@).
+    AxisSetting,
 }
 
 /// How a program may use a member.
@@ -128,6 +132,8 @@ pub enum Kind {
     Profile,
     Pls,
     Motion,
+    Axis,
+    BasicVar,
 }
 
 /// One object type.
@@ -512,6 +518,94 @@ const JOG_GLOBAL: &[MemberDef] = &[
         m("MinusActivate", Bit, ReadWrite, "jog minus while on"),
     ),
 ];
+const AXIS: &[MemberDef] = &[
+    continuous(m(
+        "Position",
+        Real,
+        Read,
+        "commanded position (modulo PosMod when set)",
+    )),
+    continuous(m("Velocity", Real, Read, "commanded velocity, units/s")),
+    m(
+        "Ratio",
+        Real,
+        Read,
+        "gear ratio, follower units per pacer unit",
+    ),
+    m(
+        "DspDone",
+        Bit,
+        Read,
+        "no move in progress or queued (DSP.DONE@)",
+    ),
+    hook(
+        Hook::AxisLatch,
+        m("Zref", Bit, ReadWrite, "ZREF latched; write 0 to re-arm"),
+    ),
+    hook(
+        Hook::AxisLatch,
+        m("Asen", Bit, ReadWrite, "ASEN latched; write 0 to re-arm"),
+    ),
+    hook(
+        Hook::AxisLatch,
+        m("Bsen", Bit, ReadWrite, "BSEN latched; write 0 to re-arm"),
+    ),
+    m("PosZref", Real, Read, "position latched by ZREF"),
+    m("PosAsen", Real, Read, "position latched by ASEN"),
+    m("PosBsen", Real, Read, "position latched by BSEN"),
+    hook(
+        Hook::AxisSetting,
+        m(
+            "PosMod",
+            Real,
+            ReadWrite,
+            "rollover of reported positions (0: none)",
+        ),
+    ),
+    hook(
+        Hook::AxisSetting,
+        m("PlsMod", Real, ReadWrite, "cycle length of the PLS"),
+    ),
+    hook(
+        Hook::AxisSetting,
+        m("Pls1Low", Real, ReadWrite, "PLS1 turn-on point"),
+    ),
+    hook(
+        Hook::AxisSetting,
+        m("Pls1High", Real, ReadWrite, "PLS1 turn-off point"),
+    ),
+    hook(
+        Hook::AxisSetting,
+        m("Pls2Low", Real, ReadWrite, "PLS2 turn-on point"),
+    ),
+    hook(
+        Hook::AxisSetting,
+        m("Pls2High", Real, ReadWrite, "PLS2 turn-off point"),
+    ),
+    hook(
+        Hook::AxisSetting,
+        m("Pls3Low", Real, ReadWrite, "PLS3 turn-on point"),
+    ),
+    hook(
+        Hook::AxisSetting,
+        m("Pls3High", Real, ReadWrite, "PLS3 turn-off point"),
+    ),
+    hook(
+        Hook::AxisSetting,
+        m(
+            "SensMode",
+            Integer,
+            ReadWrite,
+            "sensor edges and gating, a SENS.MODE@ string",
+        ),
+    ),
+];
+const BASIC_VAR: &[MemberDef] = &[m(
+    "Value",
+    Real,
+    ReadWrite,
+    "a MotionBASIC variable (type from its suffix)",
+)];
 const GEAR: &[MemberDef] = &[
     hook(
         Hook::MotionStart,
@@ -836,6 +930,27 @@ pub static TYPES: &[TypeDef] = &[
         MOTION,
         &[],
         "drive-wide motion members, also written without `Motion.`",
+    ),
+    t(
+        "Axis",
+        Kind::Axis,
+        Instances::Numbered {
+            first: 1,
+            default_count: 0,
+        },
+        None,
+        AXIS,
+        &[],
+        "ORION DSP axis (machine.toml [axis.N]); MotionBASIC axis {N}",
+    ),
+    t(
+        "BasicVar",
+        Kind::BasicVar,
+        Instances::Named,
+        Some("Value"),
+        BASIC_VAR,
+        &[],
+        "MotionBASIC variable",
     ),
 ];
 

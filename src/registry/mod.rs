@@ -196,7 +196,18 @@ impl Registry {
         machine: &MachineFile,
         program_numbers: &[u32],
     ) -> (Registry, Vec<Problem>) {
+        Registry::build_with_basic(machine, program_numbers, &[])
+    }
+
+    /// [`Registry::build_reporting`], with the MotionBASIC variables the programs use
+    /// (name as written, upper-case, and type).
+    pub fn build_with_basic(
+        machine: &MachineFile,
+        program_numbers: &[u32],
+        basic_vars: &[(String, ValueType)],
+    ) -> (Registry, Vec<Problem>) {
         let mut problems = Vec::new();
+        let axis_numbers = axis_numbers(machine, &mut problems);
         let mut counts: IndexMap<&'static str, u32> = IndexMap::new();
         for table in [&machine.io, &machine.objects] {
             for (key, value) in table {
@@ -268,6 +279,9 @@ impl Registry {
             if def.kind == Kind::Program {
                 count = count.max(highest_program);
             }
+            if def.kind == Kind::Axis {
+                count = axis_numbers.iter().copied().max().unwrap_or(0);
+            }
             let mut names = IndexMap::new();
             let mut display: Vec<String> = (0..count).map(|i| (first + i).to_string()).collect();
             let mut decimals: Vec<u8> = Vec::new();
@@ -300,6 +314,13 @@ impl Registry {
                         display.push(name.clone());
                         decimals.push(d.decimals.min(9));
                         initial.push(round_to(d.initial, d.decimals.min(9)));
+                        count += 1;
+                    }
+                }
+                Kind::BasicVar => {
+                    for (name, _) in basic_vars {
+                        names.insert(name.to_ascii_lowercase(), count);
+                        display.push(name.clone());
                         count += 1;
                     }
                 }
@@ -362,10 +383,10 @@ impl Registry {
             let base = slots.len() as SlotId;
             for i in 0..count {
                 for member in def.members {
-                    let ty = if def.kind == Kind::Var {
-                        ValueType::Fixed(decimals[i as usize])
-                    } else {
-                        member.ty
+                    let ty = match def.kind {
+                        Kind::Var => ValueType::Fixed(decimals[i as usize]),
+                        Kind::BasicVar => basic_vars[i as usize].1,
+                        _ => member.ty,
                     };
                     let init = match def.kind {
                         Kind::Var | Kind::Bit => initial[i as usize],
@@ -392,6 +413,8 @@ impl Registry {
                     };
                     let name = if def.name == catalog::BARE_GLOBAL_TYPE {
                         member.name.to_string()
+                    } else if def.kind == Kind::BasicVar {
+                        display[i as usize].clone()
                     } else {
                         name
                     };
@@ -839,6 +862,70 @@ fn default_value(kind: Kind, member: &MemberDef) -> f64 {
         (Kind::Pls, "Enable") => 1.0,
         _ => 0.0,
     }
+}
+
+/// The DSP axis numbers `[axis.N]` defines, checking each set-up.
+fn axis_numbers(machine: &MachineFile, problems: &mut Vec<Problem>) -> Vec<u32> {
+    let mut numbers = Vec::new();
+    for (key, setup) in &machine.axis {
+        let span = span_of(setup);
+        let n = match key.parse::<u32>() {
+            Ok(n) if (1..=16).contains(&n) => n,
+            _ => {
+                problems.push(Problem::error(
+                    "pacer::machine::axis",
+                    span,
+                    format!("`axis.{key}`: axes are numbered 1 to 16"),
+                    "not an axis number",
+                ));
+                continue;
+            }
+        };
+        numbers.push(n);
+    }
+    for (key, setup) in &machine.axis {
+        let s = setup.get_ref();
+        let positive = |v: &Option<toml::Spanned<f64>>, what: &str, p: &mut Vec<Problem>| {
+            if let Some(v) = v {
+                if !(v.get_ref().is_finite() && *v.get_ref() > 0.0) {
+                    p.push(Problem::error(
+                        "pacer::machine::axis",
+                        span_of(v),
+                        format!("axis.{key}: {what} must be a positive number"),
+                        "not positive",
+                    ));
+                }
+            }
+        };
+        positive(&s.units_per_rev, "units_per_rev", problems);
+        positive(&s.accel, "accel", problems);
+        positive(&s.speed, "speed", problems);
+        if let Some(q) = &s.queue {
+            if !(1..=64).contains(q.get_ref()) {
+                problems.push(Problem::error(
+                    "pacer::machine::axis",
+                    span_of(q),
+                    format!("axis.{key}: a queue of {} moves", q.get_ref()),
+                    "1 to 64",
+                ));
+            }
+        }
+        if let Some(p) = &s.pacer {
+            let n = *p.get_ref();
+            if !numbers.contains(&n) || key.parse::<u32>().ok() == Some(n) {
+                problems.push(
+                    Problem::error(
+                        "pacer::machine::axis",
+                        span_of(p),
+                        format!("axis.{key}: pacer {n} is not another axis of this machine"),
+                        "no such axis",
+                    )
+                    .with_help(format!("axes defined: {numbers:?}")),
+                );
+            }
+        }
+    }
+    numbers
 }
 
 fn valid_ident(s: &str) -> bool {

@@ -91,6 +91,8 @@ pub enum BinOp {
     Mod,
     /// `^`
     Pow,
+    /// `\` (MotionBASIC integer division).
+    IntDiv,
 }
 
 impl BinOp {
@@ -112,6 +114,7 @@ impl BinOp {
             BinOp::Div => "/",
             BinOp::Mod => "MOD",
             BinOp::Pow => "^",
+            BinOp::IntDiv => "\\",
         }
     }
 }
@@ -142,6 +145,38 @@ pub enum ExprKind {
     Call(Segment, Vec<Expr>),
     /// `( x )`, kept so diagnostics can point at the parentheses.
     Paren(Box<Expr>),
+    /// A string literal (MotionBASIC).
+    Str(String),
+    /// An axis set `{1}`, `{web~, knife~}` (MotionBASIC).
+    AxisSet(Vec<Expr>),
+}
+
+/// The forms of the MotionBASIC `GEAR` statement.
+#[derive(Debug, Clone, PartialEq)]
+pub enum GearForm {
+    /// `GEAR axis AT out TO in [IN pacer_dist] [AFTER input]`.
+    At {
+        out: Expr,
+        inn: Expr,
+        pacer: Option<Expr>,
+        after: Option<Expr>,
+    },
+    /// `GEAR axis FOR dist IN pacer_dist`: superimposed on the running gear.
+    For { dist: Expr, pacer: Expr },
+}
+
+/// The forms of the MotionBASIC `MOVE` statement.
+#[derive(Debug, Clone, PartialEq)]
+pub enum MoveForm {
+    /// `MOVE axis AT speed [IN time]`: run at a speed (RPM), reaching it in `time` ms.
+    At { speed: Expr, time: Option<Expr> },
+    /// `MOVE axis TO position [AT speed] [IN time]` / `MOVE axis FOR distance …`.
+    Position {
+        relative: bool,
+        target: Expr,
+        speed: Option<Expr>,
+        time: Option<Expr>,
+    },
 }
 
 /// What an initiate starts from.
@@ -205,6 +240,20 @@ pub enum StmtKind {
     Goto(Segment),
     /// `End`.
     End,
+    /// `NAME(args) = value` / `NAME{axes} = value`: a MotionBASIC controller variable.
+    SetCall {
+        target: Segment,
+        args: Vec<Expr>,
+        value: Expr,
+    },
+    /// `GOSUB label`, or a bare label name (MotionBASIC).
+    Gosub(Segment),
+    /// `RETURN`.
+    Return,
+    /// `GEAR axis …`.
+    Gear { axis: Expr, form: GearForm },
+    /// `MOVE axis …`.
+    Move { axis: Expr, form: MoveForm },
 }
 
 /// A parsed program file.

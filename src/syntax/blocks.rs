@@ -5,6 +5,51 @@ use super::lines::{Line, LineKind, Modifier};
 use super::span::Span;
 use crate::diag::Problem;
 
+/// The words a dialect opens and closes its blocks with, for messages.
+#[derive(Debug)]
+pub struct Words {
+    /// Opens a conditional block.
+    pub if_: &'static str,
+    /// The alternative branch.
+    pub else_: &'static str,
+    /// Closes a conditional block.
+    pub endif: &'static str,
+    /// Opens a conditional loop.
+    pub while_: &'static str,
+    /// Closes it.
+    pub wend: &'static str,
+    /// Opens a counted loop.
+    pub for_: &'static str,
+    /// Closes it.
+    pub next: &'static str,
+    /// How a long block is split (help text).
+    pub split_help: &'static str,
+}
+
+/// PowerTools block words.
+pub const POWERTOOLS_WORDS: Words = Words {
+    if_: "If",
+    else_: "Else",
+    endif: "Endif",
+    while_: "Do While",
+    wend: "Loop",
+    for_: "For",
+    next: "Next",
+    split_help: "move the inner part into another program and `Call` it",
+};
+
+/// MotionBASIC block words.
+pub const MOTIONBASIC_WORDS: Words = Words {
+    if_: "IF",
+    else_: "ELSE",
+    endif: "ENDIF",
+    while_: "WHILE",
+    wend: "WEND",
+    for_: "FOR",
+    next: "NEXT",
+    split_help: "move the inner part into a subroutine and call it",
+};
+
 enum Frame {
     If {
         cond: super::ast::Expr,
@@ -82,11 +127,11 @@ impl Frame {
         }
     }
 
-    fn describe(&self) -> (&'static str, &'static str, Span) {
+    fn describe(&self, w: &Words) -> (&'static str, &'static str, Span) {
         match self {
-            Frame::If { span, .. } => ("If", "Endif", *span),
-            Frame::Do { span, .. } => ("Do While", "Loop", *span),
-            Frame::For { span, .. } => ("For", "Next", *span),
+            Frame::If { span, .. } => (w.if_, w.endif, *span),
+            Frame::Do { span, .. } => (w.while_, w.wend, *span),
+            Frame::For { span, .. } => (w.for_, w.next, *span),
         }
     }
 }
@@ -95,7 +140,7 @@ impl Frame {
 pub const MAX_NESTING: usize = 64;
 
 /// Turn the lines of a file into its statement tree, reporting unbalanced blocks.
-pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>) -> Vec<Stmt> {
+pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Words) -> Vec<Stmt> {
     let mut top: Vec<Stmt> = Vec::new();
     let mut stack: Vec<Frame> = Vec::new();
     let index = super::span::LineIndex::new(src);
@@ -114,7 +159,7 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>) -> Vec
                     format!("blocks nested deeper than {MAX_NESTING}"),
                     "too deep",
                 )
-                .with_help("move the inner part into another program and `Call` it"),
+                .with_help(w.split_help),
             );
             return top;
         }
@@ -162,17 +207,20 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>) -> Vec
                         Problem::error(
                             "pacer::syntax::else",
                             span,
-                            "a second Else in the same If",
-                            "second Else",
+                            format!("a second {} in the same {}", w.else_, w.if_),
+                            format!("second {}", w.else_),
                         )
-                        .with_help(format!("this If already has its Else at line {first_line}")),
+                        .with_help(format!(
+                            "this {} already has its {} at line {first_line}",
+                            w.if_, w.else_
+                        )),
                     )
                 }
                 other => problems.push(mismatch(
-                    "Else",
-                    "If",
+                    w.else_,
+                    w.if_,
                     span,
-                    other.map(|f| f.describe()),
+                    other.map(|f| f.describe(w)),
                     &line_no,
                 )),
             },
@@ -180,19 +228,21 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>) -> Vec
                 &mut stack,
                 &mut top,
                 |f| matches!(f, Frame::If { .. }),
-                ("Endif", "If"),
+                (w.endif, w.if_),
                 span,
                 problems,
                 &line_no,
+                w,
             ),
             LineKind::Loop => close(
                 &mut stack,
                 &mut top,
                 |f| matches!(f, Frame::Do { .. }),
-                ("Loop", "Do While"),
+                (w.wend, w.while_),
                 span,
                 problems,
                 &line_no,
+                w,
             ),
             LineKind::Next(name) => {
                 if let (Some(n), Some(Frame::For { var, .. })) = (&name, stack.last()) {
@@ -201,10 +251,20 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>) -> Vec
                             Problem::error(
                                 "pacer::syntax::next",
                                 n.span,
-                                format!("Next {} closes the loop over {}", n.text(), var.text()),
+                                format!(
+                                    "{} {} closes the loop over {}",
+                                    w.next,
+                                    n.text(),
+                                    var.text()
+                                ),
                                 "not the loop variable",
                             )
-                            .with_help(format!("write `Next {}` or just `Next`", var.text())),
+                            .with_help(format!(
+                                "write `{} {}` or just `{}`",
+                                w.next,
+                                var.text(),
+                                w.next
+                            )),
                         );
                     }
                 }
@@ -212,17 +272,18 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>) -> Vec
                     &mut stack,
                     &mut top,
                     |f| matches!(f, Frame::For { .. }),
-                    ("Next", "For"),
+                    (w.next, w.for_),
                     span,
                     problems,
                     &line_no,
+                    w,
                 )
             }
         }
     }
     // Report unclosed blocks, but keep their bodies so later passes still check them.
     while let Some(frame) = stack.pop() {
-        let (open, close, span) = frame.describe();
+        let (open, close, span) = frame.describe(w);
         problems.push(
             Problem::error(
                 "pacer::syntax::unclosed",
@@ -246,6 +307,7 @@ fn close(
     span: Span,
     problems: &mut Vec<Problem>,
     line_no: &dyn Fn(Span) -> usize,
+    w: &Words,
 ) {
     match stack.pop() {
         Some(frame) if opens(&frame) => push(stack, top, frame.into_stmt()),
@@ -254,7 +316,7 @@ fn close(
                 word,
                 opener,
                 span,
-                other.as_ref().map(Frame::describe),
+                other.as_ref().map(|f| f.describe(w)),
                 line_no,
             ));
             if let Some(frame) = other {

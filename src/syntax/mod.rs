@@ -3,6 +3,7 @@
 pub mod ast;
 pub mod blocks;
 pub mod lines;
+pub mod mb_token;
 pub mod span;
 pub mod token;
 
@@ -10,6 +11,40 @@ lalrpop_util::lalrpop_mod!(
     #[allow(clippy::all, clippy::pedantic, unused_parens, missing_docs)]
     powertools
 );
+lalrpop_util::lalrpop_mod!(
+    #[allow(clippy::all, clippy::pedantic, unused_parens, missing_docs)]
+    motionbasic
+);
+
+/// The program languages pacer reads.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Dialect {
+    /// PowerTools-style user programs (`.pt`).
+    #[default]
+    PowerTools,
+    /// ORMEC MotionBASIC (`.mb`).
+    MotionBasic,
+}
+
+impl Dialect {
+    /// The dialect a file's extension names (`.pt`, `.mb`), if any.
+    pub fn of_path(path: &std::path::Path) -> Option<Dialect> {
+        let ext = path.extension()?.to_str()?.to_ascii_lowercase();
+        match ext.as_str() {
+            "pt" => Some(Dialect::PowerTools),
+            "mb" | "bas" => Some(Dialect::MotionBasic),
+            _ => None,
+        }
+    }
+
+    /// The words that open and close its blocks, for messages.
+    pub fn words(self) -> &'static blocks::Words {
+        match self {
+            Dialect::PowerTools => &blocks::POWERTOOLS_WORDS,
+            Dialect::MotionBasic => &blocks::MOTIONBASIC_WORDS,
+        }
+    }
+}
 
 use crate::diag::Problem;
 use ast::ProgramAst;
@@ -27,7 +62,7 @@ pub fn parse_powertools(src: &str, problems: &mut Vec<Problem>) -> ProgramAst {
     }
     match result {
         Ok(lines) => ProgramAst {
-            body: blocks::assemble(lines, src, problems),
+            body: blocks::assemble(lines, src, problems, Dialect::PowerTools.words()),
         },
         Err(e) => {
             problems.push(syntax_problem(e, src));
@@ -39,13 +74,47 @@ pub fn parse_powertools(src: &str, problems: &mut Vec<Problem>) -> ProgramAst {
 /// Longest line accepted, in tokens: bounds expression depth, so no input can exhaust the stack.
 pub const MAX_LINE_TOKENS: usize = 512;
 
-/// Parse a program, after checking that no line is absurdly long.
+/// Parse a MotionBASIC program. Syntax problems are appended to `problems`.
+pub fn parse_motionbasic(src: &str, problems: &mut Vec<Problem>) -> ProgramAst {
+    let mut recovered: Vec<ErrorRecovery<usize, mb_token::MbTok<'_>, LexError>> = Vec::new();
+    let result = motionbasic::FileParser::new().parse(&mut recovered, mb_token::lex(src));
+    for r in recovered {
+        problems.push(syntax_problem(r.error, src));
+    }
+    match result {
+        Ok(lines) => ProgramAst {
+            body: blocks::assemble(lines, src, problems, Dialect::MotionBasic.words()),
+        },
+        Err(e) => {
+            problems.push(syntax_problem(e, src));
+            ProgramAst::default()
+        }
+    }
+}
+
+/// Parse a PowerTools program, after checking that no line is absurdly long.
 pub fn parse_program(src: &str, problems: &mut Vec<Problem>) -> ProgramAst {
+    parse_program_as(src, Dialect::PowerTools, problems)
+}
+
+/// Parse a program of `dialect`, after checking that no line is absurdly long.
+pub fn parse_program_as(src: &str, dialect: Dialect, problems: &mut Vec<Problem>) -> ProgramAst {
+    let newlines: Box<dyn Iterator<Item = (usize, bool, usize)>> = match dialect {
+        Dialect::PowerTools => Box::new(
+            token::lex(src)
+                .filter_map(Result::ok)
+                .map(|(l, t, r)| (l, matches!(t, Tok::Newline), r)),
+        ),
+        Dialect::MotionBasic => Box::new(
+            mb_token::lex(src)
+                .filter_map(Result::ok)
+                .map(|(l, t, r)| (l, matches!(t, mb_token::MbTok::Newline), r)),
+        ),
+    };
     let mut count = 0usize;
     let mut line_start = 0usize;
-    for tok in token::lex(src) {
-        let Ok((l, t, r)) = tok else { continue };
-        if matches!(t, Tok::Newline) {
+    for (l, newline, r) in newlines {
+        if newline {
             count = 0;
             line_start = r;
             continue;
@@ -65,7 +134,10 @@ pub fn parse_program(src: &str, problems: &mut Vec<Problem>) -> ProgramAst {
             return ProgramAst::default();
         }
     }
-    parse_powertools(src, problems)
+    match dialect {
+        Dialect::PowerTools => parse_powertools(src, problems),
+        Dialect::MotionBasic => parse_motionbasic(src, problems),
+    }
 }
 
 /// Parse one expression (for tests and the REPL).
@@ -79,7 +151,31 @@ pub fn parse_expr(src: &str) -> Result<ast::Expr, Problem> {
     }
 }
 
-fn syntax_problem(e: ParseError<usize, Tok<'_>, LexError>, src: &str) -> Problem {
+/// What the error reporter needs to know about a dialect's tokens.
+trait SyntaxToken: std::fmt::Display {
+    fn is_newline(&self) -> bool;
+    fn is_bad(&self) -> bool;
+}
+
+impl SyntaxToken for Tok<'_> {
+    fn is_newline(&self) -> bool {
+        matches!(self, Tok::Newline)
+    }
+    fn is_bad(&self) -> bool {
+        matches!(self, Tok::Bad(_))
+    }
+}
+
+impl SyntaxToken for mb_token::MbTok<'_> {
+    fn is_newline(&self) -> bool {
+        matches!(self, mb_token::MbTok::Newline)
+    }
+    fn is_bad(&self) -> bool {
+        matches!(self, mb_token::MbTok::Bad(_))
+    }
+}
+
+fn syntax_problem<T: SyntaxToken>(e: ParseError<usize, T, LexError>, src: &str) -> Problem {
     const CODE: &str = "pacer::syntax";
     match e {
         ParseError::InvalidToken { location } => Problem::error(
@@ -99,17 +195,19 @@ fn syntax_problem(e: ParseError<usize, Tok<'_>, LexError>, src: &str) -> Problem
             token: (l, tok, r),
             expected,
         } => {
-            let span = if matches!(tok, Tok::Newline) {
+            let span = if tok.is_newline() {
                 Span::new(l, l)
             } else {
                 Span::new(l, r)
             };
-            let message = match tok {
-                Tok::Bad(_) => format!("{tok}"),
-                Tok::Newline => "the line ends too early".to_string(),
-                _ => format!("unexpected {tok}"),
+            let message = if tok.is_bad() {
+                format!("{tok}")
+            } else if tok.is_newline() {
+                "the line ends too early".to_string()
+            } else {
+                format!("unexpected {tok}")
             };
-            let label = if matches!(tok, Tok::Bad(_)) {
+            let label = if tok.is_bad() {
                 "not part of the language"
             } else {
                 "not expected here"
@@ -155,6 +253,8 @@ fn pretty_expected(e: &str) -> String {
         "\\n" => "end of line".into(),
         "num" => "a number".into(),
         "name" => "a name".into(),
+        "str" => "a string".into(),
+        "label" => "a label".into(),
         "true" | "on" => "ON".into(),
         "false" => "OFF".into(),
         "bad" => "?".into(),

@@ -25,6 +25,10 @@ pub enum Exit {
     End,
     /// Call another program; come back to `pc`.
     Call { program: u32, pc: u32 },
+    /// `GOSUB`: run from `target`, come back to `ret`.
+    Gosub { target: u32, ret: u32 },
+    /// `RETURN` (at instruction `pc`).
+    Return { pc: u32 },
     /// Program control (initiate/stop a program, stop all); go on at `pc`.
     Control { hook: Hook, instance: u32, pc: u32 },
     /// A run-time error at instruction `pc`.
@@ -398,6 +402,100 @@ pub fn run(
                 *executed = n;
                 return Exit::Call { program, pc };
             }
+            Op::Gosub { target } => {
+                *executed = n;
+                return Exit::Gosub { target, ret: pc };
+            }
+            Op::Return => {
+                *executed = n;
+                return Exit::Return { pc: here };
+            }
+            Op::CheckLong { r } => {
+                let x = v[r as usize];
+                if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
+                    pc = here;
+                    fault!("Overflow: {x} does not fit a long integer (-2147483648 to 2147483647)");
+                }
+            }
+            Op::AxisBit { dst, a } => {
+                let x = v[a as usize];
+                if !(x.fract() == 0.0 && (1.0..=16.0).contains(&x)) {
+                    pc = here;
+                    fault!("{x} is not an axis number (1 to 16)");
+                }
+                v[dst as usize] = f64::from(1u32 << (x as u32 - 1));
+            }
+            Op::AxisRead {
+                dst,
+                axes,
+                member,
+                truth,
+            } => match axis_read(ctx, v, v[axes as usize], u32::from(member), truth) {
+                Ok(x) => v[dst as usize] = x,
+                Err(message) => {
+                    pc = here;
+                    fault!("{message}");
+                }
+            },
+            Op::AxisWrite {
+                axes,
+                src,
+                member,
+                hook,
+            } => {
+                if let Err(message) = axis_write(
+                    ctx,
+                    v,
+                    v[axes as usize],
+                    u32::from(member),
+                    hook,
+                    v[src as usize],
+                ) {
+                    pc = here;
+                    fault!("{message}");
+                }
+            }
+            Op::Motion { cmd, axes, args } => {
+                let mask = v[axes as usize];
+                let a = args as usize;
+                let operands = [
+                    v[a],
+                    v[a + 1],
+                    v.get(a + 2).copied().unwrap_or(0.0),
+                    v.get(a + 3).copied().unwrap_or(0.0),
+                ];
+                let Some(orion) = ctx.kernel.orion.as_mut() else {
+                    pc = here;
+                    fault!(
+                        "this machine has no DSP axes: define them in machine.toml ([axis.1] …)"
+                    );
+                };
+                match orion.motion(cmd, mask, &operands) {
+                    Ok((true, warning)) => {
+                        if let Some(message) = warning {
+                            let line = chunk.lines.get(here as usize).copied().unwrap_or(0);
+                            ctx.now.trace.event(
+                                ctx.now.tick,
+                                "warning",
+                                &[
+                                    ("program", chunk.program.into()),
+                                    ("line", line.into()),
+                                    ("message", message.into()),
+                                ],
+                            );
+                        }
+                    }
+                    // The axis's motion queue is full: the statement waits for room.
+                    Ok((false, _)) => {
+                        *executed = n;
+                        return Exit::Sleep { ticks: 1, pc: here };
+                    }
+                    Err(message) => {
+                        pc = here;
+                        fault!("{message}");
+                    }
+                }
+            }
             Op::End => {
                 *executed = n;
                 return Exit::End;
@@ -461,7 +559,83 @@ fn binary(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
         BinaryOp::BitAnd => ((x as i64) & (y as i64)) as f64,
         BinaryOp::BitOr => ((x as i64) | (y as i64)) as f64,
         BinaryOp::BitXor => ((x as i64) ^ (y as i64)) as f64,
+        BinaryOp::IntDiv => {
+            // Microsoft BASIC: both operands rounded to integers (halves to even), the quotient
+            // truncated toward zero; a long integer outside 32 bits is an Overflow.
+            let (a, b) = (x.round_ties_even(), y.round_ties_even());
+            let range = f64::from(i32::MIN)..=f64::from(i32::MAX);
+            if !range.contains(&a) || !range.contains(&b) {
+                return Err("Overflow: an operand of \\ does not fit a long integer");
+            }
+            if b == 0.0 {
+                return Err("division by zero");
+            }
+            let q = (a / b).trunc();
+            if !range.contains(&q) {
+                return Err("Overflow: the quotient does not fit a long integer");
+            }
+            q
+        }
     })
+}
+
+/// Read member `member` of the DSP axes in `mask`.
+fn axis_read(
+    ctx: &Ctx<'_, '_>,
+    v: &[f64],
+    mask: f64,
+    member: u32,
+    truth: bool,
+) -> Result<f64, String> {
+    let Some(orion) = ctx.kernel.orion.as_ref() else {
+        return Err(
+            "this machine has no DSP axes: define them in machine.toml ([axis.1] …)".into(),
+        );
+    };
+    let axes = orion.axes_of(mask)?;
+    let slot = |n: u32| orion.slot(n, member).map(|s| v[s as usize]).unwrap_or(0.0);
+    if truth {
+        // MotionBASIC's true is -1; a test on a set of axes holds when it holds on each.
+        return Ok(if axes.iter().all(|&n| slot(n) != 0.0) {
+            -1.0
+        } else {
+            0.0
+        });
+    }
+    match axes.as_slice() {
+        [n] => Ok(slot(*n)),
+        _ => Err(format!(
+            "this controller variable reads one axis, not the set {axes:?}"
+        )),
+    }
+}
+
+/// Write member `member` of every DSP axis in `mask`.
+fn axis_write(
+    ctx: &mut Ctx<'_, '_>,
+    v: &mut [f64],
+    mask: f64,
+    member: u32,
+    hook: Hook,
+    value: f64,
+) -> Result<(), String> {
+    let Some(orion) = ctx.kernel.orion.as_mut() else {
+        return Err(
+            "this machine has no DSP axes: define them in machine.toml ([axis.1] …)".into(),
+        );
+    };
+    let axes = orion.axes_of(mask)?;
+    let mut written = Vec::with_capacity(axes.len());
+    for n in axes {
+        orion.write(hook, n, member, value, v)?;
+        written.extend(orion.slot(n, member));
+    }
+    if ctx.now.trace.enabled() {
+        for slot in written {
+            traced_write(ctx, slot, value);
+        }
+    }
+    Ok(())
 }
 
 use crate::fixed::to_fixed as fixed;

@@ -75,6 +75,8 @@ pub struct MachineImage {
     pub products: Vec<(SlotId, Vec<crate::world::products::Product>)>,
     /// Scenario duration, if set.
     pub duration_ns: Option<u64>,
+    /// The ORION DSP axes, with their scenario marks, when the machine has any.
+    pub orion: Option<crate::kernel::orion::Orion>,
 }
 
 /// A run-time error in a program.
@@ -177,6 +179,7 @@ impl Machine {
         let values = image.initial.clone();
         let mut kernel = Kernel::new(&image.registry);
         kernel.set_marks(image.axis_marks.clone());
+        kernel.orion = image.orion.clone();
         let world = World::new(image.edges.clone(), image.master.clone());
         let tasks = (0..image.tasks).map(|_| Task::free()).collect();
         let slot_count = image.registry.slot_count();
@@ -367,6 +370,21 @@ impl Machine {
                 .generate(&mut self.values, &mut now, master_speed, &|at| {
                     master.position(at)
                 });
+            if let Some(orion) = self.kernel.orion.as_mut() {
+                if let Err(message) = orion.generate(&mut self.values, &mut now) {
+                    now.trace
+                        .machine_message(self.tick, "error", message.clone());
+                    self.error = Some(RunError {
+                        task: 0,
+                        program: 0,
+                        file: "DSP axes".into(),
+                        line: 0,
+                        message,
+                        time: self.tick as f64 * self.image.tick_ns as f64 / 1e9,
+                    });
+                    return;
+                }
+            }
             self.kernel.derive(&mut self.values, &mut now);
             self.kernel.update(&mut self.values, &now);
             let made = std::mem::take(&mut self.kernel.pending_edges);
@@ -577,7 +595,11 @@ impl Machine {
         };
         self.tasks[ti] = Task {
             state: TaskState::Ready,
-            frames: vec![Frame { chunk, pc: 0 }],
+            frames: vec![Frame {
+                chunk,
+                pc: 0,
+                gosub: false,
+            }],
             program,
         };
         self.set_running(program, Some(ti));
@@ -781,7 +803,41 @@ impl Machine {
                     self.tasks[ti].state = TaskState::MotionWait { profile };
                     return;
                 }
+                Exit::Gosub { target, ret } => {
+                    set_pc(self, ret);
+                    if self.tasks[ti].frames.len() >= MAX_CALL_DEPTH {
+                        self.fault(
+                            ti,
+                            frame.chunk,
+                            ret.saturating_sub(1),
+                            format!("GOSUB nested deeper than {MAX_CALL_DEPTH}"),
+                        );
+                        return;
+                    }
+                    self.tasks[ti].frames.push(Frame {
+                        chunk: frame.chunk,
+                        pc: target,
+                        gosub: true,
+                    });
+                    if self.instructions >= budget_end {
+                        return;
+                    }
+                }
+                Exit::Return { pc } => {
+                    if !frame.gosub {
+                        self.fault(ti, frame.chunk, pc, "RETURN without GOSUB".into());
+                        return;
+                    }
+                    self.tasks[ti].frames.pop();
+                    if self.instructions >= budget_end {
+                        return;
+                    }
+                }
                 Exit::End => {
+                    // END in a subroutine ends its program, not just the subroutine.
+                    while self.tasks[ti].frames.last().is_some_and(|f| f.gosub) {
+                        self.tasks[ti].frames.pop();
+                    }
                     self.tasks[ti].frames.pop();
                     if self.tasks[ti].frames.is_empty() {
                         self.end_task(ti, "end");
@@ -821,7 +877,11 @@ impl Machine {
                         );
                         return;
                     }
-                    self.tasks[ti].frames.push(Frame { chunk, pc: 0 });
+                    self.tasks[ti].frames.push(Frame {
+                        chunk,
+                        pc: 0,
+                        gosub: false,
+                    });
                     if self.instructions >= budget_end {
                         return;
                     }

@@ -7,6 +7,8 @@ pub struct Frame {
     pub chunk: usize,
     /// Next instruction.
     pub pc: u32,
+    /// A MotionBASIC subroutine (`GOSUB`): `RETURN` comes back to the frame below.
+    pub gosub: bool,
 }
 
 /// What a task is doing.

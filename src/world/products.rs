@@ -60,7 +60,7 @@ pub struct TimedEdge {
 }
 
 /// A uniform draw in [-1, 1) from 53 random bits: the same on every platform and version.
-fn unit(rng: &mut ChaCha8Rng) -> f64 {
+pub fn unit(rng: &mut ChaCha8Rng) -> f64 {
     let bits = rng.next_u64() >> 11;
     (bits as f64 / (1u64 << 53) as f64) * 2.0 - 1.0
 }

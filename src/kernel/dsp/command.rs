@@ -1,0 +1,150 @@
+//! The motion statements: MOVE AT, GEAR AT, GEAR FOR and AFTER inputs, queued per axis, and
+//! DSP.DONE@.
+
+use super::gear::BaseSeg;
+use super::superimpose::SuperSeg;
+use super::{err, DspAxes, DspError, Queued};
+
+impl DspAxes {
+    /// The pacer of axis `i`, or an error for a statement `what` that needs one.
+    fn pacer_for(&self, i: usize, what: &str) -> Result<usize, DspError> {
+        self.axes[i].pacer.ok_or_else(|| {
+            DspError(format!(
+                "{what} on axis {} needs a pacer: the axis has no MotionData link",
+                self.axes[i].number
+            ))
+        })
+    }
+
+    fn queue_full(&self, i: usize) -> bool {
+        let a = &self.axes[i];
+        a.base.queue.len() + a.sup.queue.len() >= a.queue_depth
+    }
+
+    /// `MOVE axis AT speed_rpm IN time_ms`: ramp the velocity linearly in time to the speed, then
+    /// hold it (time-based motion; 0 ms is a velocity step).
+    pub fn move_at(&mut self, axis: u32, speed_rpm: f64, time_ms: f64) -> Result<Queued, DspError> {
+        let i = self.axis(axis)?;
+        if !speed_rpm.is_finite() {
+            return err(format!(
+                "MOVE on axis {axis}: the speed must be a number, not {speed_rpm}"
+            ));
+        }
+        if !(time_ms.is_finite() && time_ms >= 0.0) {
+            return err(format!(
+                "MOVE on axis {axis}: the ramp time must be 0 ms or more, not {time_ms}"
+            ));
+        }
+        let speed = speed_rpm * self.axes[i].units_per_rev / 60.0;
+        if !speed.is_finite() {
+            return err(format!(
+                "MOVE on axis {axis}: {speed_rpm} RPM is beyond any speed"
+            ));
+        }
+        if self.queue_full(i) {
+            return Ok(Queued::Full);
+        }
+        self.axes[i].base.queue.push_back(BaseSeg::Move {
+            speed,
+            duration: time_ms / 1000.0,
+        });
+        Ok(Queued::Accepted)
+    }
+
+    /// `GEAR axis AT out TO inn [IN pacer_dist] [AFTER input]`: follow the pacer at out/inn,
+    /// the ratio ramping linearly over `pacer_dist` of pacer travel, starting when `input` comes.
+    pub fn gear_at(
+        &mut self,
+        axis: u32,
+        out: f64,
+        inn: f64,
+        pacer_dist: Option<f64>,
+        after: Option<u32>,
+    ) -> Result<Queued, DspError> {
+        let i = self.axis(axis)?;
+        self.pacer_for(i, "GEAR AT")?;
+        if !(out.is_finite() && inn.is_finite()) {
+            return err(format!(
+                "GEAR AT on axis {axis}: the ratio {out} TO {inn} must be numbers"
+            ));
+        }
+        if inn == 0.0 {
+            return err(format!(
+                "GEAR AT on axis {axis}: the ratio {out} TO 0 divides by zero"
+            ));
+        }
+        let d = pacer_dist.unwrap_or(0.0);
+        if !(d.is_finite() && d >= 0.0) {
+            return err(format!(
+                "GEAR AT on axis {axis}: the pacer distance (IN) must be 0 or more, not {d}"
+            ));
+        }
+        if self.queue_full(i) {
+            return Ok(Queued::Full);
+        }
+        let ratio = out / inn;
+        if !ratio.is_finite() {
+            return err(format!(
+                "GEAR AT on axis {axis}: the ratio {out} TO {inn} is beyond any ratio"
+            ));
+        }
+        let seg = BaseSeg::Gear {
+            ratio,
+            pacer_dist: d,
+            after,
+        };
+        self.axes[i].base.queue.push_back(seg);
+        Ok(Queued::Accepted)
+    }
+
+    /// `GEAR axis FOR dist IN pacer_dist`: superimpose `dist` on the axis while its pacer covers
+    /// `pacer_dist` (negative: the pacer is expected to travel negatively). IN 0 is a step.
+    pub fn gear_for(&mut self, axis: u32, dist: f64, pacer_dist: f64) -> Result<Queued, DspError> {
+        let i = self.axis(axis)?;
+        self.pacer_for(i, "GEAR FOR")?;
+        if !(dist.is_finite() && pacer_dist.is_finite()) {
+            return err(format!(
+                "GEAR FOR on axis {axis}: FOR {dist} IN {pacer_dist} must be numbers"
+            ));
+        }
+        if self.queue_full(i) {
+            return Ok(Queued::Full);
+        }
+        self.axes[i]
+            .sup
+            .queue
+            .push_back(SuperSeg { dist, pacer_dist });
+        Ok(if pacer_dist == 0.0 {
+            Queued::AcceptedAsStep
+        } else {
+            Queued::Accepted
+        })
+    }
+
+    /// An `AFTER input` event at time `t` (not before the current time): a gear segment waiting
+    /// at its queue head for `input` at that instant starts then, during the next `advance`.
+    pub fn trigger(&mut self, input: u32, t: f64) -> Result<(), DspError> {
+        if !(t.is_finite() && t >= self.t_now) {
+            return err(format!(
+                "input {input} event at {t} s: it must not be before the current time {} s",
+                self.t_now
+            ));
+        }
+        let at = self.triggers.partition_point(|&(u, _)| u <= t);
+        self.triggers.insert(at, (t, input));
+        Ok(())
+    }
+
+    /// DSP.DONE@: no segment running or queued in either layer (steady gear, steady velocity
+    /// or standing still are done).
+    pub fn done(&self, axis: u32) -> Result<bool, DspError> {
+        let a = &self.axes[self.axis(axis)?];
+        Ok(a.base.queue.is_empty() && a.sup.queue.is_empty())
+    }
+
+    /// Segments queued or running in both layers together.
+    pub fn queued(&self, axis: u32) -> Result<usize, DspError> {
+        let a = &self.axes[self.axis(axis)?];
+        Ok(a.base.queue.len() + a.sup.queue.len())
+    }
+}

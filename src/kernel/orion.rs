@@ -1,0 +1,335 @@
+//! The ORION DSP axes as the registry sees them: MotionBASIC controller-variable writes and
+//! motion statements go in; each update, positions, latches and status come out into the
+//! `Axis.N.…` slots, and latches, blinded marks and stepped corrections into the trace.
+
+use super::dsp::{DspAxes, DspAxisConfig, DspEvent, Queued, Sensor};
+use super::Now;
+use crate::compile::bytecode::MotionCmd;
+use crate::registry::{Hook, Kind, Registry, SlotId};
+use crate::trace::number;
+
+/// A sensor wired to a DSP card input and tied to marks on an axis (from the scenario).
+#[derive(Debug, Clone, PartialEq)]
+pub struct MarkTrack {
+    /// The axis the marks are printed on (in its units).
+    pub axis: u32,
+    /// The card input the sensor drives.
+    pub sensor: Sensor,
+    /// Mark positions, ascending.
+    pub positions: Vec<f64>,
+    /// Length of a mark along the axis.
+    pub width: f64,
+}
+
+/// Offsets of the Axis members in one instance's slots.
+#[derive(Debug, Clone, Copy)]
+struct Members {
+    position: u32,
+    velocity: u32,
+    ratio: u32,
+    dsp_done: u32,
+    latched: [u32; 3],
+    latched_position: [u32; 3],
+}
+
+/// The DSP axes of a machine and where their members live.
+#[derive(Debug, Clone)]
+pub struct Orion {
+    dsp: DspAxes,
+    configs: Vec<DspAxisConfig>,
+    base: SlotId,
+    per: u32,
+    count: u32,
+    members: Members,
+    strings: Vec<String>,
+    /// Inputs named by `AFTER`, with their value at the last update.
+    after: Vec<(SlotId, bool)>,
+}
+
+const SENSORS: [Sensor; 3] = [Sensor::Zref, Sensor::Asen, Sensor::Bsen];
+
+fn member(def: &crate::registry::TypeDef, name: &str) -> u32 {
+    def.members
+        .iter()
+        .position(|m| m.name == name)
+        .unwrap_or_else(|| panic!("catalog has no Axis.{name} (a bug in pacer's catalog)"))
+        as u32
+}
+
+impl Orion {
+    /// The DSP axes `configs` (machine.toml `[axis.N]`) with their scenario marks and start
+    /// positions. `strings` are the programs' string literals (SENS.MODE@ values).
+    pub fn new(
+        registry: &Registry,
+        configs: Vec<DspAxisConfig>,
+        marks: &[MarkTrack],
+        strings: Vec<String>,
+    ) -> Result<Orion, String> {
+        let axes = registry.of(Kind::Axis);
+        let def = axes.def;
+        let mut dsp = DspAxes::new(&configs).map_err(|e| e.0)?;
+        for m in marks {
+            dsp.add_marks(
+                m.axis,
+                super::dsp::card_of(m.axis),
+                m.sensor,
+                m.positions.clone(),
+                m.width,
+            )
+            .map_err(|e| e.0)?;
+        }
+        Ok(Orion {
+            dsp,
+            configs,
+            base: axes.base,
+            per: def.members.len() as u32,
+            count: axes.count,
+            members: Members {
+                position: member(def, "Position"),
+                velocity: member(def, "Velocity"),
+                ratio: member(def, "Ratio"),
+                dsp_done: member(def, "DspDone"),
+                latched: [
+                    member(def, "Zref"),
+                    member(def, "Asen"),
+                    member(def, "Bsen"),
+                ],
+                latched_position: [
+                    member(def, "PosZref"),
+                    member(def, "PosAsen"),
+                    member(def, "PosBsen"),
+                ],
+            },
+            strings,
+            after: Vec::new(),
+        })
+    }
+
+    /// The axis numbers in an axis-set value, checked against the machine.
+    pub fn axes_of(&self, mask: f64) -> Result<Vec<u32>, String> {
+        if !(mask.fract() == 0.0 && (0.0..65536.0).contains(&mask)) {
+            return Err(format!("{mask} is not an axis set"));
+        }
+        let bits = mask as u32;
+        if bits == 0 {
+            return Err("the axis set is empty (was the axis variable assigned?)".into());
+        }
+        let axes: Vec<u32> = (1..=16).filter(|n| bits & (1 << (n - 1)) != 0).collect();
+        for &n in &axes {
+            if !self.configs.iter().any(|c| c.number == n) {
+                return Err(format!(
+                    "axis {n} is not defined in machine.toml ([axis.{n}])"
+                ));
+            }
+        }
+        Ok(axes)
+    }
+
+    /// The slot of `member` (an index into the Axis members) of axis `n`.
+    pub fn slot(&self, n: u32, member: u32) -> Option<SlotId> {
+        (n >= 1 && n <= self.count).then(|| self.base + (n - 1) * self.per + member)
+    }
+
+    /// A program writes a controller variable of axis `n`.
+    pub fn write(
+        &mut self,
+        hook: Hook,
+        n: u32,
+        member: u32,
+        value: f64,
+        v: &mut [f64],
+    ) -> Result<(), String> {
+        let Some(slot) = self.slot(n, member) else {
+            return Err(format!("axis {n} is not defined in machine.toml"));
+        };
+        let name = crate::registry::catalog::find_type("Axis")
+            .and_then(|d| d.members.get(member as usize))
+            .map_or("?", |m| m.name);
+        match hook {
+            Hook::AxisLatch => {
+                if value != 0.0 {
+                    return Err(format!(
+                        "Axis.{n}.{name}: a latch is only re-armed, by writing 0"
+                    ));
+                }
+                let which = SENSORS[self
+                    .members
+                    .latched
+                    .iter()
+                    .position(|&m| m == member)
+                    .unwrap_or(1)];
+                self.dsp.clear_latch(n, which).map_err(|e| e.0)?;
+            }
+            _ => {
+                let r = match name {
+                    "PosMod" => self.dsp.set_pos_mod(n, value),
+                    "PlsMod" => self.dsp.set_pls_mod(n, value),
+                    "SensMode" => {
+                        let text = self
+                            .strings
+                            .get(value as usize)
+                            .filter(|_| value >= 0.0 && value.fract() == 0.0)
+                            .ok_or_else(|| {
+                                format!("SENS.MODE@ needs a string such as \"RRRNN\", not {value}")
+                            })?
+                            .clone();
+                        self.dsp.set_sens_mode(n, &text)
+                    }
+                    pls => {
+                        let k = pls.as_bytes().get(3).map_or(0, |c| u32::from(c - b'0'));
+                        if pls.ends_with("Low") {
+                            self.dsp.set_pls_low(n, k, value)
+                        } else {
+                            self.dsp.set_pls_high(n, k, value)
+                        }
+                    }
+                };
+                r.map_err(|e| e.0)?;
+            }
+        }
+        v[slot as usize] = value;
+        Ok(())
+    }
+
+    /// A motion statement on the axes of `mask`. `Ok(false)`: a queue is full, retry later.
+    /// `Ok(true)` and a message: accepted, with a warning to show.
+    pub fn motion(
+        &mut self,
+        cmd: MotionCmd,
+        mask: f64,
+        args: &[f64],
+    ) -> Result<(bool, Option<String>), String> {
+        let axes = self.axes_of(mask)?;
+        for &n in &axes {
+            let depth = self
+                .configs
+                .iter()
+                .find(|c| c.number == n)
+                .map_or(0, |c| c.queue_depth);
+            if self.dsp.queued(n).map_err(|e| e.0)? >= depth {
+                return Ok((false, None));
+            }
+        }
+        let arg = |i: usize| args.get(i).copied().unwrap_or(0.0);
+        let mut warning = None;
+        for &n in &axes {
+            let q = match cmd {
+                MotionCmd::GearAt { pacer, after } => {
+                    let input = after.then(|| arg(3) as u32);
+                    if let Some(slot) = input {
+                        if !self.after.iter().any(|(s, _)| *s == slot) {
+                            self.after.push((slot, false));
+                        }
+                    }
+                    self.dsp
+                        .gear_at(n, arg(0), arg(1), pacer.then(|| arg(2)), input)
+                }
+                MotionCmd::GearFor => self.dsp.gear_for(n, arg(0), arg(1)),
+                MotionCmd::MoveAt { time } => {
+                    self.dsp.move_at(n, arg(0), if time { arg(1) } else { 0.0 })
+                }
+                MotionCmd::MovePos { .. } => {
+                    return Err("MOVE TO/FOR is not available on DSP axes yet".into())
+                }
+            }
+            .map_err(|e| e.0)?;
+            match q {
+                Queued::Full => return Ok((false, None)),
+                Queued::AcceptedAsStep => {
+                    warning = Some(format!(
+                        "GEAR FOR {} IN 0 on axis {n}: a pacer distance of 0 applies the \
+                         correction as a step at the next update",
+                        number_text(arg(0))
+                    ));
+                }
+                Queued::Accepted => {}
+            }
+        }
+        Ok((true, warning))
+    }
+
+    /// The control loop's part for the DSP axes: AFTER inputs, then motion to `now`, latches
+    /// and status into the slots.
+    pub fn generate(&mut self, v: &mut [f64], now: &mut Now<'_>) -> Result<(), String> {
+        let t = now.seconds();
+        for (slot, last) in &mut self.after {
+            let on = v[*slot as usize] != 0.0;
+            if on && !*last {
+                self.dsp.trigger(*slot, t).map_err(|e| e.0)?;
+            }
+            *last = on;
+        }
+        let events = self.dsp.advance(t).map_err(|e| e.0)?;
+        for e in events {
+            match e {
+                DspEvent::Latched {
+                    axis,
+                    which,
+                    time,
+                    position,
+                    ..
+                } => now.trace.event(
+                    now.tick,
+                    "latch",
+                    &[
+                        ("axis", axis.into()),
+                        ("sensor", which.name().into()),
+                        ("time", number(time)),
+                        ("position", number(position)),
+                    ],
+                ),
+                DspEvent::EdgeBlinded { card, which, time } => now.trace.event(
+                    now.tick,
+                    "blinded",
+                    &[
+                        ("card", card.into()),
+                        ("sensor", which.name().into()),
+                        ("time", number(time)),
+                    ],
+                ),
+                _ => {}
+            }
+        }
+        for c in &self.configs {
+            let n = c.number;
+            let m = self.members;
+            let put = |v: &mut [f64], member: u32, x: f64| {
+                if let Some(s) =
+                    (n >= 1 && n <= self.count).then(|| self.base + (n - 1) * self.per + member)
+                {
+                    v[s as usize] = x;
+                }
+            };
+            put(
+                v,
+                m.position,
+                self.dsp.reported_position(n).map_err(|e| e.0)?,
+            );
+            put(v, m.velocity, self.dsp.velocity(n).map_err(|e| e.0)?);
+            put(
+                v,
+                m.ratio,
+                self.dsp.ratio(n).map_err(|e| e.0)?.unwrap_or(0.0),
+            );
+            put(v, m.dsp_done, f64::from(self.dsp.done(n).map_err(|e| e.0)?));
+            for (k, sensor) in SENSORS.iter().enumerate() {
+                let latched = self.dsp.latched(n, *sensor).map_err(|e| e.0)?;
+                put(v, m.latched[k], f64::from(latched));
+                put(
+                    v,
+                    m.latched_position[k],
+                    self.dsp.latched_position(n, *sensor).map_err(|e| e.0)?,
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+fn number_text(x: f64) -> String {
+    if x.fract() == 0.0 && x.abs() < 1e15 {
+        format!("{}", x as i64)
+    } else {
+        format!("{x}")
+    }
+}

@@ -1,0 +1,133 @@
+//! The scenario's printed marks: explicit mark positions on a DSP axis, from a pitch that
+//! drifts and steps, seeded print jitter and spurious marks.
+
+use crate::config::scenario::PrintedMarks;
+use crate::config::span_of;
+use crate::diag::Problem;
+use crate::kernel::dsp::Sensor;
+use crate::kernel::orion::MarkTrack;
+use crate::world::products::unit;
+use rand_chacha::rand_core::SeedableRng;
+use rand_chacha::ChaCha8Rng;
+
+/// Most marks one `[[marks]]` entry may lay.
+pub const MAX_MARKS: u32 = 1_000_000;
+
+/// The mark tracks of `entries`, checked against the DSP axes `axes` of the machine.
+pub fn tracks(
+    entries: &[PrintedMarks],
+    axes: &[u32],
+    problems: &mut Vec<Problem>,
+) -> Vec<MarkTrack> {
+    let mut out = Vec::new();
+    for e in entries {
+        let before = problems.len();
+        let axis = *e.axis.get_ref();
+        if !axes.contains(&axis) {
+            problems.push(
+                Problem::error(
+                    "pacer::scenario::marks",
+                    span_of(&e.axis),
+                    format!("axis {axis} is not a DSP axis of this machine"),
+                    "no such axis",
+                )
+                .with_help(format!("machine.toml defines axes {axes:?}")),
+            );
+        }
+        let sensor = match e.sensor.as_ref().map(|s| s.get_ref().to_ascii_uppercase()) {
+            None => Sensor::Asen,
+            Some(s) if s == "ASEN" => Sensor::Asen,
+            Some(s) if s == "BSEN" => Sensor::Bsen,
+            Some(s) if s == "ZREF" => Sensor::Zref,
+            Some(s) => {
+                if let Some(span) = e.sensor.as_ref().map(span_of) {
+                    problems.push(Problem::error(
+                        "pacer::scenario::marks",
+                        span,
+                        format!("`{s}` is not a DSP card input"),
+                        "ASEN, BSEN or ZREF",
+                    ));
+                }
+                Sensor::Asen
+            }
+        };
+        let pitch = *e.pitch.get_ref();
+        if !(pitch.is_finite() && pitch > 0.0) {
+            problems.push(Problem::error(
+                "pacer::scenario::marks",
+                span_of(&e.pitch),
+                "the pitch must be a positive number",
+                "not positive",
+            ));
+        }
+        let count = *e.count.get_ref();
+        if count == 0 || count > MAX_MARKS {
+            problems.push(Problem::error(
+                "pacer::scenario::marks",
+                span_of(&e.count),
+                format!("{count} marks"),
+                format!("1 to {MAX_MARKS}"),
+            ));
+        }
+        let width = e.width.as_ref().map_or(50.0, |w| *w.get_ref());
+        let jitter = e.jitter.as_ref().map_or(0.0, |j| *j.get_ref());
+        if let Some(j) = &e.jitter {
+            if !(jitter.is_finite() && jitter >= 0.0) {
+                problems.push(Problem::error(
+                    "pacer::scenario::marks",
+                    span_of(j),
+                    "the jitter must be 0 or more",
+                    "negative",
+                ));
+            }
+        }
+        if problems.len() > before {
+            continue;
+        }
+        let mut rng = ChaCha8Rng::seed_from_u64(e.seed);
+        let mut positions = Vec::with_capacity(count as usize);
+        let mut nominal = e.first;
+        let mut p = pitch;
+        for k in 0..count {
+            if let Some(step) = e.steps.iter().rev().find(|s| s.at == k) {
+                p = step.pitch;
+            }
+            positions.push(nominal + jitter * unit(&mut rng));
+            if let Some(sp) = &e.spurious {
+                let every = *sp.every.get_ref();
+                if every > 0 && (k + 1) % every == 0 {
+                    positions.push(nominal + *sp.offset.get_ref());
+                }
+            }
+            nominal += p;
+            p += e.drift;
+        }
+        positions.sort_by(f64::total_cmp);
+        let min_gap = positions
+            .windows(2)
+            .map(|w| w[1] - w[0])
+            .fold(f64::INFINITY, f64::min);
+        if !(width.is_finite() && width > 0.0 && width < min_gap) {
+            let span = e.width.as_ref().map_or(span_of(&e.pitch), span_of);
+            problems.push(
+                Problem::error(
+                    "pacer::scenario::marks",
+                    span,
+                    format!("marks of width {width} overlap (the closest are {min_gap:.3} apart)"),
+                    "marks must not touch",
+                )
+                .with_help(
+                    "make the marks narrower, the jitter smaller or the spurious offset larger",
+                ),
+            );
+            continue;
+        }
+        out.push(MarkTrack {
+            axis,
+            sensor,
+            positions,
+            width,
+        });
+    }
+    out
+}
