@@ -101,6 +101,19 @@ pub fn controller(name: &str) -> Option<&'static Controller> {
 /// (`Queue.0.QueueEmpty`), else a MotionBASIC variable.
 pub fn resolve(registry: &Registry, name: &Name) -> Result<Resolved, Problem> {
     let text = name.text();
+    if text.ends_with('@') {
+        let help = match controller(&text) {
+            Some(c) => format!("give its axis: `{}@(knife~)`", c.name),
+            None => "controller variables take an axis in ( ) or { }".to_string(),
+        };
+        return Err(Problem::error(
+            "pacer::check::controller_axis",
+            name.span,
+            format!("{text} is a controller variable: it needs an axis"),
+            "no axis given",
+        )
+        .with_help(help));
+    }
     if crate::registry::catalog::find_type(&name.segments[0].text).is_some() {
         if let Ok(r) = registry.resolve(name) {
             return Ok(r);
@@ -284,7 +297,8 @@ pub fn check(ast: &ProgramAst, registry: &Registry, vars: &Variables) -> Vec<Pro
 struct BasicChecker<'a> {
     registry: &'a Registry,
     vars: &'a Variables,
-    labels: IndexMap<String, Span>,
+    /// Upper-case label → where and how it is written.
+    labels: IndexMap<String, (Span, String)>,
     problems: Vec<Problem>,
     warned: IndexSet<String>,
 }
@@ -300,8 +314,7 @@ impl BasicChecker<'_> {
             match &s.kind {
                 StmtKind::Label(seg) => {
                     let key = label_key(&seg.text);
-                    if let Some(first) = self.labels.get(&key) {
-                        let _ = first;
+                    if self.labels.contains_key(&key) {
                         self.problems.push(Problem::error(
                             "pacer::check::label",
                             seg.span,
@@ -309,7 +322,7 @@ impl BasicChecker<'_> {
                             "second definition",
                         ));
                     } else {
-                        self.labels.insert(key, seg.span);
+                        self.labels.insert(key, (seg.span, seg.text.clone()));
                     }
                 }
                 StmtKind::If {
@@ -361,7 +374,7 @@ impl BasicChecker<'_> {
     }
 
     fn unknown_label(&mut self, seg: &Segment, what: &str) {
-        let names: Vec<&str> = self.labels.keys().map(String::as_str).collect();
+        let names: Vec<&str> = self.labels.values().map(|(_, t)| t.as_str()).collect();
         let help = nearest(&seg.text, names).map(|n| format!("did you mean `{n}`?"));
         self.problems.push(
             Problem::error(

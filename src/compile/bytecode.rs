@@ -83,6 +83,8 @@ pub enum BinaryOp {
     BitXor,
     /// MotionBASIC `\`: both operands rounded to integers, quotient truncated toward zero.
     IntDiv,
+    /// MotionBASIC `MOD`: both operands rounded to integers first.
+    BasicMod,
 }
 
 /// A MotionBASIC motion statement; its operands are in consecutive registers from `args`.

@@ -208,6 +208,7 @@ fn op_names(op: BinaryOp) -> (&'static str, &'static str) {
         BinaryOp::BitOr => ("bor", "OR"),
         BinaryOp::BitXor => ("bxor", "XOR"),
         BinaryOp::IntDiv => ("idiv", "\\"),
+        BinaryOp::BasicMod => ("imod", "MOD"),
     }
 }
 

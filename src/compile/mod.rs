@@ -940,6 +940,12 @@ impl Compiler<'_> {
                     BinOp::Sub => Op::Sub { dst, a, b },
                     BinOp::Mul => Op::Mul { dst, a, b },
                     BinOp::Div => Op::Div { dst, a, b },
+                    BinOp::Mod if basic => Op::Binary {
+                        op: BinaryOp::BasicMod,
+                        dst,
+                        a,
+                        b,
+                    },
                     BinOp::Mod => Op::Mod { dst, a, b },
                     BinOp::Pow => Op::Binary {
                         op: BinaryOp::Pow,

@@ -534,7 +534,7 @@ impl Kernel {
                     return Err("this machine has no DSP axes".into());
                 };
                 let axes = registry_axis_layout(slot, instance, orion);
-                orion.write(hook, axes.0, axes.1, value, v)?;
+                orion.write(hook, axes.0, axes.1, value, v, now)?;
             }
             Hook::FeedRateOverride => {
                 if !(0.0..=200.0).contains(&value) {

@@ -21,6 +21,15 @@ pub struct MarkTrack {
     pub width: f64,
 }
 
+/// What MOVE TO / MOVE FOR use when the statement gives no speed or time.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MoveDefaults {
+    /// Acceleration and deceleration, units/s².
+    pub accel: f64,
+    /// Speed, RPM.
+    pub speed_rpm: f64,
+}
+
 /// Offsets of the Axis members in one instance's slots.
 #[derive(Debug, Clone, Copy)]
 struct Members {
@@ -37,6 +46,7 @@ struct Members {
 pub struct Orion {
     dsp: DspAxes,
     configs: Vec<DspAxisConfig>,
+    defaults: Vec<MoveDefaults>,
     base: SlotId,
     per: u32,
     count: u32,
@@ -61,12 +71,14 @@ impl Orion {
     /// positions. `strings` are the programs' string literals (SENS.MODE@ values).
     pub fn new(
         registry: &Registry,
-        configs: Vec<DspAxisConfig>,
+        configs: Vec<(DspAxisConfig, MoveDefaults)>,
         marks: &[MarkTrack],
         strings: Vec<String>,
     ) -> Result<Orion, String> {
         let axes = registry.of(Kind::Axis);
         let def = axes.def;
+        let (configs, defaults): (Vec<DspAxisConfig>, Vec<MoveDefaults>) =
+            configs.into_iter().unzip();
         let mut dsp = DspAxes::new(&configs).map_err(|e| e.0)?;
         for m in marks {
             dsp.add_marks(
@@ -81,6 +93,7 @@ impl Orion {
         Ok(Orion {
             dsp,
             configs,
+            defaults,
             base: axes.base,
             per: def.members.len() as u32,
             count: axes.count,
@@ -138,6 +151,7 @@ impl Orion {
         member: u32,
         value: f64,
         v: &mut [f64],
+        now: &mut Now<'_>,
     ) -> Result<(), String> {
         let Some(slot) = self.slot(n, member) else {
             return Err(format!("axis {n} is not defined in machine.toml"));
@@ -173,7 +187,18 @@ impl Orion {
                                 format!("SENS.MODE@ needs a string such as \"RRRNN\", not {value}")
                             })?
                             .clone();
-                        self.dsp.set_sens_mode(n, &text)
+                        let r = self.dsp.set_sens_mode(n, &text);
+                        if r.is_ok() {
+                            now.trace.event(
+                                now.tick,
+                                "sens_mode",
+                                &[
+                                    ("axis", n.into()),
+                                    ("mode", text.to_ascii_uppercase().into()),
+                                ],
+                            );
+                        }
+                        r
                     }
                     pls => {
                         let k = pls.as_bytes().get(3).map_or(0, |c| u32::from(c - b'0'));
@@ -198,6 +223,7 @@ impl Orion {
         cmd: MotionCmd,
         mask: f64,
         args: &[f64],
+        v: &mut [f64],
     ) -> Result<(bool, Option<String>), String> {
         let axes = self.axes_of(mask)?;
         for &n in &axes {
@@ -223,16 +249,25 @@ impl Orion {
                     }
                     self.dsp
                         .gear_at(n, arg(0), arg(1), pacer.then(|| arg(2)), input)
+                        .map_err(|e| e.0)?
                 }
-                MotionCmd::GearFor => self.dsp.gear_for(n, arg(0), arg(1)),
-                MotionCmd::MoveAt { time } => {
-                    self.dsp.move_at(n, arg(0), if time { arg(1) } else { 0.0 })
-                }
-                MotionCmd::MovePos { .. } => {
-                    return Err("MOVE TO/FOR is not available on DSP axes yet".into())
-                }
-            }
-            .map_err(|e| e.0)?;
+                MotionCmd::GearFor => self.dsp.gear_for(n, arg(0), arg(1)).map_err(|e| e.0)?,
+                MotionCmd::MoveAt { time } => self
+                    .dsp
+                    .move_at(n, arg(0), if time { arg(1) } else { 0.0 })
+                    .map_err(|e| e.0)?,
+                MotionCmd::MovePos {
+                    relative,
+                    speed,
+                    time,
+                } => self.move_to(
+                    n,
+                    relative,
+                    arg(0),
+                    speed.then(|| arg(1)),
+                    time.then(|| arg(2)),
+                )?,
+            };
             match q {
                 Queued::Full => return Ok((false, None)),
                 Queued::AcceptedAsStep => {
@@ -244,8 +279,106 @@ impl Orion {
                 }
                 Queued::Accepted => {}
             }
+            // DSP.DONE@ reads false as soon as a move is queued, not from the next update.
+            if let Some(slot) = self.slot(n, self.members.dsp_done) {
+                v[slot as usize] = f64::from(self.dsp.done(n).map_err(|e| e.0)?);
+            }
         }
         Ok((true, warning))
+    }
+
+    /// `MOVE axis TO position` / `MOVE axis FOR distance` [`AT` speed RPM] [`IN` time ms]: a
+    /// trapezoid from rest, queued as its velocity ramps (accelerate, cruise, decelerate).
+    fn move_to(
+        &mut self,
+        n: u32,
+        relative: bool,
+        target: f64,
+        speed_rpm: Option<f64>,
+        time_ms: Option<f64>,
+    ) -> Result<Queued, String> {
+        let i = self
+            .configs
+            .iter()
+            .position(|c| c.number == n)
+            .ok_or_else(|| format!("axis {n} is not defined in machine.toml"))?;
+        let (config, defaults) = (&self.configs[i], self.defaults[i]);
+        if self.dsp.queued(n).map_err(|e| e.0)? > 0 || self.dsp.velocity(n).map_err(|e| e.0)? != 0.0
+        {
+            return Err(format!(
+                "MOVE TO/FOR on axis {n} starts from rest: the axis is moving or has moves \
+                 queued (wait until DSP.DONE@ and stop it with MOVE … AT 0)"
+            ));
+        }
+        if config.queue_depth < 3 {
+            return Err(format!(
+                "MOVE TO/FOR on axis {n} needs 3 places in its motion queue (queue = {})",
+                config.queue_depth
+            ));
+        }
+        let here = self.dsp.position(n).map_err(|e| e.0)?;
+        let distance = if relative { target } else { target - here };
+        let per_rpm = config.units_per_rev / 60.0;
+        let finite = |x: f64, what: &str| {
+            if x.is_finite() {
+                Ok(x)
+            } else {
+                Err(format!(
+                    "MOVE on axis {n}: the {what} must be a number, not {x}"
+                ))
+            }
+        };
+        finite(distance, "position")?;
+        if distance == 0.0 {
+            return Ok(Queued::Accepted);
+        }
+        let speed = finite(speed_rpm.unwrap_or(defaults.speed_rpm), "speed")?.abs() * per_rpm;
+        // Times of the accelerating and cruising parts, and the top speed.
+        let (ta, tc, v) = match time_ms {
+            None => {
+                let a = defaults.accel;
+                let ta = speed / a;
+                if speed * ta >= distance.abs() {
+                    // A triangle: the speed is never reached.
+                    let ta = (distance.abs() / a).sqrt();
+                    (ta, 0.0, a * ta)
+                } else {
+                    (ta, distance.abs() / speed - ta, speed)
+                }
+            }
+            Some(ms) => {
+                let total = finite(ms, "time")? / 1000.0;
+                if total <= 0.0 {
+                    return Err(format!("MOVE on axis {n}: IN needs a time above 0 ms"));
+                }
+                match speed_rpm {
+                    // Thirds: accelerate, cruise, decelerate.
+                    None => (total / 3.0, total / 3.0, 1.5 * distance.abs() / total),
+                    Some(_) => {
+                        let ta = total - distance.abs() / speed;
+                        if !(ta > 0.0 && ta <= total / 2.0) {
+                            return Err(format!(
+                                "MOVE on axis {n}: {distance} units at {} RPM cannot take {ms} ms",
+                                speed / per_rpm
+                            ));
+                        }
+                        (ta, total - 2.0 * ta, speed)
+                    }
+                }
+            }
+        };
+        let rpm = v.copysign(distance) / per_rpm;
+        let mut ramps = vec![(rpm, ta)];
+        if tc > 0.0 {
+            ramps.push((rpm, tc));
+        }
+        ramps.push((0.0, ta));
+        for (r, t) in ramps {
+            if self.dsp.move_at(n, r, t * 1000.0).map_err(|e| e.0)? == Queued::Full {
+                return Err(format!("MOVE on axis {n}: the motion queue is full"));
+            }
+        }
+        Ok(Queued::Accepted)
     }
 
     /// The control loop's part for the DSP axes: AFTER inputs, then motion to `now`, latches

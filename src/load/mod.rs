@@ -529,7 +529,12 @@ fn split_paths(
 }
 
 /// The DSP axes of `[axis.N]` (already checked by the registry).
-fn dsp_configs(machine: &MachineFile) -> Vec<crate::kernel::dsp::DspAxisConfig> {
+fn dsp_configs(
+    machine: &MachineFile,
+) -> Vec<(
+    crate::kernel::dsp::DspAxisConfig,
+    crate::kernel::orion::MoveDefaults,
+)> {
     machine
         .axis
         .iter()
@@ -544,7 +549,14 @@ fn dsp_configs(machine: &MachineFile) -> Vec<crate::kernel::dsp::DspAxisConfig> 
             if let Some(q) = &s.queue {
                 c.queue_depth = *q.get_ref() as usize;
             }
-            Some(c)
+            let defaults = crate::kernel::orion::MoveDefaults {
+                accel: s
+                    .accel
+                    .as_ref()
+                    .map_or(10.0 * c.units_per_rev, |a| *a.get_ref()),
+                speed_rpm: s.speed.as_ref().map_or(100.0, |v| *v.get_ref()),
+            };
+            Some((c, defaults))
         })
         .collect()
 }

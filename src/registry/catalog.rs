@@ -590,7 +590,8 @@ const AXIS: &[MemberDef] = &[
         Hook::AxisSetting,
         m("Pls3High", Real, ReadWrite, "PLS3 turn-off point"),
     ),
-    hook(
+    // Holds the index of a string: traced as a `sens_mode` event with the text instead.
+    continuous(hook(
         Hook::AxisSetting,
         m(
             "SensMode",
@@ -598,7 +599,7 @@ const AXIS: &[MemberDef] = &[
             ReadWrite,
             "sensor edges and gating, a SENS.MODE@ string",
         ),
-    ),
+    )),
 ];
 const BASIC_VAR: &[MemberDef] = &[m(
     "Value",

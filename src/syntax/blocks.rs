@@ -227,8 +227,7 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
             LineKind::Endif => close(
                 &mut stack,
                 &mut top,
-                |f| matches!(f, Frame::If { .. }),
-                (w.endif, w.if_),
+                Closer::Endif,
                 span,
                 problems,
                 &line_no,
@@ -237,8 +236,7 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
             LineKind::Loop => close(
                 &mut stack,
                 &mut top,
-                |f| matches!(f, Frame::Do { .. }),
-                (w.wend, w.while_),
+                Closer::Loop,
                 span,
                 problems,
                 &line_no,
@@ -271,8 +269,7 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
                 close(
                     &mut stack,
                     &mut top,
-                    |f| matches!(f, Frame::For { .. }),
-                    (w.next, w.for_),
+                    Closer::Next,
                     span,
                     problems,
                     &line_no,
@@ -298,19 +295,47 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
     top
 }
 
-/// A closing line: close the innermost block if `opens` it, else report the mismatch.
+/// The block a closing line closes.
+#[derive(Clone, Copy)]
+enum Closer {
+    Endif,
+    Loop,
+    Next,
+}
+
+impl Closer {
+    fn opens(self, f: &Frame) -> bool {
+        matches!(
+            (self, f),
+            (Closer::Endif, Frame::If { .. })
+                | (Closer::Loop, Frame::Do { .. })
+                | (Closer::Next, Frame::For { .. })
+        )
+    }
+
+    /// The closing word and the word of the block it closes.
+    fn words(self, w: &Words) -> (&'static str, &'static str) {
+        match self {
+            Closer::Endif => (w.endif, w.if_),
+            Closer::Loop => (w.wend, w.while_),
+            Closer::Next => (w.next, w.for_),
+        }
+    }
+}
+
+/// A closing line: close the innermost block if it is the right kind, else report the mismatch.
 fn close(
     stack: &mut Vec<Frame>,
     top: &mut Vec<Stmt>,
-    opens: fn(&Frame) -> bool,
-    (word, opener): (&str, &str),
+    closer: Closer,
     span: Span,
     problems: &mut Vec<Problem>,
     line_no: &dyn Fn(Span) -> usize,
     w: &Words,
 ) {
+    let (word, opener) = closer.words(w);
     match stack.pop() {
-        Some(frame) if opens(&frame) => push(stack, top, frame.into_stmt()),
+        Some(frame) if closer.opens(&frame) => push(stack, top, frame.into_stmt()),
         other => {
             problems.push(mismatch(
                 word,

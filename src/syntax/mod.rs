@@ -153,6 +153,8 @@ pub fn parse_expr(src: &str) -> Result<ast::Expr, Problem> {
 
 /// What the error reporter needs to know about a dialect's tokens.
 trait SyntaxToken: std::fmt::Display {
+    /// The dialect writes its keywords in capitals (MotionBASIC).
+    const UPPER_KEYWORDS: bool = false;
     fn is_newline(&self) -> bool;
     fn is_bad(&self) -> bool;
 }
@@ -167,6 +169,7 @@ impl SyntaxToken for Tok<'_> {
 }
 
 impl SyntaxToken for mb_token::MbTok<'_> {
+    const UPPER_KEYWORDS: bool = true;
     fn is_newline(&self) -> bool {
         matches!(self, mb_token::MbTok::Newline)
     }
@@ -190,7 +193,7 @@ fn syntax_problem<T: SyntaxToken>(e: ParseError<usize, T, LexError>, src: &str) 
             "the file ends in the middle of a statement",
             "statement incomplete",
         )
-        .with_help_opt(expected_help(&expected)),
+        .with_help_opt(expected_help(&expected, T::UPPER_KEYWORDS)),
         ParseError::UnrecognizedToken {
             token: (l, tok, r),
             expected,
@@ -212,7 +215,8 @@ fn syntax_problem<T: SyntaxToken>(e: ParseError<usize, T, LexError>, src: &str) 
             } else {
                 "not expected here"
             };
-            Problem::error(CODE, span, message, label).with_help_opt(expected_help(&expected))
+            Problem::error(CODE, span, message, label)
+                .with_help_opt(expected_help(&expected, T::UPPER_KEYWORDS))
         }
         ParseError::ExtraToken { token: (l, tok, r) } => Problem::error(
             CODE,
@@ -229,11 +233,11 @@ fn syntax_problem<T: SyntaxToken>(e: ParseError<usize, T, LexError>, src: &str) 
     }
 }
 
-fn expected_help(expected: &[String]) -> Option<String> {
+fn expected_help(expected: &[String], upper: bool) -> Option<String> {
     if expected.is_empty() {
         return None;
     }
-    let words: Vec<String> = expected.iter().map(|e| pretty_expected(e)).collect();
+    let words: Vec<String> = expected.iter().map(|e| pretty_expected(e, upper)).collect();
     let mut uniq: Vec<String> = Vec::new();
     for w in words {
         if !uniq.contains(&w) {
@@ -247,9 +251,18 @@ fn expected_help(expected: &[String]) -> Option<String> {
     Some(format!("expected {}", uniq.join(", ")))
 }
 
-fn pretty_expected(e: &str) -> String {
+fn pretty_expected(e: &str, upper: bool) -> String {
     let t = e.trim_matches('"');
     match t {
+        "true" | "false" if upper => t.to_ascii_uppercase(),
+        other
+            if upper
+                && other.len() > 1
+                && other.chars().all(|c| c.is_ascii_alphabetic())
+                && !matches!(other, "num" | "name" | "str" | "label" | "bad") =>
+        {
+            other.to_ascii_uppercase()
+        }
         "\\n" => "end of line".into(),
         "num" => "a number".into(),
         "name" => "a name".into(),

@@ -161,7 +161,7 @@ pub fn run(
             }
             Op::Neg { dst, a } => v[dst as usize] = -v[a as usize],
             Op::Not { dst, a } => v[dst as usize] = f64::from(v[a as usize] == 0.0),
-            Op::BitNot { dst, a } => v[dst as usize] = !(v[a as usize] as i64) as f64,
+            Op::BitNot { dst, a } => v[dst as usize] = !int(v[a as usize]) as f64,
             Op::Call { func, dst, a, b } => {
                 v[dst as usize] = func.apply(v[a as usize], v[b as usize])
             }
@@ -470,7 +470,7 @@ pub fn run(
                         "this machine has no DSP axes: define them in machine.toml ([axis.1] …)"
                     );
                 };
-                match orion.motion(cmd, mask, &operands) {
+                match orion.motion(cmd, mask, &operands, v) {
                     Ok((true, warning)) => {
                         if let Some(message) = warning {
                             let line = chunk.lines.get(here as usize).copied().unwrap_or(0);
@@ -556,9 +556,17 @@ fn binary(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
         BinaryOp::And => f64::from(x != 0.0 && y != 0.0),
         BinaryOp::Or => f64::from(x != 0.0 || y != 0.0),
         BinaryOp::Xor => f64::from((x != 0.0) != (y != 0.0)),
-        BinaryOp::BitAnd => ((x as i64) & (y as i64)) as f64,
-        BinaryOp::BitOr => ((x as i64) | (y as i64)) as f64,
-        BinaryOp::BitXor => ((x as i64) ^ (y as i64)) as f64,
+        BinaryOp::BitAnd => (int(x) & int(y)) as f64,
+        BinaryOp::BitOr => (int(x) | int(y)) as f64,
+        BinaryOp::BitXor => (int(x) ^ int(y)) as f64,
+        BinaryOp::BasicMod => {
+            // Microsoft BASIC: both operands rounded to integers first.
+            let (a, b) = (x.round_ties_even(), y.round_ties_even());
+            if b == 0.0 {
+                return Err("MOD by zero");
+            }
+            a % b
+        }
         BinaryOp::IntDiv => {
             // Microsoft BASIC: both operands rounded to integers (halves to even), the quotient
             // truncated toward zero; a long integer outside 32 bits is an Overflow.
@@ -577,6 +585,12 @@ fn binary(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
             q
         }
     })
+}
+
+/// The integer a bitwise operator works on: halves rounded to even, as Microsoft BASIC does.
+#[inline]
+fn int(x: f64) -> i64 {
+    x.round_ties_even() as i64
 }
 
 /// Read member `member` of the DSP axes in `mask`.
@@ -627,7 +641,7 @@ fn axis_write(
     let axes = orion.axes_of(mask)?;
     let mut written = Vec::with_capacity(axes.len());
     for n in axes {
-        orion.write(hook, n, member, value, v)?;
+        orion.write(hook, n, member, value, v, &mut ctx.now)?;
         written.extend(orion.slot(n, member));
     }
     if ctx.now.trace.enabled() {
