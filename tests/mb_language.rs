@@ -441,9 +441,9 @@ fn controller_truth_tests_compare_equal_to_true() {
 // ---------------------------------------------------------------------------------------------
 
 #[test]
-fn assigning_a_real_to_a_long_rounds_half_away_from_zero() {
-    // The spec says "rounds to the nearest integer"; pacer (src/fixed.rs) rounds halves away
-    // from zero, on the decimal value written.
+fn assigning_a_real_to_a_long_rounds_halves_to_even() {
+    // The spec says "rounds to the nearest integer"; Microsoft BASIC (CLNG) rounds halves to
+    // even, as its `\` and MOD do.
     let run = run_ok(
         "long-round",
         "A& = 2.5\nB& = 3.5\nC& = -2.5\nD& = 2.4999\nE& = -3.5\nF& = 7 / 2\nG& = 1.005 * 1000\n\
@@ -452,15 +452,15 @@ fn assigning_a_real_to_a_long_rounds_half_away_from_zero() {
     assert_values(
         &run,
         &[
-            ("A&", 3.0),
+            ("A&", 2.0),
             ("B&", 4.0),
-            ("C&", -3.0),
+            ("C&", -2.0),
             ("D&", 2.0),
             ("E&", -4.0),
             ("F&", 4.0),
             ("G&", 1005.0),
-            ("H&", 1.0),
-            ("I&", -1.0),
+            ("H&", 0.0),
+            ("I&", 0.0),
             ("J&", 3.0),
         ],
     );

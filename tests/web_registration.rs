@@ -125,7 +125,7 @@ impl Reference {
 
     /// One mark: the expected (PLEN&, DIFF&, CORR&).
     fn mark(&mut self, web: f64, knife: f64, inst_set: i64) -> (i64, i64, i64) {
-        let pos = web.round() as i64;
+        let pos = web.round_ties_even() as i64;
         if self.old != 0 {
             let tmp = pos - self.old;
             if tmp > TREND_SET / 2 && tmp < 3 * TREND_SET / 2 {
@@ -136,7 +136,7 @@ impl Reference {
             }
         }
         self.old = pos;
-        let mut diff = inst_set - knife.round() as i64;
+        let mut diff = inst_set - knife.round_ties_even() as i64;
         if diff > 3600 / 2 {
             diff -= 3600;
         } else if diff <= -(3600 / 2) {

@@ -173,6 +173,9 @@ pub enum Op {
     },
     /// Store into a fixed-point slot: round to `decimals`, fail outside 32 bits.
     StoreFixed { dst: Reg, src: Reg, decimals: u8 },
+    /// Store into a MotionBASIC long integer: halves rounded to even (Microsoft BASIC's CLNG),
+    /// an Overflow outside 32 bits.
+    StoreLong { dst: Reg, src: Reg },
     /// Store a real quantity (must be finite).
     StoreReal { dst: Reg, src: Reg },
     /// Store an ON/OFF value.

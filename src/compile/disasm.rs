@@ -160,6 +160,7 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             }
             Op::CallProgram { program } => format!("call      Program.{program}"),
             Op::CheckLong { r: x } => format!("chk.long  {}", r(x)),
+            Op::StoreLong { dst, src } => format!("store.l   {} <- {}", r(dst), r(src)),
             Op::AxisBit { dst, a } => format!("axis      {} <- {{{}}}", r(dst), r(a)),
             Op::AxisRead {
                 dst,

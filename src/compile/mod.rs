@@ -714,6 +714,21 @@ impl Compiler<'_> {
     }
 
     fn store(&mut self, r: &crate::registry::Resolved, src: Reg) {
+        if self.dialect == Dialect::MotionBasic
+            && r.kind == Kind::BasicVar
+            && r.ty == ValueType::Fixed(0)
+        {
+            if let (Some(&Op::CheckLong { r: checked }), true) =
+                (self.ops.last(), self.ops.len() > self.stmt_start)
+            {
+                if checked == src {
+                    self.ops.pop();
+                    self.lines.pop();
+                }
+            }
+            self.emit(Op::StoreLong { dst: r.slot, src });
+            return;
+        }
         // Storing into a 32-bit variable checks the range itself.
         if let (Some(&Op::CheckLong { r: checked }), ValueType::Fixed(_) | ValueType::Integer) =
             (self.ops.last(), r.ty)

@@ -168,6 +168,19 @@ pub fn run(
             Op::StoreFixed { dst, src, decimals } => {
                 store_fixed!(dst, v[src as usize], decimals, here)
             }
+            Op::StoreLong { dst, src } => {
+                let raw = v[src as usize];
+                let x = raw.round_ties_even() + 0.0;
+                if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
+                    pc = here;
+                    let name = name_of(ctx, dst);
+                    fault!("Overflow: {raw} does not fit {name} (a long integer: -2147483648 to 2147483647)");
+                }
+                v[dst as usize] = x;
+                if trace_on && dst < ctx.slot_count {
+                    traced_write(ctx, dst, x);
+                }
+            }
             Op::StoreReal { dst, src } => {
                 let x = v[src as usize];
                 if !x.is_finite() {
