@@ -183,3 +183,37 @@ fn move_to_while_moving_is_a_clear_error() {
         error.message
     );
 }
+
+#[test]
+fn a_motion_statement_waits_only_when_the_queue_is_full() {
+    // Depth 4: four corrections queue at once; the fifth waits for the first to finish.
+    let program = "w~ = {1} : k~ = {2}
+GEAR k~ AT 1 TO 4
+MOVE w~ AT 600 IN 10
+GEAR k~ FOR 10 IN 1000
+GEAR k~ FOR 10 IN 1000
+GEAR k~ FOR 10 IN 1000
+GEAR k~ FOR 10 IN 1000
+A = POS@(w~)
+GEAR k~ FOR 10 IN 1000
+B = POS@(w~)
+WHILE DSP.DONE@(k~) = 0 : WEND
+END
+";
+    let (web, knife, events) = run("queue-full", program);
+    let value = |name: &str| {
+        events
+            .iter()
+            .find(|e| e["kind"] == "change" && e["name"] == name)
+            .and_then(|e| e["value"].as_f64())
+            .unwrap_or(f64::NAN)
+    };
+    assert!(
+        value("A") < 1.0,
+        "the first four did not wait: A = {}",
+        value("A")
+    );
+    // The fifth was queued once the first correction's 1000 units of web had passed.
+    assert!((1000.0..1020.0).contains(&value("B")), "B = {}", value("B"));
+    assert!((knife - web / 4.0 - 50.0).abs() < 1e-9);
+}

@@ -289,7 +289,7 @@ pub fn check(ast: &ProgramAst, registry: &Registry, vars: &Variables) -> Vec<Pro
         problems: Vec::new(),
         warned: IndexSet::new(),
     };
-    c.collect_labels(&ast.body);
+    c.labels = super::label_map(&ast.body, &mut c.problems);
     c.stmts(&ast.body);
     c.problems
 }
@@ -297,7 +297,7 @@ pub fn check(ast: &ProgramAst, registry: &Registry, vars: &Variables) -> Vec<Pro
 struct BasicChecker<'a> {
     registry: &'a Registry,
     vars: &'a Variables,
-    /// Upper-case label → where and how it is written.
+    /// Lower-case label → where and how it is written.
     labels: IndexMap<String, (Span, String)>,
     problems: Vec<Problem>,
     warned: IndexSet<String>,
@@ -305,44 +305,10 @@ struct BasicChecker<'a> {
 
 /// A label's key: labels are case-insensitive.
 pub fn label_key(text: &str) -> String {
-    text.to_ascii_uppercase()
+    text.to_ascii_lowercase()
 }
 
 impl BasicChecker<'_> {
-    fn collect_labels(&mut self, body: &[Stmt]) {
-        for s in body {
-            match &s.kind {
-                StmtKind::Label(seg) => {
-                    let key = label_key(&seg.text);
-                    if self.labels.contains_key(&key) {
-                        self.problems.push(Problem::error(
-                            "pacer::check::label",
-                            seg.span,
-                            format!("the label `{}` is defined twice", seg.text),
-                            "second definition",
-                        ));
-                    } else {
-                        self.labels.insert(key, (seg.span, seg.text.clone()));
-                    }
-                }
-                StmtKind::If {
-                    then_body,
-                    else_body,
-                    ..
-                } => {
-                    self.collect_labels(then_body);
-                    if let Some(e) = else_body {
-                        self.collect_labels(e);
-                    }
-                }
-                StmtKind::DoWhile { body, .. } | StmtKind::For { body, .. } => {
-                    self.collect_labels(body)
-                }
-                _ => {}
-            }
-        }
-    }
-
     fn report<T>(&mut self, r: Result<T, Problem>) -> Option<T> {
         match r {
             Ok(v) => Some(v),

@@ -43,7 +43,7 @@ pub fn check_program(ast: &ProgramAst, env: &CheckEnv<'_>) -> Vec<Problem> {
         problems: Vec::new(),
         labels: IndexMap::new(),
     };
-    c.collect_labels(&ast.body);
+    c.labels = label_map(&ast.body, &mut c.problems);
     c.block(&ast.body);
     c.problems
 }
@@ -52,6 +52,29 @@ struct Checker<'a, 'b> {
     env: &'a CheckEnv<'b>,
     problems: Vec<Problem>,
     labels: IndexMap<String, (Span, String)>,
+}
+
+/// The labels of a program by lower-case name, with where and how each is written; a label
+/// defined twice is reported.
+pub fn label_map(body: &[Stmt], problems: &mut Vec<Problem>) -> IndexMap<String, (Span, String)> {
+    let mut labels = IndexMap::new();
+    for seg in crate::syntax::ast::labels(body) {
+        let key = seg.text.to_ascii_lowercase();
+        if labels.contains_key(&key) {
+            problems.push(
+                Problem::error(
+                    "pacer::check::label",
+                    seg.span,
+                    format!("label `{}` is defined twice", seg.text),
+                    "second definition",
+                )
+                .with_help("labels must be unique in a program; rename one of them"),
+            );
+        } else {
+            labels.insert(key, (seg.span, seg.text.clone()));
+        }
+    }
+    labels
 }
 
 /// The type of an expression, with names resolved; shared with the compiler.
@@ -212,43 +235,6 @@ fn readable(r: &Resolved, span: Span) -> Result<(), Problem> {
 impl Checker<'_, '_> {
     fn reg(&self) -> &Registry {
         self.env.registry
-    }
-
-    fn collect_labels(&mut self, body: &[Stmt]) {
-        for s in body {
-            match &s.kind {
-                StmtKind::Label(seg) => {
-                    let key = seg.text.to_ascii_lowercase();
-                    if self.labels.contains_key(&key) {
-                        self.problems.push(
-                            Problem::error(
-                                "pacer::check::label",
-                                seg.span,
-                                format!("label `{}` is defined twice", seg.text),
-                                "second definition",
-                            )
-                            .with_help("labels must be unique in a program; rename one of them"),
-                        );
-                    } else {
-                        self.labels.insert(key, (seg.span, seg.text.clone()));
-                    }
-                }
-                StmtKind::If {
-                    then_body,
-                    else_body,
-                    ..
-                } => {
-                    self.collect_labels(then_body);
-                    if let Some(e) = else_body {
-                        self.collect_labels(e);
-                    }
-                }
-                StmtKind::DoWhile { body, .. } | StmtKind::For { body, .. } => {
-                    self.collect_labels(body)
-                }
-                _ => {}
-            }
-        }
     }
 
     fn block(&mut self, body: &[Stmt]) {

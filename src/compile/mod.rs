@@ -153,7 +153,10 @@ pub fn compile(
         problems: Vec::new(),
     };
     if dialect == Dialect::MotionBasic {
-        collect_labels(&ast.body, &mut c.basic_labels);
+        c.basic_labels = crate::syntax::ast::labels(&ast.body)
+            .into_iter()
+            .map(|seg| seg.text.to_ascii_lowercase())
+            .collect();
     }
     c.block(&ast.body);
     c.emit(Op::End);
@@ -183,29 +186,6 @@ pub fn compile(
         })
     } else {
         Err(c.problems)
-    }
-}
-
-/// Every label of a MotionBASIC program (lower-case), wherever it is.
-fn collect_labels(body: &[Stmt], out: &mut Vec<String>) {
-    for s in body {
-        match &s.kind {
-            StmtKind::Label(seg) => out.push(seg.text.to_ascii_lowercase()),
-            StmtKind::If {
-                then_body,
-                else_body,
-                ..
-            } => {
-                collect_labels(then_body, out);
-                if let Some(e) = else_body {
-                    collect_labels(e, out);
-                }
-            }
-            StmtKind::DoWhile { body, .. } | StmtKind::For { body, .. } => {
-                collect_labels(body, out)
-            }
-            _ => {}
-        }
     }
 }
 
@@ -311,25 +291,11 @@ impl Compiler<'_> {
                 if r.access == Access::Action {
                     // `X=ON` triggers the action; `X=cond` triggers it when cond is ON.
                     match value.kind {
-                        ExprKind::Bool(true) => {
-                            self.emit(Op::Act {
-                                hook: r.hook,
-                                slot: r.slot,
-                                instance: r.instance,
-                                start: StartRef::Now,
-                                profile: 0,
-                            });
-                        }
+                        ExprKind::Bool(true) => self.act_now(&r),
                         ExprKind::Bool(false) => {}
                         _ => {
                             let skip = self.cond_jump(value);
-                            self.emit(Op::Act {
-                                hook: r.hook,
-                                slot: r.slot,
-                                instance: r.instance,
-                                start: StartRef::Now,
-                                profile: 0,
-                            });
+                            self.act_now(&r);
                             let end = self.here();
                             self.patch_all(skip, end);
                         }
@@ -505,13 +471,7 @@ impl Compiler<'_> {
                     // Not a label: an object action written bare (`Queue.0.QueueRemove`).
                     let name = Name::from_token(&seg.text, seg.span.start);
                     if let Some(r) = self.resolve(&name) {
-                        self.emit(Op::Act {
-                            hook: r.hook,
-                            slot: r.slot,
-                            instance: r.instance,
-                            start: StartRef::Now,
-                            profile: 0,
-                        });
+                        self.act_now(&r);
                     }
                 }
             }
@@ -582,6 +542,17 @@ impl Compiler<'_> {
                 self.motion(cmd, axis, &operands, None);
             }
         }
+    }
+
+    /// Run an action member now, on profile 0.
+    fn act_now(&mut self, r: &crate::registry::Resolved) {
+        self.emit(Op::Act {
+            hook: r.hook,
+            slot: r.slot,
+            instance: r.instance,
+            start: StartRef::Now,
+            profile: 0,
+        });
     }
 
     /// A motion statement: the operands go to consecutive registers (absent ones are 0), and

@@ -256,6 +256,32 @@ pub enum StmtKind {
     Move { axis: Expr, form: MoveForm },
 }
 
+/// Every label of `body`, nested blocks included, in source order.
+pub fn labels(body: &[Stmt]) -> Vec<&Segment> {
+    let mut out = Vec::new();
+    fn walk<'a>(body: &'a [Stmt], out: &mut Vec<&'a Segment>) {
+        for s in body {
+            match &s.kind {
+                StmtKind::Label(seg) => out.push(seg),
+                StmtKind::If {
+                    then_body,
+                    else_body,
+                    ..
+                } => {
+                    walk(then_body, out);
+                    if let Some(e) = else_body {
+                        walk(e, out);
+                    }
+                }
+                StmtKind::DoWhile { body, .. } | StmtKind::For { body, .. } => walk(body, out),
+                _ => {}
+            }
+        }
+    }
+    walk(body, &mut out);
+    out
+}
+
 /// A parsed program file.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct ProgramAst {
