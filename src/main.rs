@@ -21,7 +21,7 @@ struct Cli {
 
 #[derive(clap::Args)]
 struct Project {
-    /// A machine folder, or program files (.pt)
+    /// A machine folder, or program files (.pt PowerTools, .mb MotionBASIC)
     #[arg(required = true)]
     paths: Vec<PathBuf>,
     /// Machine file (default: machine.toml beside the programs)

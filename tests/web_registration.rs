@@ -346,3 +346,27 @@ fn the_i_dist_slip_is_reported_and_the_correction_is_a_visible_step() {
     assert!(message.contains("IN 0"), "{message}");
     assert_eq!(warnings[0]["line"], 64);
 }
+
+#[test]
+fn pacer_check_reports_the_l_dist_slip_before_the_machine_runs() {
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_pacer"))
+        .arg("check")
+        .arg(folder("web-registration"))
+        .output()
+        .expect("run pacer check");
+    let text =
+        String::from_utf8_lossy(&out.stderr).to_string() + &String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "a warning does not fail the check:\n{text}"
+    );
+    assert!(
+        text.contains("I_DIST& is read but never assigned"),
+        "{text}"
+    );
+    assert!(
+        text.contains("`L_DIST&` is assigned: did you mean it?"),
+        "{text}"
+    );
+    assert!(text.contains("registration.mb:64:28"), "{text}");
+}
