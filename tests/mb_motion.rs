@@ -217,3 +217,30 @@ END
     assert!((1000.0..1020.0).contains(&value("B")), "B = {}", value("B"));
     assert!((knife - web / 4.0 - 50.0).abs() < 1e-9);
 }
+
+#[test]
+fn motionbasic_programs_use_the_other_kernel_objects_by_their_dotted_names() {
+    let program = "Queue.0.DataIn = 5
+Queue.0.DataIn = 7.5
+N& = Queue.0.QueueCount
+IF Queue.0.QueueEmpty THEN E& = 1 ELSE E& = 2
+Queue.0.QueueRemove
+M& = Queue.0.QueueCount
+F = Queue.0.QueueEmpty
+END
+";
+    let (_, _, events) = run("kernel-objects", program);
+    let value = |name: &str| {
+        events
+            .iter()
+            .rev()
+            .find(|e| e["kind"] == "change" && e["name"] == name)
+            .and_then(|e| e["value"].as_f64())
+            .unwrap_or(f64::NAN)
+    };
+    assert_eq!(value("N&"), 2.0);
+    assert_eq!(value("E&"), 2.0);
+    assert_eq!(value("M&"), 1.0);
+    // A bit read by MotionBASIC is a BASIC truth value: false is 0.
+    assert_eq!(value("F"), 0.0);
+}

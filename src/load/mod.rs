@@ -149,7 +149,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
                 "nothing here",
             )
             .with_help(
-                "give .pt files, a folder holding them, or [[program]] entries in machine.toml",
+                "give .pt or .mb files, a folder holding them, or [[program]] entries in machine.toml",
             )],
         );
         return Err(diags);
