@@ -244,3 +244,33 @@ END
     // A bit read by MotionBASIC is a BASIC truth value: false is 0.
     assert_eq!(value("F"), 0.0);
 }
+
+#[test]
+fn gear_after_an_input_starts_at_its_edge() {
+    let dir = project(
+        "gear-after",
+        &[
+            (
+                "gear.mb",
+                "w~ = {1} : k~ = {2}\nMOVE w~ AT 600 IN 0\nGEAR k~ AT 1 TO 4 AFTER DriveInput.1\nEND\n",
+            ),
+            ("machine.toml", MACHINE),
+            (
+                "scenario.toml",
+                "[run]\nduration = \"2s\"\n\n[[input]]\nname = \"DriveInput.1\"\nat = 0.5\nvalue = \"ON\"\n",
+            ),
+        ],
+    );
+    let loaded = load(&LoadRequest {
+        paths: vec![dir.clone()],
+        ..Default::default()
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let r = run_loaded(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    let web = r.machine.value_of("Axis.1.Position").expect("web");
+    let knife = r.machine.value_of("Axis.2.Position").expect("knife");
+    // 6000 units/s: the web is at 3000 when the input comes at 0.5 s; the knife follows from there.
+    assert!((web - 12000.0).abs() < 1e-6, "web {web}");
+    assert!((knife - (web - 3000.0) / 4.0).abs() < 1e-6, "knife {knife}");
+}
