@@ -47,6 +47,8 @@ pub struct Ctx<'a, 'b> {
     pub now: Now<'b>,
     /// Slots below this are registry members.
     pub slot_count: u32,
+    /// The task running (for warnings).
+    pub task: usize,
 }
 
 /// Run `chunk` from `pc` on `v`. `executed` counts instructions against `budget`.
@@ -491,6 +493,7 @@ pub fn run(
                                 ctx.now.tick,
                                 "warning",
                                 &[
+                                    ("task", ctx.task.into()),
                                     ("program", chunk.program.into()),
                                     ("line", line.into()),
                                     ("message", message.into()),

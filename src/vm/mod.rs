@@ -676,7 +676,7 @@ impl Machine {
                     let Some(frame) = self.tasks[ti].frames.last().copied() else {
                         continue;
                     };
-                    match self.exec(frame.chunk, retry, true, u64::MAX) {
+                    match self.exec(ti, frame.chunk, retry, true, u64::MAX) {
                         Exit::Probed { value: true, .. } => {
                             self.tasks[ti].state = TaskState::Ready;
                             if let Some(f) = self.tasks[ti].frames.last_mut() {
@@ -704,9 +704,10 @@ impl Machine {
         }
     }
 
-    fn exec(&mut self, chunk: usize, pc: u32, probe: bool, budget: u64) -> Exit {
+    fn exec(&mut self, task: usize, chunk: usize, pc: u32, probe: bool, budget: u64) -> Exit {
         let slot_count = self.image.registry.slot_count() as u32;
         let mut ctx = Ctx {
+            task,
             kernel: &mut self.kernel,
             registry: &self.image.registry,
             snapshot: &mut self.snapshot,
@@ -775,7 +776,7 @@ impl Machine {
                 self.end_task(ti, "end");
                 return;
             };
-            let exit = self.exec(frame.chunk, frame.pc, false, budget_end);
+            let exit = self.exec(ti, frame.chunk, frame.pc, false, budget_end);
             let set_pc = |m: &mut Machine, pc: u32| {
                 if let Some(f) = m.tasks[ti].frames.last_mut() {
                     f.pc = pc;
