@@ -8,6 +8,33 @@ use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::process::ExitCode;
 
+// A reader that goes away (`pacer run … | head`) is not an error of the run: output to a closed
+// pipe is dropped instead of panicking.
+macro_rules! say {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stdout().lock(), $($arg)*);
+    }};
+}
+macro_rules! say_raw {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stdout().lock(), $($arg)*);
+    }};
+}
+macro_rules! warn {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = writeln!(std::io::stderr().lock(), $($arg)*);
+    }};
+}
+macro_rules! warn_raw {
+    ($($arg:tt)*) => {{
+        use std::io::Write as _;
+        let _ = write!(std::io::stderr().lock(), $($arg)*);
+    }};
+}
+
 #[derive(Parser)]
 #[command(
     name = "pacer",
@@ -86,8 +113,8 @@ fn main() -> ExitCode {
             };
             match load(&req) {
                 Ok(loaded) => {
-                    eprint!("{}", loaded.warnings.render(color));
-                    println!("ok: {} program(s) checked", loaded.sources.len());
+                    warn_raw!("{}", loaded.warnings.render(color));
+                    say!("ok: {} program(s) checked", loaded.sources.len());
                     ExitCode::SUCCESS
                 }
                 Err(d) => problems(&d, color),
@@ -102,7 +129,7 @@ fn main() -> ExitCode {
             match load(&req) {
                 Ok(loaded) => {
                     for chunk in &loaded.image.chunks {
-                        print!(
+                        say_raw!(
                             "{}",
                             pacer::compile::disasm::disassemble(
                                 chunk,
@@ -120,8 +147,8 @@ fn main() -> ExitCode {
 }
 
 fn problems(d: &pacer::diag::Diagnostics, color: bool) -> ExitCode {
-    eprint!("{}", d.render(color));
-    eprintln!("{} error(s)", d.error_count());
+    warn_raw!("{}", d.render(color));
+    warn!("{} error(s)", d.error_count());
     ExitCode::from(EXIT_PROBLEMS)
 }
 
@@ -137,7 +164,7 @@ fn run(
         None => None,
         Some(Ok(ns)) => Some(ns),
         Some(Err(e)) => {
-            eprintln!("error: --for: {e}");
+            warn!("error: --for: {e}");
             return ExitCode::from(EXIT_PROBLEMS);
         }
     };
@@ -150,13 +177,13 @@ fn run(
         Ok(l) => l,
         Err(d) => return problems(&d, color),
     };
-    eprint!("{}", loaded.warnings.render(color));
+    warn_raw!("{}", loaded.warnings.render(color));
     let sink: Option<Box<dyn std::io::Write>> = match &trace {
         None => None,
         Some(p) => match std::fs::File::create(p) {
             Ok(f) => Some(Box::new(std::io::BufWriter::with_capacity(1 << 16, f))),
             Err(e) => {
-                eprintln!("error: cannot create trace file {}: {e}", p.display());
+                warn!("error: cannot create trace file {}: {e}", p.display());
                 return ExitCode::from(EXIT_IO);
             }
         },
@@ -166,7 +193,7 @@ fn run(
     let mut machine = Machine::new(loaded.image, Trace::new(sink, tick_ns));
     let summary = machine.run(duration_ns);
     if let Err(e) = machine.finish() {
-        eprintln!("error: writing the trace: {e}");
+        warn!("error: writing the trace: {e}");
         return ExitCode::from(EXIT_IO);
     }
     if !quiet {
@@ -175,7 +202,7 @@ fn run(
             .iter()
             .map(|(k, n)| format!("{n} {k}"))
             .collect();
-        println!(
+        say!(
             "pacer: {name}: {:.3} s simulated in {} updates of {} ms, {} instructions; {}; stopped: {}",
             summary.seconds,
             summary.ticks,
@@ -185,12 +212,12 @@ fn run(
             summary.stop_reason
         );
         if let Some(p) = &trace {
-            println!("trace: {}", p.display());
+            say!("trace: {}", p.display());
         }
     }
     match summary.error {
         Some(e) => {
-            eprintln!("error: {e}");
+            warn!("error: {e}");
             ExitCode::from(EXIT_RUNTIME)
         }
         None => ExitCode::SUCCESS,

@@ -25,15 +25,36 @@ fn run_folder(folder: &Path) -> String {
     r.text
 }
 
-fn program_folders() -> Vec<PathBuf> {
+/// Machine folders (those with a machine.toml) under `programs/`, one level of grouping
+/// allowed (`programs/regist/case1`), with their names for the golden files (`regist-case1`).
+fn program_folders() -> Vec<(String, PathBuf)> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("programs");
-    let mut folders: Vec<PathBuf> = std::fs::read_dir(&root)
-        .expect("programs/ exists")
-        .filter_map(Result::ok)
-        .map(|e| e.path())
-        .filter(|p| p.is_dir())
-        .collect();
-    folders.sort();
+    let dirs = |p: &Path| -> Vec<PathBuf> {
+        let mut v: Vec<PathBuf> = std::fs::read_dir(p)
+            .expect("a readable folder")
+            .filter_map(Result::ok)
+            .map(|e| e.path())
+            .filter(|p| p.is_dir())
+            .collect();
+        v.sort();
+        v
+    };
+    let name = |p: &Path| {
+        p.file_name()
+            .expect("folder name")
+            .to_string_lossy()
+            .into_owned()
+    };
+    let mut folders = Vec::new();
+    for d in dirs(&root) {
+        if d.join("machine.toml").exists() {
+            folders.push((name(&d), d));
+        } else {
+            for sub in dirs(&d) {
+                folders.push((format!("{}-{}", name(&d), name(&sub)), sub));
+            }
+        }
+    }
     folders
 }
 
@@ -43,12 +64,7 @@ fn every_program_folder_matches_its_golden_trace() {
     let folders = program_folders();
     assert!(!folders.is_empty(), "programs/ holds no machine folders");
     let mut failures = Vec::new();
-    for folder in folders {
-        let name = folder
-            .file_name()
-            .expect("folder name")
-            .to_string_lossy()
-            .into_owned();
+    for (name, folder) in folders {
         let golden = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("tests/golden")
             .join(format!("{name}.jsonl"));
@@ -83,7 +99,7 @@ fn every_program_folder_matches_its_golden_trace() {
 
 #[test]
 fn the_same_run_twice_gives_byte_identical_traces() {
-    for folder in program_folders() {
+    for (_, folder) in program_folders() {
         let a = run_folder(&folder);
         let b = run_folder(&folder);
         assert!(!a.is_empty());

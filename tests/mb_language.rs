@@ -1431,3 +1431,14 @@ fn machine_value_of_reads_motionbasic_variables() {
     assert_eq!(run.machine.value_of("NUM"), Some(2.5));
     assert_eq!(run.machine.value_of("knife~"), Some(2.0));
 }
+
+#[test]
+fn a_byte_order_mark_at_the_start_of_a_file_is_whitespace() {
+    // Windows editors write one; the program must run as if it were not there.
+    let run = run_ok("bom", "\u{FEFF}A& = 1 : B& = A& + 1\n");
+    assert_values(&run, &[("A&", 1.0), ("B&", 2.0)]);
+    let mut problems = Vec::new();
+    let ast = pacer::syntax::parse_program("\u{FEFF}Var.X = 1\n", &mut problems);
+    assert!(problems.is_empty(), "{problems:?}");
+    assert_eq!(ast.body.len(), 1);
+}

@@ -655,10 +655,14 @@ impl BasicChecker<'_> {
                     self.axis_args(f, args);
                     return Some(c.ty);
                 }
-                let Some((_, arity)) = functions::find(&f.text) else {
+                let found = functions::find(&f.text)
+                    .map(|(_, n)| n)
+                    .or_else(|| functions::find_kernel(&f.text).map(|(_, n)| n));
+                let Some(arity) = found else {
                     let names = functions::FUNCTIONS
                         .iter()
                         .map(|f| f.0)
+                        .chain(functions::KERNEL_FUNCTIONS.iter().map(|f| f.0))
                         .chain(CONTROLLERS.iter().map(|c| c.name));
                     self.problems.push(
                         Problem::error(

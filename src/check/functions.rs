@@ -100,3 +100,63 @@ impl Func {
         FUNCTIONS.iter().find(|f| f.1 == self).map_or("?", |f| f.0)
     }
 }
+
+/// A function served by the kernel (it reads or changes machine state), callable from both
+/// dialects: `OK = REGIST(EN, AXIS, DIST, TOLR, IGNR, LGTH, DIM)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KernelFunc {
+    /// `REGIST(EN, AXIS, DIST, TOLR, IGNR, LGTH, DIM)` → OK.
+    Regist,
+    /// `STATUSSV(AXIS)` → the registration status bits.
+    StatusSv,
+    /// `READ_SV(AXIS, VAR)` → a servo variable.
+    ReadSv,
+    /// `WRITE_SV(AXIS, VAR, VALUE)` → OK.
+    WriteSv,
+}
+
+/// Kernel functions: name, function, arity, meaning.
+pub const KERNEL_FUNCTIONS: &[(&str, KernelFunc, usize, &str)] = &[
+    (
+        "REGIST",
+        KernelFunc::Regist,
+        7,
+        "REGIST(EN, AXIS, DIST, TOLR, IGNR, LGTH, DIM): length registration on a fast input",
+    ),
+    (
+        "STATUSSV",
+        KernelFunc::StatusSv,
+        1,
+        "STATUSSV(AXIS): registration status bits",
+    ),
+    (
+        "READ_SV",
+        KernelFunc::ReadSv,
+        2,
+        "READ_SV(AXIS, VAR): read servo variable VAR (9–25)",
+    ),
+    (
+        "WRITE_SV",
+        KernelFunc::WriteSv,
+        3,
+        "WRITE_SV(AXIS, VAR, VALUE): write servo variable VAR",
+    ),
+];
+
+/// Look up a kernel function by name, ignoring case.
+pub fn find_kernel(name: &str) -> Option<(KernelFunc, usize)> {
+    KERNEL_FUNCTIONS
+        .iter()
+        .find(|f| f.0.eq_ignore_ascii_case(name))
+        .map(|f| (f.1, f.2))
+}
+
+impl KernelFunc {
+    /// The name as written.
+    pub fn name(self) -> &'static str {
+        KERNEL_FUNCTIONS
+            .iter()
+            .find(|f| f.1 == self)
+            .map_or("?", |f| f.0)
+    }
+}

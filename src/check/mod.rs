@@ -134,9 +134,32 @@ pub fn expr_type(e: &Expr, registry: &Registry) -> Result<Ty, Problem> {
             "strings and axis sets are MotionBASIC values",
             "not PowerTools",
         )),
+        ExprKind::Call(f, args) if functions::find_kernel(&f.text).is_some() => {
+            let arity = functions::find_kernel(&f.text).map_or(0, |k| k.1);
+            if args.len() != arity {
+                return Err(Problem::error(
+                    "pacer::check::arguments",
+                    e.span,
+                    format!(
+                        "{} takes {arity} arguments, not {}",
+                        f.text.to_ascii_uppercase(),
+                        args.len()
+                    ),
+                    "wrong number of arguments",
+                ));
+            }
+            // Arguments are numbers; ON/OFF stands for 1/0 (REGIST's EN).
+            for a in args {
+                expr_type(a, registry)?;
+            }
+            Ok(Ty::Num)
+        }
         ExprKind::Call(f, args) => {
             let Some((_, arity)) = functions::find(&f.text) else {
-                let names = functions::FUNCTIONS.iter().map(|f| f.0);
+                let names = functions::FUNCTIONS
+                    .iter()
+                    .map(|f| f.0)
+                    .chain(functions::KERNEL_FUNCTIONS.iter().map(|f| f.0));
                 return Err(Problem::error(
                     "pacer::check::unknown_function",
                     f.span,

@@ -4,7 +4,7 @@
 //! `[registry slots | temporaries | constants and loop limits]`. Names were resolved to slots at
 //! compile time, so the VM never looks a name up.
 
-use crate::check::functions::Func;
+use crate::check::functions::{Func, KernelFunc};
 use crate::registry::Hook;
 
 /// An index into the value array.
@@ -262,6 +262,13 @@ pub enum Op {
     Motion {
         cmd: MotionCmd,
         axes: Reg,
+        args: Reg,
+    },
+    /// A kernel function (`REGIST`, `READ_SV` …) on the arguments in consecutive registers
+    /// from `args`.
+    KernelCall {
+        func: KernelFunc,
+        dst: Reg,
         args: Reg,
     },
     /// `GOSUB`: run the subroutine at `target`, then come back here.

@@ -185,6 +185,14 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::Motion { cmd, axes, args } => {
                 format!("motion    {cmd:?} Axis[{}] args from {}", r(axes), r(args))
             }
+            Op::KernelCall { func, dst, args } => {
+                format!(
+                    "kcall     {} <- {}(args from {})",
+                    r(dst),
+                    func.name(),
+                    r(args)
+                )
+            }
             Op::Gosub { target } => format!("gosub     @{target}"),
             Op::Return => "return".to_string(),
             Op::End => "end".to_string(),

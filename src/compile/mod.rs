@@ -1014,6 +1014,33 @@ impl Compiler<'_> {
                 });
                 dst
             }
+            ExprKind::Call(f, args) if functions::find_kernel(&f.text).is_some() => {
+                let Some((func, _)) = functions::find_kernel(&f.text) else {
+                    return 0;
+                };
+                let mark = self.temp_top;
+                let regs: Vec<Reg> = args.iter().map(|_| self.temp(e.span)).collect();
+                let top = self.temp_top;
+                for (a, &dst) in args.iter().zip(&regs) {
+                    let src = self.expr(a);
+                    self.temp_top = top;
+                    self.emit(Op::Move { dst, src });
+                }
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
+                let args = regs.first().copied().unwrap_or(dst);
+                self.emit(Op::KernelCall { func, dst, args });
+                // REGIST's and WRITE_SV's OK is a truth value: -1 in MotionBASIC.
+                if self.dialect == Dialect::MotionBasic
+                    && matches!(
+                        func,
+                        functions::KernelFunc::Regist | functions::KernelFunc::WriteSv
+                    )
+                {
+                    self.emit(Op::Neg { dst, a: dst });
+                }
+                dst
+            }
             ExprKind::Call(f, args) => {
                 let Some((func, _)) = functions::find(&f.text) else {
                     return 0;
@@ -1059,7 +1086,11 @@ fn fault_free(e: &Expr) -> bool {
             fault_free(a) && matches!(b.kind, ExprKind::Number(v) if v != 0.0)
         }
         ExprKind::Binary(_, a, b) => fault_free(a) && fault_free(b),
-        ExprKind::Call(_, args) | ExprKind::AxisSet(args) => args.iter().all(fault_free),
+        // Kernel functions and controller variables can fail (a wrong axis) or act.
+        ExprKind::Call(f, args) => {
+            functions::find(&f.text).is_some() && args.iter().all(fault_free)
+        }
+        ExprKind::AxisSet(args) => args.iter().all(fault_free),
         ExprKind::Str(_) => true,
     }
 }

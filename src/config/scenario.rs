@@ -42,14 +42,20 @@ pub struct ScenarioFile {
 pub struct PrintedMarks {
     /// The DSP axis that moves the material.
     pub axis: Spanned<u32>,
-    /// The card input the mark sensor is wired to: "ASEN" (default), "BSEN" or "ZREF".
+    /// The input the mark sensor is wired to: "ASEN" (default), "BSEN" or "ZREF" of the DSP
+    /// card, or "FAST", the axis's fast input (REGIST).
     pub sensor: Option<Spanned<String>>,
+    /// For a fast input: how long the sensor stays on at each mark (default 1 ms).
+    pub on_time: Option<Spanned<Duration>>,
+    /// Marks at these axis positions (instead of first/pitch/count).
+    pub at: Option<Spanned<Vec<f64>>>,
     /// Axis position of the first mark.
+    #[serde(default)]
     pub first: f64,
     /// Printed pitch at the first mark, axis units.
-    pub pitch: Spanned<f64>,
+    pub pitch: Option<Spanned<f64>>,
     /// Number of marks.
-    pub count: Spanned<u32>,
+    pub count: Option<Spanned<u32>>,
     /// Length of a mark along the material (default 50 units).
     pub width: Option<Spanned<f64>>,
     /// Change of the pitch per mark (stretch, humidity), units.

@@ -7,6 +7,7 @@ pub mod dsp;
 pub mod motion;
 pub mod orion;
 pub mod queue;
+pub mod regist;
 pub mod timer;
 
 use crate::compile::bytecode::StartRef;

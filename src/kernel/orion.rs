@@ -3,18 +3,29 @@
 //! `Axis.N.…` slots, and latches, blinded marks and stepped corrections into the trace.
 
 use super::dsp::{DspAxes, DspAxisConfig, DspEvent, Queued, Sensor};
+use super::regist::{MarkClass, Regist, RegistParams};
 use super::Now;
+use crate::check::functions::KernelFunc;
 use crate::compile::bytecode::MotionCmd;
 use crate::registry::{Hook, Kind, Registry, SlotId};
 use crate::trace::number;
 
-/// A sensor wired to a DSP card input and tied to marks on an axis (from the scenario).
+/// What a mark sensor is wired to.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum MarkInput {
+    /// An input of the axis's DSP card (ZREF, ASEN, BSEN).
+    Card(Sensor),
+    /// The axis's fast input (REGIST), on for `on_time` seconds at each mark.
+    Fast { on_time: f64 },
+}
+
+/// A sensor tied to marks on an axis (from the scenario).
 #[derive(Debug, Clone, PartialEq)]
 pub struct MarkTrack {
     /// The axis the marks are printed on (in its units).
     pub axis: u32,
-    /// The card input the sensor drives.
-    pub sensor: Sensor,
+    /// What the sensor drives.
+    pub input: MarkInput,
     /// Mark positions, ascending.
     pub positions: Vec<f64>,
     /// Length of a mark along the axis.
@@ -54,6 +65,25 @@ pub struct Orion {
     strings: Vec<String>,
     /// Inputs named by `AFTER`, with their value at the last update.
     after: Vec<(SlotId, bool)>,
+    /// Per axis (as `configs`): REGIST's servo side.
+    regists: Vec<Regist>,
+    /// Per axis: what is added to the axis's continuous position to report it (DIM
+    /// re-referencing at good marks).
+    reference: Vec<f64>,
+    /// Per axis: the continuous position at the previous update.
+    last: Vec<f64>,
+    /// Fast-input marks.
+    fast: Vec<FastTrack>,
+}
+
+/// Marks on an axis seen by its fast input.
+#[derive(Debug, Clone)]
+struct FastTrack {
+    axis: u32,
+    positions: Vec<f64>,
+    on_time: f64,
+    /// Times the sensor turns off again, pending.
+    falls: Vec<f64>,
 }
 
 const SENSORS: [Sensor; 3] = [Sensor::Zref, Sensor::Asen, Sensor::Bsen];
@@ -74,22 +104,37 @@ impl Orion {
         configs: Vec<(DspAxisConfig, MoveDefaults)>,
         marks: &[MarkTrack],
         strings: Vec<String>,
+        servo_update: f64,
     ) -> Result<Orion, String> {
         let axes = registry.of(Kind::Axis);
         let def = axes.def;
         let (configs, defaults): (Vec<DspAxisConfig>, Vec<MoveDefaults>) =
             configs.into_iter().unzip();
         let mut dsp = DspAxes::new(&configs).map_err(|e| e.0)?;
+        let mut fast = Vec::new();
         for m in marks {
-            dsp.add_marks(
-                m.axis,
-                super::dsp::card_of(m.axis),
-                m.sensor,
-                m.positions.clone(),
-                m.width,
-            )
-            .map_err(|e| e.0)?;
+            match m.input {
+                MarkInput::Card(sensor) => dsp
+                    .add_marks(
+                        m.axis,
+                        super::dsp::card_of(m.axis),
+                        sensor,
+                        m.positions.clone(),
+                        m.width,
+                    )
+                    .map_err(|e| e.0)?,
+                MarkInput::Fast { on_time } => fast.push(FastTrack {
+                    axis: m.axis,
+                    positions: m.positions.clone(),
+                    on_time,
+                    falls: Vec::new(),
+                }),
+            }
         }
+        let regists = configs
+            .iter()
+            .map(|_| Regist::new(servo_update).map_err(|e| e.0))
+            .collect::<Result<Vec<_>, _>>()?;
         Ok(Orion {
             dsp,
             configs,
@@ -115,6 +160,10 @@ impl Orion {
             },
             strings,
             after: Vec::new(),
+            reference: vec![0.0; regists.len()],
+            last: vec![0.0; regists.len()],
+            regists,
+            fast,
         })
     }
 
@@ -381,6 +430,162 @@ impl Orion {
         Ok(Queued::Accepted)
     }
 
+    /// A kernel function on the DSP axes (`REGIST`, `STATUSSV`, `READ_SV`, `WRITE_SV`).
+    pub fn call(
+        &mut self,
+        func: KernelFunc,
+        args: &[f64],
+        _v: &mut [f64],
+        now: &mut Now<'_>,
+    ) -> Result<f64, String> {
+        let arg = |i: usize| args.get(i).copied().unwrap_or(0.0);
+        let axis = arg(if func == KernelFunc::Regist { 1 } else { 0 });
+        let n = axis as u32;
+        let i = self
+            .configs
+            .iter()
+            .position(|c| f64::from(c.number) == axis)
+            .ok_or_else(|| format!("axis {axis} is not a DSP axis of this machine ([axis.N])"))?;
+        let var = || {
+            let x = arg(1);
+            if x.fract() == 0.0 && (0.0..=1000.0).contains(&x) {
+                Ok(x as u32)
+            } else {
+                Err(format!("{x} is not a servo variable number"))
+            }
+        };
+        let regist = &mut self.regists[i];
+        match func {
+            KernelFunc::Regist => {
+                if arg(0) == 0.0 {
+                    regist.disable();
+                    return Ok(0.0);
+                }
+                let params = RegistParams {
+                    dist: arg(2),
+                    tolr: arg(3),
+                    ignr: arg(4),
+                    lgth: arg(5),
+                    dim: arg(6),
+                };
+                // As on the controller, bad values leave OK false; the trace says why.
+                if let Err(e) = regist.enable(params) {
+                    now.trace.event(
+                        now.tick,
+                        "warning",
+                        &[
+                            ("axis", n.into()),
+                            ("message", format!("REGIST: {}", e.0).into()),
+                        ],
+                    );
+                }
+                Ok(f64::from(regist.ok()))
+            }
+            KernelFunc::StatusSv => Ok(f64::from(regist.status())),
+            KernelFunc::ReadSv => regist.read_sv(var()?).map_err(|e| e.0),
+            KernelFunc::WriteSv => {
+                regist.write_sv(var()?, arg(2)).map_err(|e| e.0)?;
+                Ok(1.0)
+            }
+        }
+    }
+
+    /// Fast-input edges of this update, in time order: (time, rising, axis index, position).
+    fn fast_edges(&mut self, t: f64) -> Result<Vec<(f64, bool, usize, f64)>, String> {
+        let t0 = self.dsp.previous_time();
+        let mut edges = Vec::new();
+        for track in &mut self.fast {
+            let Some(i) = self.configs.iter().position(|c| c.number == track.axis) else {
+                continue;
+            };
+            let n = track.axis;
+            let (p0, p1) = (self.last[i], self.dsp.position(n).map_err(|e| e.0)?);
+            let (lo, hi) = (p0.min(p1), p0.max(p1));
+            let from = track.positions.partition_point(|&m| m <= lo);
+            let to = track.positions.partition_point(|&m| m <= hi);
+            for &m in &track.positions[from..to] {
+                let at = self
+                    .dsp
+                    .time_at_position(n, m, t0, t)
+                    .map_err(|e| e.0)?
+                    .unwrap_or(t);
+                edges.push((at, true, i, m));
+                track.falls.push(at + track.on_time);
+            }
+            let (due, later): (Vec<f64>, Vec<f64>) = track.falls.iter().partition(|&&f| f <= t);
+            track.falls = later;
+            for f in due {
+                let p = self.dsp.position_at(n, f.max(t0)).map_err(|e| e.0)?;
+                edges.push((f.max(t0), false, i, p));
+            }
+        }
+        edges.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)));
+        Ok(edges)
+    }
+
+    /// REGIST's servo side for this update: fast-input marks classified and traced, DIM
+    /// re-referencing, the window event, and corrections released to the axis.
+    fn registration(&mut self, t: f64, now: &mut Now<'_>) -> Result<(), String> {
+        for (time, rising, i, position) in self.fast_edges(t)? {
+            let n = self.configs[i].number;
+            let Some(mark) = self.regists[i]
+                .edge(time, position, rising)
+                .map_err(|e| e.0)?
+            else {
+                continue;
+            };
+            let class = match mark.class {
+                MarkClass::Good => "good",
+                MarkClass::Bad => "bad",
+                MarkClass::Ignored => "ignored",
+            };
+            let mut fields = vec![
+                ("axis", n.into()),
+                ("mark", class.into()),
+                ("time", number(time)),
+                ("position", number(mark.position)),
+            ];
+            if let Some(c) = mark.correction {
+                fields.push(("correction", number(c)));
+            }
+            now.trace.event(now.tick, "regist", &fields);
+            if let Some(dim) = mark.rereference {
+                self.reference[i] = dim - mark.position;
+            }
+        }
+        for (i, c) in self.configs.iter().enumerate() {
+            let n = c.number;
+            let p = self.dsp.position(n).map_err(|e| e.0)?;
+            if self.regists[i].passed(p).map_err(|e| e.0)? {
+                now.trace.event(
+                    now.tick,
+                    "regist_window",
+                    &[("axis", n.into()), ("position", number(p))],
+                );
+            }
+            let ratio = self.dsp.ratio(n).map_err(|e| e.0)?;
+            let master_moving = match c.pacer {
+                Some(m) => self.dsp.velocity(m).map_err(|e| e.0)? != 0.0,
+                None => false,
+            };
+            let (slave, master) = self.regists[i].take_correction(master_moving, ratio.is_some());
+            // A master offset moves the position the slave's gear follows: the slave by ratio×.
+            let delta = slave + ratio.unwrap_or(0.0) * master;
+            if delta != 0.0 {
+                self.dsp.shift(n, delta).map_err(|e| e.0)?;
+            }
+        }
+        Ok(())
+    }
+
+    /// The position axis `i` reports: continuous, re-referenced, rolled over at POS.MOD@.
+    fn reported(&self, i: usize) -> Result<f64, String> {
+        let n = self.configs[i].number;
+        let p = self.dsp.position(n).map_err(|e| e.0)? + self.reference[i];
+        let m = self.dsp.pos_mod(n).map_err(|e| e.0)?;
+        Ok(if m > 0.0 { p.rem_euclid(m) } else { p })
+    }
+
     /// The control loop's part for the DSP axes: AFTER inputs, then motion to `now`, latches
     /// and status into the slots.
     pub fn generate(&mut self, v: &mut [f64], now: &mut Now<'_>) -> Result<(), String> {
@@ -393,6 +598,7 @@ impl Orion {
             *last = on;
         }
         let events = self.dsp.advance(t).map_err(|e| e.0)?;
+        self.registration(t, now)?;
         for e in events {
             match e {
                 DspEvent::Latched {
@@ -423,9 +629,10 @@ impl Orion {
                 _ => {}
             }
         }
-        for c in &self.configs {
+        for (i, c) in self.configs.iter().enumerate() {
             let n = c.number;
             let m = self.members;
+            self.last[i] = self.dsp.position(n).map_err(|e| e.0)?;
             let put = |v: &mut [f64], member: u32, x: f64| {
                 if let Some(s) =
                     (n >= 1 && n <= self.count).then(|| self.base + (n - 1) * self.per + member)
@@ -433,11 +640,7 @@ impl Orion {
                     v[s as usize] = x;
                 }
             };
-            put(
-                v,
-                m.position,
-                self.dsp.reported_position(n).map_err(|e| e.0)?,
-            );
+            put(v, m.position, self.reported(i)?);
             put(v, m.velocity, self.dsp.velocity(n).map_err(|e| e.0)?);
             put(
                 v,

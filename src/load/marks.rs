@@ -5,7 +5,7 @@ use crate::config::scenario::PrintedMarks;
 use crate::config::span_of;
 use crate::diag::Problem;
 use crate::kernel::dsp::Sensor;
-use crate::kernel::orion::MarkTrack;
+use crate::kernel::orion::{MarkInput, MarkTrack};
 use crate::world::products::unit;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;
@@ -34,40 +34,87 @@ pub fn tracks(
                 .with_help(format!("machine.toml defines axes {axes:?}")),
             );
         }
-        let sensor = match e.sensor.as_ref().map(|s| s.get_ref().to_ascii_uppercase()) {
-            None => Sensor::Asen,
-            Some(s) if s == "ASEN" => Sensor::Asen,
-            Some(s) if s == "BSEN" => Sensor::Bsen,
-            Some(s) if s == "ZREF" => Sensor::Zref,
+        let input = match e.sensor.as_ref().map(|s| s.get_ref().to_ascii_uppercase()) {
+            None => MarkInput::Card(Sensor::Asen),
+            Some(s) if s == "ASEN" => MarkInput::Card(Sensor::Asen),
+            Some(s) if s == "BSEN" => MarkInput::Card(Sensor::Bsen),
+            Some(s) if s == "ZREF" => MarkInput::Card(Sensor::Zref),
+            Some(s) if s == "FAST" => MarkInput::Fast {
+                on_time: e
+                    .on_time
+                    .as_ref()
+                    .map_or(1e-3, |d| d.get_ref().0 as f64 / 1e9),
+            },
             Some(s) => {
                 if let Some(span) = e.sensor.as_ref().map(span_of) {
                     problems.push(Problem::error(
                         "pacer::scenario::marks",
                         span,
-                        format!("`{s}` is not a DSP card input"),
-                        "ASEN, BSEN or ZREF",
+                        format!("`{s}` is not an input marks can drive"),
+                        "ASEN, BSEN, ZREF or FAST",
                     ));
                 }
-                Sensor::Asen
+                MarkInput::Card(Sensor::Asen)
             }
         };
-        let pitch = *e.pitch.get_ref();
-        if !(pitch.is_finite() && pitch > 0.0) {
+        if let (Some(d), false) = (&e.on_time, matches!(input, MarkInput::Fast { .. })) {
             problems.push(Problem::error(
                 "pacer::scenario::marks",
-                span_of(&e.pitch),
-                "the pitch must be a positive number",
-                "not positive",
+                span_of(d),
+                "on_time is for a fast input (sensor = \"FAST\")",
+                "not used here",
             ));
         }
-        let count = *e.count.get_ref();
-        if count == 0 || count > MAX_MARKS {
-            problems.push(Problem::error(
-                "pacer::scenario::marks",
-                span_of(&e.count),
-                format!("{count} marks"),
-                format!("1 to {MAX_MARKS}"),
-            ));
+        let span = span_of(&e.axis);
+        let (pitch, count) = match (&e.at, &e.pitch, &e.count) {
+            (Some(_), None, None) => (0.0, 0),
+            (None, Some(p), Some(c)) => {
+                if !(p.get_ref().is_finite() && *p.get_ref() > 0.0) {
+                    problems.push(Problem::error(
+                        "pacer::scenario::marks",
+                        span_of(p),
+                        "the pitch must be a positive number",
+                        "not positive",
+                    ));
+                }
+                let n = *c.get_ref();
+                if n == 0 || n > MAX_MARKS {
+                    problems.push(Problem::error(
+                        "pacer::scenario::marks",
+                        span_of(c),
+                        format!("{n} marks"),
+                        format!("1 to {MAX_MARKS}"),
+                    ));
+                }
+                (*p.get_ref(), n)
+            }
+            _ => {
+                problems.push(
+                    Problem::error(
+                        "pacer::scenario::marks",
+                        span,
+                        "say where the marks are: `at = [...]`, or `first`, `pitch` and `count`",
+                        "these marks",
+                    )
+                    .with_help("give one of the two, not both"),
+                );
+                (0.0, 0)
+            }
+        };
+        if let Some(at) = &e.at {
+            let list = at.get_ref();
+            if list.is_empty()
+                || list.len() > MAX_MARKS as usize
+                || list.iter().any(|x| !x.is_finite())
+                || list.windows(2).any(|w| w[1] <= w[0])
+            {
+                problems.push(Problem::error(
+                    "pacer::scenario::marks",
+                    span_of(at),
+                    "mark positions must be finite numbers in increasing order",
+                    "not increasing",
+                ));
+            }
         }
         let width = e.width.as_ref().map_or(50.0, |w| *w.get_ref());
         let jitter = e.jitter.as_ref().map_or(0.0, |j| *j.get_ref());
@@ -85,7 +132,7 @@ pub fn tracks(
             continue;
         }
         let mut rng = ChaCha8Rng::seed_from_u64(e.seed);
-        let mut positions = Vec::with_capacity(count as usize);
+        let mut positions = e.at.as_ref().map_or_else(Vec::new, |a| a.get_ref().clone());
         let mut nominal = e.first;
         let mut p = pitch;
         for k in 0..count {
@@ -107,8 +154,10 @@ pub fn tracks(
             .windows(2)
             .map(|w| w[1] - w[0])
             .fold(f64::INFINITY, f64::min);
-        if !(width.is_finite() && width > 0.0 && width < min_gap) {
-            let span = e.width.as_ref().map_or(span_of(&e.pitch), span_of);
+        let fast = matches!(input, MarkInput::Fast { .. });
+        let fits = width.is_finite() && width > 0.0 && width < min_gap;
+        if !fast && !fits {
+            let span = e.width.as_ref().map_or(span, span_of);
             problems.push(
                 Problem::error(
                     "pacer::scenario::marks",
@@ -124,7 +173,7 @@ pub fn tracks(
         }
         out.push(MarkTrack {
             axis,
-            sensor,
+            input,
             positions,
             width,
         });

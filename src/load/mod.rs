@@ -414,6 +414,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
             configs,
             &mark_tracks,
             layout.strings.clone(),
+            update_ns as f64 / 1e9,
         ) {
             Ok(o) => Some(o),
             Err(message) => {

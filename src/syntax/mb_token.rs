@@ -8,7 +8,7 @@ use super::token::LexError;
 /// One token of a MotionBASIC program.
 #[derive(Logos, Debug, Clone, Copy, PartialEq)]
 #[logos(error = LexError)]
-#[logos(skip r"[ \t\r\f]+")]
+#[logos(skip r"[ \t\r\f\x{FEFF}]+")]
 #[logos(skip(r"['‘’][^\n]*", allow_greedy = true))]
 pub enum MbTok<'s> {
     #[token("\n")]

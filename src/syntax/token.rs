@@ -10,7 +10,7 @@ pub struct LexError;
 /// One token of a PowerTools program.
 #[derive(Logos, Debug, Clone, Copy, PartialEq)]
 #[logos(error = LexError)]
-#[logos(skip r"[ \t\r\f]+")]
+#[logos(skip r"[ \t\r\f\x{FEFF}]+")]
 // Comments run to the end of the line; typeset manuals show curly quotes too.
 #[logos(skip(r"['‘’][^\n]*", allow_greedy = true))]
 pub enum Tok<'s> {

@@ -417,6 +417,28 @@ pub fn run(
                 *executed = n;
                 return Exit::Call { program, pc };
             }
+            Op::KernelCall { func, dst, args } => {
+                let a = args as usize;
+                let n_args = crate::check::functions::KERNEL_FUNCTIONS
+                    .iter()
+                    .find(|f| f.1 == func)
+                    .map_or(0, |f| f.2);
+                let values: Vec<f64> = v[a..a + n_args].to_vec();
+                let Some(orion) = ctx.kernel.orion.as_mut() else {
+                    pc = here;
+                    fault!(
+                        "{} works on DSP axes: define them in machine.toml ([axis.1] …)",
+                        func.name()
+                    );
+                };
+                match orion.call(func, &values, v, &mut ctx.now) {
+                    Ok(x) => v[dst as usize] = x,
+                    Err(message) => {
+                        pc = here;
+                        fault!("{}: {message}", func.name());
+                    }
+                }
+            }
             Op::Gosub { target } => {
                 *executed = n;
                 return Exit::Gosub { target, ret: pc };

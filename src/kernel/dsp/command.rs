@@ -97,6 +97,17 @@ impl DspAxes {
         Ok(Queued::Accepted)
     }
 
+    /// Shift the axis by `delta` at the start of the next update, outside its motion queue: a
+    /// registration correction released by the servo side.
+    pub fn shift(&mut self, axis: u32, delta: f64) -> Result<(), DspError> {
+        let i = self.axis(axis)?;
+        if !delta.is_finite() {
+            return err(format!("a shift of axis {axis} by {delta}"));
+        }
+        self.axes[i].sup.pending += delta;
+        Ok(())
+    }
+
     /// `GEAR axis FOR dist IN pacer_dist`: superimpose `dist` on the axis while its pacer covers
     /// `pacer_dist` (negative: the pacer is expected to travel negatively). IN 0 is a step.
     pub fn gear_for(&mut self, axis: u32, dist: f64, pacer_dist: f64) -> Result<Queued, DspError> {

@@ -24,6 +24,7 @@ impl DspAxes {
         for a in &mut self.axes {
             a.base.keep_from(ta);
             a.sup.keep_from(ta);
+            a.sup.apply_pending(ta);
         }
         self.t_prev = ta;
         self.t_now = t1;

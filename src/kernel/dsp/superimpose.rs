@@ -70,6 +70,9 @@ pub(super) struct SuperLayer {
     pub(super) running: Option<f64>,
     /// Pieces of the last advanced interval, (start, piece), the first carried over from before.
     pub(super) hist: Vec<(f64, SuperPiece)>,
+    /// A shift of the constant offset to apply at the start of the next interval (registration
+    /// corrections), outside the queue.
+    pub(super) pending: f64,
 }
 
 impl SuperLayer {
@@ -77,6 +80,7 @@ impl SuperLayer {
         SuperLayer {
             queue: VecDeque::new(),
             running: None,
+            pending: 0.0,
             hist: vec![(
                 0.0,
                 SuperPiece {
@@ -105,6 +109,17 @@ impl SuperLayer {
         let current = (t, self.piece_at(t));
         self.hist.clear();
         self.hist.push(current);
+    }
+
+    /// Apply the pending shift at `t`, the start of an interval.
+    pub(super) fn apply_pending(&mut self, t: f64) {
+        if self.pending != 0.0 {
+            // A running GEAR FOR keeps its own profile; only the constant part moves.
+            let mut piece = self.piece_at(t);
+            piece.acc += self.pending;
+            self.hist.push((t, piece));
+            self.pending = 0.0;
+        }
     }
 
     /// Start the head at `t` with the pacer at `x`. Returns `Some(dist)` when it was a step

@@ -1,0 +1,162 @@
+//! REGIST's published cases (shared/spec/regist.md), each run as a machine of
+//! `programs/regist/`: a MotionBASIC program enables registration on axis 1 and runs it through
+//! the marks the scenario lays on its fast input. Every mark must be classified and corrected
+//! exactly as the note prints it.
+
+mod common;
+
+use pacer::load::{load, LoadRequest};
+use std::path::Path;
+
+/// (class, position, correction) of each mark, and the positions of the DIST + TOLR events.
+type Expected = (&'static [(&'static str, f64, Option<f64>)], &'static [f64]);
+
+fn check(case: &str, (marks, windows): Expected) {
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("programs/regist")
+        .join(case);
+    let loaded = load(&LoadRequest {
+        paths: vec![folder],
+        ..Default::default()
+    })
+    .unwrap_or_else(|d| panic!("{}", d.render_plain()));
+    let run = common::run_loaded(loaded);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    let seen: Vec<(String, f64, Option<f64>)> = run
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "regist")
+        .map(|e| {
+            (
+                e["mark"].as_str().unwrap_or("?").to_string(),
+                e["position"].as_f64().unwrap_or(f64::NAN),
+                e["correction"].as_f64(),
+            )
+        })
+        .collect();
+    let expected: Vec<(String, f64, Option<f64>)> = marks
+        .iter()
+        .map(|(c, p, k)| (c.to_string(), *p, *k))
+        .collect();
+    assert_eq!(seen, expected, "{case}");
+    let passed: Vec<f64> = run
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "regist_window")
+        .filter_map(|e| e["position"].as_f64())
+        .collect();
+    assert_eq!(passed, windows, "{case}: DIST + TOLR events");
+    // OK came back true, and the status bits of the last mark are the table's.
+    assert_eq!(run.machine.value_of("OK&"), Some(-1.0), "{case}: OK");
+}
+
+#[test]
+fn case_1_every_mark_is_good() {
+    check(
+        "case1",
+        (
+            &[
+                ("good", 0.0, Some(0.0)),
+                ("good", 900.0, Some(0.0)),
+                ("good", 1050.0, Some(150.0)),
+                ("good", 1950.0, Some(0.0)),
+            ],
+            &[],
+        ),
+    );
+}
+
+#[test]
+fn case_2_a_mark_in_the_ignore_zone() {
+    check(
+        "case2",
+        (
+            &[
+                ("good", 0.0, Some(0.0)),
+                ("good", 1000.0, Some(0.0)),
+                ("ignored", 1150.0, None),
+                ("good", 2090.0, Some(90.0)),
+            ],
+            // After the last mark the axis runs on: the window passes 1100 after it.
+            &[3190.0],
+        ),
+    );
+}
+
+#[test]
+fn case_3_ignored_then_the_window_passes_then_a_bad_mark() {
+    check(
+        "case3",
+        (
+            &[
+                ("good", 0.0, Some(0.0)),
+                ("good", 1000.0, Some(0.0)),
+                ("ignored", 1150.0, None),
+                ("bad", 2090.0, None),
+                ("good", 3090.0, Some(90.0)),
+            ],
+            &[2080.0, 4170.0],
+        ),
+    );
+}
+
+#[test]
+fn case_4_a_bad_mark_resets_the_ruler() {
+    check(
+        "case4",
+        (
+            &[
+                ("good", 0.0, Some(0.0)),
+                ("good", 1000.0, Some(0.0)),
+                ("bad", 1090.0, None),
+                ("good", 2090.0, Some(90.0)),
+            ],
+            &[3140.0],
+        ),
+    );
+}
+
+#[test]
+fn case_6_a_splice_hidden_by_the_ignore_zone() {
+    check(
+        "case6",
+        (
+            &[
+                ("good", 0.0, Some(0.0)),
+                ("good", 1000.0, Some(0.0)),
+                ("ignored", 1500.0, None),
+                ("good", 2050.0, Some(50.0)),
+            ],
+            &[3150.0],
+        ),
+    );
+}
+
+#[test]
+fn the_status_bits_follow_the_last_mark() {
+    // Case 3 ends on a good mark and then the window passing: DIST + TOLR alone (bit 4).
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/regist/case3");
+    let run = common::run_loaded(
+        load(&LoadRequest {
+            paths: vec![folder],
+            ..Default::default()
+        })
+        .unwrap_or_else(|d| panic!("{}", d.render_plain())),
+    );
+    let statuses: Vec<i64> = run
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "change" && e["name"] == "S&")
+        .filter_map(|e| e["value"].as_i64())
+        .collect();
+    // good: occurred + input + good (0b111); ignored: occurred + input (0b11); window: 0b10000;
+    // bad: occurred + input + bad (0b1011). FAST IN RISING (bit 5) shows while the sensor is on.
+    let without_rising: Vec<i64> = statuses.iter().map(|s| s & !0b10_0000).collect();
+    let mut distinct = without_rising.clone();
+    distinct.dedup();
+    assert_eq!(
+        distinct,
+        vec![0b111, 0b11, 0b1_0000, 0b1011, 0b111, 0b1_0000],
+        "{statuses:?}"
+    );
+}
