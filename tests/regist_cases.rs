@@ -160,3 +160,70 @@ fn the_status_bits_follow_the_last_mark() {
         "{statuses:?}"
     );
 }
+
+#[test]
+fn a_real_input_wired_to_the_fast_input_latches_the_exact_position() {
+    let dir = common::project(
+        "regist-input",
+        &[
+            (
+                "regist.mb",
+                "OK& = REGIST(TRUE, 1, 900, 50, 0, 900, 0)\nMOVE {1} AT 100 IN 0\nWHILETRUE\nWEND\n",
+            ),
+            (
+                "machine.toml",
+                "[machine]\nupdate = \"1ms\"\n\n[[program]]\nnumber = 0\nfile = \"regist.mb\"\n\n\
+                 [axis.1]\nunits_per_rev = 6000\nfast_input = \"ModuleInput.1\"\n",
+            ),
+            (
+                "scenario.toml",
+                // Edges between updates: 100.25 ms, then every 90 ms (900 units at 10,000/s).
+                "[run]\nduration = \"0.4s\"\n\n[[pulses]]\nname = \"ModuleInput.1\"\n\
+                 start = 0.10025\nperiod = \"90ms\"\nwidth = \"200us\"\ncount = 3\n",
+            ),
+        ],
+    );
+    let loaded = load(&LoadRequest {
+        paths: vec![dir.clone()],
+        ..Default::default()
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let run = common::run_loaded(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
+    let marks: Vec<(String, f64, f64)> = run
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "regist")
+        .map(|e| {
+            (
+                e["mark"].as_str().unwrap_or("?").to_string(),
+                e["time"].as_f64().unwrap_or(f64::NAN),
+                e["position"].as_f64().unwrap_or(f64::NAN),
+            )
+        })
+        .collect();
+    assert_eq!(marks.len(), 3, "{marks:?}");
+    // The axis starts at the first update's start (t = 0): position = 10,000 × time, exactly at
+    // the edge, not at the update that samples it.
+    for (i, (class, time, position)) in marks.iter().enumerate() {
+        assert_eq!(class, "good");
+        let t = 0.10025 + 0.09 * i as f64;
+        assert!((time - t).abs() < 1e-9, "{time}");
+        assert!((position - 10000.0 * t).abs() < 1e-6, "{position}");
+    }
+}
+
+#[test]
+fn a_fast_input_must_be_an_input() {
+    let d = common::load_error(
+        "regist-bad-input",
+        &[
+            ("regist.mb", "END\n"),
+            (
+                "machine.toml",
+                "[[program]]\nnumber = 0\nfile = \"regist.mb\"\n\n[axis.1]\nfast_input = \"Queue.0.QueueEmpty\"\n",
+            ),
+        ],
+    );
+    let text = d.render_plain();
+    assert!(text.contains("is not an input"), "{text}");
+}

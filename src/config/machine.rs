@@ -67,6 +67,8 @@ pub struct AxisSetup {
     pub accel: Option<Spanned<f64>>,
     /// Speed for MOVE TO/FOR without AT, RPM (default 100).
     pub speed: Option<Spanned<f64>>,
+    /// An input wired to the axis's fast input (REGIST), e.g. "ModuleInput.1".
+    pub fast_input: Option<Spanned<String>>,
 }
 
 /// `[machine]`.

@@ -9,6 +9,7 @@ use crate::check::functions::KernelFunc;
 use crate::compile::bytecode::MotionCmd;
 use crate::registry::{Hook, Kind, Registry, SlotId};
 use crate::trace::number;
+use crate::world::InputActivity;
 
 /// What a mark sensor is wired to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -74,6 +75,8 @@ pub struct Orion {
     last: Vec<f64>,
     /// Fast-input marks.
     fast: Vec<FastTrack>,
+    /// Inputs wired to axes' fast inputs: (axis index, input slot).
+    fast_inputs: Vec<(usize, SlotId)>,
 }
 
 /// Marks on an axis seen by its fast input.
@@ -164,7 +167,19 @@ impl Orion {
             last: vec![0.0; regists.len()],
             regists,
             fast,
+            fast_inputs: Vec::new(),
         })
+    }
+
+    /// Wire input `slot` to the fast input of axis `n` (its edges keep their exact times).
+    pub fn wire_fast_input(&mut self, n: u32, slot: SlotId) -> Result<(), String> {
+        let i = self
+            .configs
+            .iter()
+            .position(|c| c.number == n)
+            .ok_or_else(|| format!("axis {n} is not a DSP axis of this machine"))?;
+        self.fast_inputs.push((i, slot));
+        Ok(())
     }
 
     /// The axis numbers in an axis-set value, checked against the machine.
@@ -491,9 +506,26 @@ impl Orion {
     }
 
     /// Fast-input edges of this update, in time order: (time, rising, axis index, position).
-    fn fast_edges(&mut self, t: f64) -> Result<Vec<(f64, bool, usize, f64)>, String> {
+    fn fast_edges(
+        &mut self,
+        t: f64,
+        activity: &[InputActivity],
+    ) -> Result<Vec<(f64, bool, usize, f64)>, String> {
         let t0 = self.dsp.previous_time();
         let mut edges = Vec::new();
+        for &(i, slot) in &self.fast_inputs {
+            let n = self.configs[i].number;
+            let Some(a) = activity.iter().find(|a| a.slot == slot) else {
+                continue;
+            };
+            for (at, rising) in [(a.first_rise, true), (a.first_fall, false)] {
+                if let Some(at) = at {
+                    let at = at.clamp(t0, t);
+                    let p = self.dsp.position_at(n, at).map_err(|e| e.0)?;
+                    edges.push((at, rising, i, p));
+                }
+            }
+        }
         for track in &mut self.fast {
             let Some(i) = self.configs.iter().position(|c| c.number == track.axis) else {
                 continue;
@@ -525,8 +557,13 @@ impl Orion {
 
     /// REGIST's servo side for this update: fast-input marks classified and traced, DIM
     /// re-referencing, the window event, and corrections released to the axis.
-    fn registration(&mut self, t: f64, now: &mut Now<'_>) -> Result<(), String> {
-        for (time, rising, i, position) in self.fast_edges(t)? {
+    fn registration(
+        &mut self,
+        t: f64,
+        activity: &[InputActivity],
+        now: &mut Now<'_>,
+    ) -> Result<(), String> {
+        for (time, rising, i, position) in self.fast_edges(t, activity)? {
             let n = self.configs[i].number;
             let Some(mark) = self.regists[i]
                 .edge(time, position, rising)
@@ -588,7 +625,12 @@ impl Orion {
 
     /// The control loop's part for the DSP axes: AFTER inputs, then motion to `now`, latches
     /// and status into the slots.
-    pub fn generate(&mut self, v: &mut [f64], now: &mut Now<'_>) -> Result<(), String> {
+    pub fn generate(
+        &mut self,
+        v: &mut [f64],
+        activity: &[InputActivity],
+        now: &mut Now<'_>,
+    ) -> Result<(), String> {
         let t = now.seconds();
         for (slot, last) in &mut self.after {
             let on = v[*slot as usize] != 0.0;
@@ -598,7 +640,7 @@ impl Orion {
             *last = on;
         }
         let events = self.dsp.advance(t).map_err(|e| e.0)?;
-        self.registration(t, now)?;
+        self.registration(t, activity, now)?;
         for e in events {
             match e {
                 DspEvent::Latched {

@@ -7,7 +7,7 @@ use crate::config::machine::MachineFile;
 use crate::config::scenario::ScenarioFile;
 use crate::config::{parse_toml, span_of};
 use crate::diag::{Diagnostics, Problem, SourceFile};
-use crate::registry::{Access, Registry, DEFAULT_UPDATE_NS};
+use crate::registry::{Access, Kind, Registry, DEFAULT_UPDATE_NS};
 use crate::syntax::span::Span;
 use crate::syntax::Dialect;
 use crate::vm::{Assignment, MachineImage};
@@ -416,7 +416,14 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
             layout.strings.clone(),
             update_ns as f64 / 1e9,
         ) {
-            Ok(o) => Some(o),
+            Ok(mut o) => {
+                let wiring = wire_fast_inputs(&machine, &registry, &mut o);
+                if !wiring.is_empty() {
+                    diags.extend_file(&machine_file, wiring);
+                    return Err(diags);
+                }
+                Some(o)
+            }
             Err(message) => {
                 let span = machine
                     .axis
@@ -527,6 +534,47 @@ fn split_paths(
         }
     }
     Ok((folder, files))
+}
+
+/// Wire the inputs `[axis.N] fast_input` names to the axes' fast inputs.
+fn wire_fast_inputs(
+    machine: &MachineFile,
+    registry: &Registry,
+    orion: &mut crate::kernel::orion::Orion,
+) -> Vec<Problem> {
+    let mut problems = Vec::new();
+    for (key, setup) in &machine.axis {
+        let (Ok(n), Some(input)) = (key.parse::<u32>(), &setup.get_ref().fast_input) else {
+            continue;
+        };
+        match resolve_text(registry, input, &mut problems) {
+            Some(r)
+                if r.ty.is_bit()
+                    && r.access == Access::Read
+                    && matches!(r.kind, Kind::DriveInput | Kind::ModuleInput | Kind::DriveIO) =>
+            {
+                if let Err(message) = orion.wire_fast_input(n, r.slot) {
+                    problems.push(Problem::error(
+                        "pacer::machine::axis",
+                        span_of(input),
+                        message,
+                        "here",
+                    ));
+                }
+            }
+            Some(r) => problems.push(
+                Problem::error(
+                    "pacer::machine::axis",
+                    span_of(input),
+                    format!("{} is not an input", r.name),
+                    "not an input",
+                )
+                .with_help("wire a DriveInput, ModuleInput or DriveIO point"),
+            ),
+            None => {}
+        }
+    }
+    problems
 }
 
 /// The DSP axes of `[axis.N]` (already checked by the registry).

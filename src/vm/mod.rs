@@ -371,7 +371,7 @@ impl Machine {
                     master.position(at)
                 });
             if let Some(orion) = self.kernel.orion.as_mut() {
-                if let Err(message) = orion.generate(&mut self.values, &mut now) {
+                if let Err(message) = orion.generate(&mut self.values, &self.activity, &mut now) {
                     now.trace
                         .machine_message(self.tick, "error", message.clone());
                     self.error = Some(RunError {
