@@ -227,3 +227,89 @@ fn a_fast_input_must_be_an_input() {
     let text = d.render_plain();
     assert!(text.contains("is not an input"), "{text}");
 }
+
+/// The knife's phase (its ASEN latch) at each good mark, and the corrections, of the web-knife
+/// machine with `program` in place of its own.
+fn web_knife(program: Option<&str>) -> (Vec<f64>, Vec<(String, Option<f64>)>) {
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/regist/web-knife");
+    let read = |f: &str| std::fs::read_to_string(folder.join(f)).expect("web-knife file");
+    let (machine, scenario, own) = (
+        read("machine.toml"),
+        read("scenario.toml"),
+        read("regist.mb"),
+    );
+    let text = program.map_or(own, str::to_string);
+    let dir = common::project(
+        "web-knife",
+        &[
+            ("regist.mb", &text),
+            ("machine.toml", &machine),
+            ("scenario.toml", &scenario),
+        ],
+    );
+    let loaded = load(&LoadRequest {
+        paths: vec![dir.clone()],
+        ..Default::default()
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let run = common::run_loaded(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    let mut phases = Vec::new();
+    let mut marks = Vec::new();
+    let mut last_good = false;
+    for e in &run.events {
+        if e["kind"] == "regist" {
+            last_good = e["mark"] == "good";
+            marks.push((
+                e["mark"].as_str().unwrap_or("?").to_string(),
+                e["correction"].as_f64(),
+            ));
+        }
+        if e["kind"] == "change" && e["name"] == "PHASE" && last_good {
+            phases.push(e["value"].as_f64().unwrap_or(f64::NAN));
+        }
+    }
+    (phases, marks)
+}
+
+#[test]
+fn master_registration_holds_a_geared_knife_on_drifting_prints() {
+    let (phases, marks) = web_knife(None);
+    assert!(marks.len() >= 80, "{} marks", marks.len());
+    // The prints are 3 units longer than LGTH: every good mark after the entrant corrects 3;
+    // the splice is ignored and corrects nothing; nothing is bad.
+    assert_eq!(marks[0], ("good".to_string(), Some(0.0)));
+    let ignored = marks.iter().filter(|m| m.0 == "ignored").count();
+    assert_eq!(ignored, 1, "{marks:?}");
+    assert!(marks.iter().all(|m| m.0 != "bad"), "{marks:?}");
+    assert!(marks[1..]
+        .iter()
+        .filter(|m| m.0 == "good")
+        .all(|m| m.1 == Some(3.0)));
+    // Each correction sets the knife back by 0.24 × 3 = 0.72, which is what it gains per
+    // product: from the second mark on it meets every print at the same point of its turn.
+    let held = phases[1];
+    assert!((held - 1200.72).abs() < 1e-6, "{phases:?}");
+    let worst = phases[1..]
+        .iter()
+        .map(|p| (p - held).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-6, "the knife drifts by {worst}");
+}
+
+#[test]
+fn without_the_correction_the_knife_drifts_off_the_prints() {
+    let own = std::fs::read_to_string(
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/regist/web-knife/regist.mb"),
+    )
+    .expect("program");
+    let off = own.replace("WRITE_SV(1, 24, 5)", "WRITE_SV(1, 24, 4)");
+    assert_ne!(off, own);
+    let (phases, _) = web_knife(Some(&off));
+    let n = phases.len() as f64;
+    let drift = phases[phases.len() - 1] - phases[0];
+    assert!(
+        (drift - 0.72 * (n - 1.0)).abs() < 1e-6,
+        "{drift} over {n} marks"
+    );
+}

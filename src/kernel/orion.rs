@@ -601,15 +601,39 @@ impl Orion {
                 );
             }
             let ratio = self.dsp.ratio(n).map_err(|e| e.0)?;
-            let master_moving = match c.pacer {
-                Some(m) => self.dsp.velocity(m).map_err(|e| e.0)? != 0.0,
-                None => false,
+            // The axes geared to this one, with their ratios: a master correction moves them.
+            let mut followers = Vec::new();
+            for f in self.configs.iter().filter(|f| f.pacer == Some(n)) {
+                if let Some(r) = self.dsp.ratio(f.number).map_err(|e| e.0)? {
+                    followers.push((f.number, r));
+                }
+            }
+            let (master_moving, ratio_move) = match (c.pacer, ratio) {
+                // Slave registration: this axis runs the ratio move.
+                (Some(p), Some(_)) => (self.dsp.velocity(p).map_err(|e| e.0)? != 0.0, true),
+                // Master registration: this axis is the master of the ratio moves.
+                _ => (
+                    self.dsp.velocity(n).map_err(|e| e.0)? != 0.0,
+                    !followers.is_empty(),
+                ),
             };
-            let (slave, master) = self.regists[i].take_correction(master_moving, ratio.is_some());
-            // A master offset moves the position the slave's gear follows: the slave by ratio×.
-            let delta = slave + ratio.unwrap_or(0.0) * master;
-            if delta != 0.0 {
-                self.dsp.shift(n, delta).map_err(|e| e.0)?;
+            let (slave, master) = self.regists[i].take_correction(master_moving, ratio_move);
+            match ratio {
+                Some(r) => {
+                    // A master offset moves the position the slave's gear follows: r × it.
+                    let delta = slave + r * master;
+                    if delta != 0.0 {
+                        self.dsp.shift(n, delta).map_err(|e| e.0)?;
+                    }
+                }
+                None => {
+                    // No slave of its own: a slave correction has nothing to move.
+                    for (f, r) in followers {
+                        if master != 0.0 {
+                            self.dsp.shift(f, r * master).map_err(|e| e.0)?;
+                        }
+                    }
+                }
             }
         }
         Ok(())
