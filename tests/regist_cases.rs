@@ -230,7 +230,7 @@ fn a_fast_input_must_be_an_input() {
 
 /// The knife's phase (its ASEN latch) at each good mark, and the corrections, of the web-knife
 /// machine with `program` in place of its own.
-fn web_knife(program: Option<&str>) -> (Vec<f64>, Vec<(String, Option<f64>)>) {
+fn web_knife(program: Option<&str>) -> (Vec<f64>, Vec<(String, Option<f64>)>, Vec<f64>) {
     let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/regist/web-knife");
     let read = |f: &str| std::fs::read_to_string(folder.join(f)).expect("web-knife file");
     let (machine, scenario, own) = (
@@ -256,6 +256,12 @@ fn web_knife(program: Option<&str>) -> (Vec<f64>, Vec<(String, Option<f64>)>) {
     assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
     let mut phases = Vec::new();
     let mut marks = Vec::new();
+    let read_back: Vec<f64> = run
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "change" && e["name"] == "LAST.CORR")
+        .filter_map(|e| e["value"].as_f64())
+        .collect();
     let mut last_good = false;
     for e in &run.events {
         if e["kind"] == "regist" {
@@ -269,12 +275,15 @@ fn web_knife(program: Option<&str>) -> (Vec<f64>, Vec<(String, Option<f64>)>) {
             phases.push(e["value"].as_f64().unwrap_or(f64::NAN));
         }
     }
-    (phases, marks)
+    (phases, marks, read_back)
 }
 
 #[test]
 fn master_registration_holds_a_geared_knife_on_drifting_prints() {
-    let (phases, marks) = web_knife(None);
+    let (phases, marks, read_back) = web_knife(None);
+    // READ_SV(1, 10), the last correction, as the program reads it after each latch.
+    assert_eq!(read_back[0], 0.0);
+    assert!(read_back[2..].iter().all(|&c| c == 3.0), "{read_back:?}");
     assert!(marks.len() >= 80, "{} marks", marks.len());
     // The prints are 3 units longer than LGTH: every good mark after the entrant corrects 3;
     // the splice is ignored and corrects nothing; nothing is bad.
@@ -305,7 +314,7 @@ fn without_the_correction_the_knife_drifts_off_the_prints() {
     .expect("program");
     let off = own.replace("WRITE_SV(1, 24, 5)", "WRITE_SV(1, 24, 4)");
     assert_ne!(off, own);
-    let (phases, _) = web_knife(Some(&off));
+    let (phases, _, _) = web_knife(Some(&off));
     let n = phases.len() as f64;
     let drift = phases[phases.len() - 1] - phases[0];
     assert!(
