@@ -322,3 +322,103 @@ fn without_the_correction_the_knife_drifts_off_the_prints() {
         "{drift} over {n} marks"
     );
 }
+
+/// A feed roll (axis 2) geared 1:1 to the machine (axis 1) feeds material printed every 3605
+/// units; the machine's cycle is 3600. Slave registration on the feed roll, filter over 10
+/// updates: returns the machine's phase (its ASEN latch, modulo 3600) at each mark.
+fn feed_roll(switches: u32) -> Vec<f64> {
+    let program = format!(
+        "m~ = {{1}} : f~ = {{2}}
+POS.MOD@(m~) = 3600
+GEAR f~ AT 1 TO 1
+OK& = REGIST(TRUE, 2, 3600, 100, 0, 3600, 0)
+A& = WRITE_SV(2, 17, 10)
+B& = WRITE_SV(2, 24, {switches})
+MOVE m~ AT 600 IN 100
+ASEN@({{m~, f~}}) = 0
+WHILETRUE
+  IF ASEN(m~) THEN
+    PHASE = POS.ASEN@(m~)
+    ASEN@({{m~, f~}}) = 0
+  ENDIF
+WEND
+"
+    );
+    let machine = "[machine]\nupdate = \"1ms\"\nbudget = 500\n\n[[program]]\nnumber = 0\n\
+                   file = \"feed.mb\"\n\n[axis.1]\nunits_per_rev = 3600\n\n[axis.2]\n\
+                   units_per_rev = 3600\npacer = 1\n";
+    let marks = "axis = 2\nfirst = 1000\npitch = 3605\ncount = 40\n";
+    let scenario = format!(
+        "[run]\nduration = \"3s\"\n\n[[marks]]\nsensor = \"FAST\"\n{marks}\n\
+         [[marks]]\nsensor = \"ASEN\"\nwidth = 50\n{marks}"
+    );
+    let dir = common::project(
+        &format!("feed-roll-{switches}"),
+        &[
+            ("feed.mb", &program),
+            ("machine.toml", machine),
+            ("scenario.toml", &scenario),
+        ],
+    );
+    let loaded = load(&LoadRequest {
+        paths: vec![dir.clone()],
+        ..Default::default()
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let run = common::run_loaded(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    run.events
+        .iter()
+        .filter(|e| e["kind"] == "change" && e["name"] == "PHASE")
+        .filter_map(|e| e["value"].as_f64())
+        .collect()
+}
+
+#[test]
+fn slave_registration_feeds_the_longer_product_through_the_filter() {
+    // Slave correction and DIM (6): each good mark corrects +5, spread over 10 updates, so the
+    // feed roll feeds 3605 per machine cycle and every mark meets the machine at one phase.
+    let held = feed_roll(6);
+    assert!(held.len() >= 25, "{held:?}");
+    let worst = held[2..]
+        .iter()
+        .map(|p| (p - held[1]).abs())
+        .fold(0.0, f64::max);
+    assert!(worst < 1e-6, "{held:?}");
+    // Without the slave correction (DIM only), the marks come 5 later every cycle.
+    let drifting = feed_roll(4);
+    for w in drifting.windows(2) {
+        assert!(
+            ((w[1] - w[0]).rem_euclid(3600.0) - 5.0).abs() < 1e-6,
+            "{drifting:?}"
+        );
+    }
+}
+
+#[test]
+fn powertools_programs_call_regist_too() {
+    let run = common::run_project(
+        "regist-pt",
+        "Var.Ok = REGIST(ON, 1, 1000, 100, 0, 1000, 0)\nVar.S = STATUSSV(1)\n\
+         Var.MinTime = READ_SV(1, 25)\nVar.W = WRITE_SV(1, 17, 4)\nVar.F = READ_SV(1, 17)\n\
+         Var.Bad = REGIST(ON, 1, 1000, 100, 0, 0, 0)\n",
+        "[variables.Ok]\n[variables.S]\n[variables.MinTime]\ndecimals = 3\n[variables.W]\n\
+         [variables.F]\n[variables.Bad]\ninitial = 7\n\n[axis.1]\nunits_per_rev = 6000\n",
+        "[run]\nduration = \"10ms\"\n",
+    );
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    let v = |n: &str| run.machine.value_of(n).unwrap_or(f64::NAN);
+    assert_eq!(v("Var.Ok"), 1.0);
+    assert_eq!(v("Var.S"), 0.0);
+    assert_eq!(v("Var.MinTime"), 0.008, "8 servo updates of 1 ms");
+    assert_eq!(v("Var.W"), 1.0);
+    assert_eq!(v("Var.F"), 4.0);
+    // LGTH 0 is refused: OK is false, and the trace says why.
+    assert_eq!(v("Var.Bad"), 0.0);
+    let warning = run
+        .events
+        .iter()
+        .find(|e| e["kind"] == "warning")
+        .expect("a warning");
+    assert!(warning["message"].as_str().unwrap_or("").contains("REGIST"));
+}
