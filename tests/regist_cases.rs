@@ -230,7 +230,17 @@ fn a_fast_input_must_be_an_input() {
 
 /// The knife's phase (its ASEN latch) at each good mark, and the corrections, of the web-knife
 /// machine with `program` in place of its own.
-fn web_knife(program: Option<&str>) -> (Vec<f64>, Vec<(String, Option<f64>)>, Vec<f64>) {
+/// What the web-knife machine shows.
+struct WebKnife {
+    /// The knife's latched phase at each good mark.
+    phases: Vec<f64>,
+    /// Each mark's class and correction.
+    marks: Vec<(String, Option<f64>)>,
+    /// READ_SV(1, 10) as the program read it after each latch.
+    read_back: Vec<f64>,
+}
+
+fn web_knife(program: Option<&str>) -> WebKnife {
     let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/regist/web-knife");
     let read = |f: &str| std::fs::read_to_string(folder.join(f)).expect("web-knife file");
     let (machine, scenario, own) = (
@@ -275,12 +285,20 @@ fn web_knife(program: Option<&str>) -> (Vec<f64>, Vec<(String, Option<f64>)>, Ve
             phases.push(e["value"].as_f64().unwrap_or(f64::NAN));
         }
     }
-    (phases, marks, read_back)
+    WebKnife {
+        phases,
+        marks,
+        read_back,
+    }
 }
 
 #[test]
 fn master_registration_holds_a_geared_knife_on_drifting_prints() {
-    let (phases, marks, read_back) = web_knife(None);
+    let WebKnife {
+        phases,
+        marks,
+        read_back,
+    } = web_knife(None);
     // READ_SV(1, 10), the last correction, as the program reads it after each latch.
     assert_eq!(read_back[0], 0.0);
     assert!(read_back[2..].iter().all(|&c| c == 3.0), "{read_back:?}");
@@ -314,7 +332,7 @@ fn without_the_correction_the_knife_drifts_off_the_prints() {
     .expect("program");
     let off = own.replace("WRITE_SV(1, 24, 5)", "WRITE_SV(1, 24, 4)");
     assert_ne!(off, own);
-    let (phases, _, _) = web_knife(Some(&off));
+    let phases = web_knife(Some(&off)).phases;
     let n = phases.len() as f64;
     let drift = phases[phases.len() - 1] - phases[0];
     assert!(
