@@ -12,28 +12,27 @@
 //!   * `raw`      — random bytes and characters, token soup, very long lines, thousands of
 //!     nested block openers.
 //!
-//! Environment:
-//!   PACER_FUZZ_CASES   total generated inputs, split 40/35/25 (default 2000)
-//!   PACER_FUZZ_SEED    u64 mixed into the fixed ChaCha seed (default 0: the standard run)
-//!   PACER_FUZZ_ONLY    run one generator: grammar, mutation or raw
-//!   PACER_FUZZ_DUMP    a directory: each worker writes the input it is about to run to
-//!                      `<dir>/<generator>.current.pt` (to catch the input of a stack overflow)
-//!   PACER_FUZZ_HANG_SECS  seconds without progress that count as a hang (default 120)
-//!   PACER_FUZZ_STACK_KIB  stack of each worker thread (default 2048, as libtest's threads)
+//! The harness (running the seeds and the edge inputs, the workers, the hang watchdog, the
+//! report, the environment variables PACER_FUZZ_*) and the generator pieces that do not depend
+//! on the dialect are `tests/common/fuzz.rs`, shared with `tests/fuzz_motionbasic.rs`;
+//! inputs are saved as `<generator>.<crash|hang|slowest|current>.pt`.
 
+use fuzz::{
+    block, for_block, has_errors, if_block, layout, long_line, many_lines, many_openers, mutated,
+    mutation, nested_blocks, number, op_chain, pick, pick_any, random_bytes, random_chars,
+    random_text, regex, render, sp, token_soup, Stats,
+};
 use pacer::check::{check_program, CheckEnv};
 use pacer::compile::{compile, Layout};
 use pacer::config::machine::MachineFile;
-use pacer::diag::{Diagnostics, Level, Problem, SourceFile};
 use pacer::registry::Registry;
 use pacer::syntax::parse_program;
 use proptest::prelude::*;
 use proptest::sample::{select, Index};
-use proptest::test_runner::{Config, RngAlgorithm, TestError, TestRng, TestRunner};
-use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::sync::atomic::{AtomicBool, AtomicU64, Ordering};
-use std::sync::{Arc, Mutex, Once};
-use std::time::{Duration, Instant};
+use std::sync::atomic::Ordering;
+
+#[path = "common/fuzz.rs"]
+mod fuzz;
 
 // ---------------------------------------------------------------------------------------------
 // The pipeline under test
@@ -60,41 +59,11 @@ impl Machines {
     }
 }
 
-#[derive(Default)]
-struct Stats {
-    executed: AtomicU64,
-    parse_clean: AtomicU64,
-    check_clean: AtomicU64,
-    compiled: AtomicU64,
-    /// Checked clean but the compiler still reported problems.
-    compile_refused: AtomicU64,
-    slowest_micros: AtomicU64,
-    slowest_input: Mutex<String>,
-    /// The input being run now (for the hang report).
-    current: Mutex<String>,
-    finished: AtomicBool,
-}
-
-fn has_errors(problems: &[Problem]) -> bool {
-    problems.iter().any(|p| p.level == Level::Error)
-}
-
-/// Render a few problems as the CLI does (spans are resolved against the source there).
-fn render(src: &str, problems: &[Problem]) {
-    if problems.is_empty() {
-        return;
-    }
-    let mut d = Diagnostics::new();
-    let file = SourceFile::new("fuzz.pt", src);
-    d.extend_file(&file, problems.iter().take(3).cloned().collect());
-    std::hint::black_box(d.render_plain());
-}
-
 /// Run one input through the front end. Panics propagate (that is the failure we look for).
 fn exercise(src: &str, m: &Machines, stats: &Stats) {
     let mut problems = Vec::new();
     let ast = parse_program(src, &mut problems);
-    render(src, &problems);
+    render("fuzz.pt", src, &problems);
     if has_errors(&problems) {
         return;
     }
@@ -105,7 +74,7 @@ fn exercise(src: &str, m: &Machines, stats: &Stats) {
             loaded_programs: LOADED,
         };
         let problems = check_program(&ast, &env);
-        render(src, &problems);
+        render("fuzz.pt", src, &problems);
         if has_errors(&problems) {
             continue;
         }
@@ -126,7 +95,7 @@ fn exercise(src: &str, m: &Machines, stats: &Stats) {
             }
             Err(problems) => {
                 stats.compile_refused.fetch_add(1, Ordering::Relaxed);
-                render(src, &problems);
+                render("fuzz.pt", src, &problems);
             }
         }
     }
@@ -612,23 +581,6 @@ const TOKENS: &[&str] = &[
     "L1",
 ];
 
-fn pick(xs: &'static [&'static str]) -> BoxedStrategy<String> {
-    select(xs).prop_map(str::to_string).boxed()
-}
-
-/// Concatenation of several static pools.
-fn pick_any(pools: &[&'static [&'static str]]) -> BoxedStrategy<String> {
-    let all: Vec<&'static str> = pools.iter().flat_map(|p| p.iter().copied()).collect();
-    select(all).prop_map(str::to_string).boxed()
-}
-
-/// A regex strategy compiled once (a `&str` strategy would compile its regex for every value).
-fn regex(re: &str) -> BoxedStrategy<String> {
-    proptest::string::string_regex(re)
-        .expect("valid regex")
-        .boxed()
-}
-
 fn ident() -> BoxedStrategy<String> {
     regex("[A-Za-z_][A-Za-z0-9_]{0,10}")
 }
@@ -670,22 +622,6 @@ fn any_name() -> BoxedStrategy<String> {
     .boxed()
 }
 
-fn number() -> BoxedStrategy<String> {
-    prop_oneof![
-        3 => pick(NUMBERS),
-        2 => (0u32..100_000).prop_map(|n| n.to_string()),
-        1 => any::<f64>()
-            .prop_filter("finite", |f| f.is_finite())
-            .prop_map(|f| f.abs().to_string()),
-        1 => regex("[0-9]{1,40}(\\.[0-9]{0,20})?([eE][+-]?[0-9]{1,4})?"),
-    ]
-    .boxed()
-}
-
-fn sp() -> BoxedStrategy<&'static str> {
-    prop_oneof![6 => Just(" "), 1 => Just(""), 1 => Just("  "), 1 => Just("\t")].boxed()
-}
-
 // ---------------------------------------------------------------------------------------------
 // (a) Grammar-aware generator
 // ---------------------------------------------------------------------------------------------
@@ -697,7 +633,7 @@ fn num_expr(with_vars: bool) -> BoxedStrategy<String> {
     } else {
         pick_any(&[NUM_RW, NUM_RO])
     };
-    let leaf = prop_oneof![2 => number(), 2 => names];
+    let leaf = prop_oneof![2 => number(NUMBERS), 2 => names];
     leaf.prop_recursive(6, 24, 3, |inner| {
         prop_oneof![
             4 => (inner.clone(), sp(), pick(NUM_OPS), sp(), inner.clone()).prop_map(
@@ -740,7 +676,7 @@ fn bool_expr(with_vars: bool) -> BoxedStrategy<String> {
 /// Any expression: random names, any operator, any function, occasional stray keywords.
 fn wild_expr() -> BoxedStrategy<String> {
     let leaf = prop_oneof![
-        3 => number(),
+        3 => number(NUMBERS),
         1 => pick(BOOL_WORDS),
         4 => any_name(),
         1 => pick(&["Last", "Then", "To", "Step", "If", "", "(", ")", ",", "-", "NOT"]),
@@ -772,10 +708,6 @@ struct Vocab {
     loop_var: BoxedStrategy<String>,
 }
 
-fn indent(lines: Vec<String>) -> impl Iterator<Item = String> {
-    lines.into_iter().map(|l| format!("  {l}"))
-}
-
 fn stmt_tree(v: Vocab) -> BoxedStrategy<Vec<String>> {
     let leaf = v.leaf.clone().prop_map(|l| vec![l]);
     leaf.prop_recursive(5, 24, 4, move |inner| {
@@ -783,22 +715,12 @@ fn stmt_tree(v: Vocab) -> BoxedStrategy<Vec<String>> {
         prop_oneof![
             3 => (v.cond.clone(), body.clone(), prop::option::of(body.clone()), 0u8..8).prop_map(
                 |(c, then_b, else_b, form)| {
-                    let mut out = vec![format!("If {c} Then")];
-                    out.extend(indent(then_b));
-                    if let Some(e) = else_b {
-                        out.push("Else".into());
-                        out.extend(indent(e));
-                    }
-                    out.push(if form == 0 { "End If".into() } else { "Endif".into() });
-                    out
+                    let end = if form == 0 { "End If" } else { "Endif" };
+                    if_block(["If", "Then", "Else"], &c, then_b, else_b, end)
                 }
             ),
-            2 => (v.cond.clone(), body.clone()).prop_map(|(c, b)| {
-                let mut out = vec![format!("Do While {c}")];
-                out.extend(indent(b));
-                out.push("Loop".into());
-                out
-            }),
+            2 => (v.cond.clone(), body.clone())
+                .prop_map(|(c, b)| block(format!("Do While {c}"), b, "Loop")),
             2 => (
                 v.loop_var.clone(),
                 v.num.clone(),
@@ -808,13 +730,7 @@ fn stmt_tree(v: Vocab) -> BoxedStrategy<Vec<String>> {
                 any::<bool>()
             )
                 .prop_map(|(var, a, b, step, body, named_next)| {
-                    let mut out = vec![match step {
-                        Some(s) => format!("For {var} = {a} To {b} Step {s}"),
-                        None => format!("For {var} = {a} To {b}"),
-                    }];
-                    out.extend(indent(body));
-                    out.push(if named_next { format!("Next {var}") } else { "Next".into() });
-                    out
+                    for_block(["For", "To", "Step", "Next"], &var, &a, &b, step, body, named_next)
                 }),
         ]
     })
@@ -875,6 +791,11 @@ fn wild_leaf() -> BoxedStrategy<String> {
     .boxed()
 }
 
+/// A line that ends a block, as the statement generator writes it.
+fn block_end(t: &str) -> bool {
+    t == "Endif" || t == "End If" || t == "Loop" || t.starts_with("Next")
+}
+
 /// Render a statement list as a program with random indentation, case and line endings.
 fn program(v: Vocab) -> BoxedStrategy<String> {
     (
@@ -891,50 +812,9 @@ fn program(v: Vocab) -> BoxedStrategy<String> {
                 lines.push("End".into());
             }
             if let Some((at, what)) = damage {
-                if !lines.is_empty() {
-                    let closers: Vec<usize> = (0..lines.len())
-                        .filter(|&i| {
-                            let t = lines[i].trim();
-                            t == "Endif" || t == "End If" || t == "Loop" || t.starts_with("Next")
-                        })
-                        .collect();
-                    match what {
-                        0 if !closers.is_empty() => {
-                            lines.remove(closers[at.index(closers.len())]);
-                        }
-                        1 => {
-                            let i = at.index(lines.len());
-                            let l = lines[i].clone();
-                            lines.insert(i, l);
-                        }
-                        2 => {
-                            lines.remove(at.index(lines.len()));
-                        }
-                        _ => {
-                            let i = at.index(lines.len());
-                            lines.insert(i, "Else".into());
-                        }
-                    }
-                }
+                fuzz::damage(&mut lines, at, what, block_end, "Else");
             }
-            let unit = ["  ", "\t", "", "    ", " ", " \t"][ind as usize];
-            let eol = match eol {
-                0 => "\r\n",
-                1 => "\r",
-                _ => "\n",
-            };
-            let mut out = String::new();
-            for l in &lines {
-                let depth = l.len() - l.trim_start_matches("  ").len();
-                out.push_str(&unit.repeat(depth / 2));
-                out.push_str(l.trim_start_matches("  "));
-                out.push_str(eol);
-            }
-            match case {
-                0 => out.to_uppercase(),
-                1 => out.to_lowercase(),
-                _ => out,
-            }
+            layout(&lines, case, ind, eol)
         })
         .boxed()
 }
@@ -967,46 +847,20 @@ fn deep_input() -> BoxedStrategy<String> {
         // Nested blocks, closed properly (or not), each level with a statement.
         2 => (prop::collection::vec(opener, 1..130), any::<bool>(), typed_leaf(false)).prop_map(
             |(kinds, close, leaf)| {
-                let mut s = String::new();
-                for (d, k) in kinds.iter().enumerate() {
-                    s.push_str(match k {
-                        0 => "If DriveInput.1 Then\n",
-                        1 => "Do While Queue.0.QueueEmpty = OFF\n",
-                        _ => "For Capture.0.CapturedMasterPosition = 1 To 10 Step 2\n",
-                    });
-                    if d % 3 == 0 {
-                        s.push_str(&leaf);
-                        s.push('\n');
-                    }
-                }
-                if close {
-                    for k in kinds.iter().rev() {
-                        s.push_str(["Endif\n", "Loop\n", "Next\n"][*k as usize]);
-                    }
-                }
-                s
+                let openers = [
+                    "If DriveInput.1 Then\n",
+                    "Do While Queue.0.QueueEmpty = OFF\n",
+                    "For Capture.0.CapturedMasterPosition = 1 To 10 Step 2\n",
+                ];
+                nested_blocks(&kinds, close, &leaf, &openers, &["Endif\n", "Loop\n", "Next\n"])
             }
         ),
         // Long chains of binary operators (many of them longer than 512 tokens).
         2 => (prop::collection::vec((pick(NUM_OPS), num_atom()), 1..400), num_atom()).prop_map(
-            |(rest, first)| {
-                let mut s = format!("Queue.0.QueueOffset = {first}");
-                for (op, a) in rest {
-                    s.push_str(&format!(" {op} {a}"));
-                }
-                s.push('\n');
-                s
-            }
+            |(rest, first)| op_chain(format!("Queue.0.QueueOffset = {first}"), rest)
         ),
         1 => (prop::collection::vec((pick(BOOL_OPS), pick_any(&[BOOL_RO, BOOL_WORDS])), 1..300))
-            .prop_map(|rest| {
-                let mut s = "Wait For DriveInput.1".to_string();
-                for (op, a) in rest {
-                    s.push_str(&format!(" {op} {a}"));
-                }
-                s.push('\n');
-                s
-            }),
+            .prop_map(|rest| op_chain("Wait For DriveInput.1".to_string(), rest)),
         // Deep nesting inside one expression.
         2 => (1usize..300, pick(&["(", "-", "+", "- ", "-(", "ABS(", "MIN(1,", "(1+", "2^("]), any::<bool>())
             .prop_map(|(n, open, closed)| {
@@ -1031,7 +885,7 @@ fn deep_input() -> BoxedStrategy<String> {
 }
 
 fn num_atom() -> BoxedStrategy<String> {
-    prop_oneof![1 => number(), 1 => pick(NUM_RW)].boxed()
+    prop_oneof![1 => number(NUMBERS), 1 => pick(NUM_RW)].boxed()
 }
 
 fn grammar_input() -> BoxedStrategy<String> {
@@ -1065,295 +919,67 @@ If DriveInput.1 XOR DriveInput.2 Then\n\
 Endif\n\
 End\n";
 
-fn seeds() -> Vec<&'static str> {
+fn seeds() -> Vec<String> {
     vec![
-        include_str!("fixtures/labeling/program0.pt"),
-        include_str!("fixtures/labeling/program1.pt"),
-        include_str!("fixtures/labeling/program2.pt"),
-        EXTRA_SEED,
+        include_str!("fixtures/labeling/program0.pt").to_string(),
+        include_str!("fixtures/labeling/program1.pt").to_string(),
+        include_str!("fixtures/labeling/program2.pt").to_string(),
+        EXTRA_SEED.to_string(),
     ]
 }
 
-#[derive(Debug, Clone)]
-enum Mutation {
-    InsertToken(Index, &'static str),
-    ReplaceWord(Index, &'static str),
-    DeleteWord(Index),
-    DeleteRange(Index, usize),
-    InsertText(Index, String),
-    SetByte(Index, u8),
-    FlipBit(Index, u8),
-    DuplicateLine(Index, usize),
-    DeleteLine(Index),
-    DropCloser(Index),
-    SwapLines(Index, Index),
-    InsertLine(Index, String),
-}
-
-fn mutation() -> BoxedStrategy<Mutation> {
-    let idx = any::<Index>();
-    prop_oneof![
-        3 => (idx.clone(), select(TOKENS)).prop_map(|(i, t)| Mutation::InsertToken(i, t)),
-        3 => (idx.clone(), select(TOKENS)).prop_map(|(i, t)| Mutation::ReplaceWord(i, t)),
-        2 => idx.clone().prop_map(Mutation::DeleteWord),
-        2 => (idx.clone(), 1usize..40).prop_map(|(i, n)| Mutation::DeleteRange(i, n)),
-        2 => (idx.clone(), regex("(?s).{0,12}")).prop_map(|(i, s)| Mutation::InsertText(i, s)),
-        1 => (idx.clone(), any::<u8>()).prop_map(|(i, b)| Mutation::SetByte(i, b)),
-        1 => (idx.clone(), 0u8..8).prop_map(|(i, b)| Mutation::FlipBit(i, b)),
-        2 => (idx.clone(), prop_oneof![4 => 1usize..4, 1 => 4usize..200, 1 => 200usize..2000])
-            .prop_map(|(i, n)| Mutation::DuplicateLine(i, n)),
-        2 => idx.clone().prop_map(Mutation::DeleteLine),
-        3 => idx.clone().prop_map(Mutation::DropCloser),
-        1 => (idx.clone(), idx.clone()).prop_map(|(a, b)| Mutation::SwapLines(a, b)),
-        2 => (idx, prop_oneof![2 => typed_leaf(true), 1 => wild_leaf(), 1 => pick(&[
-            "If DriveInput.1 Then", "Else", "Endif", "Do While ON", "Loop",
-            "For Var.I = 1 To 2", "Next", "L1:", "Goto L1",
-        ])])
-            .prop_map(|(i, l)| Mutation::InsertLine(i, l)),
-    ]
-    .boxed()
-}
-
-/// Largest char boundary at or below `i`.
-fn boundary(s: &str, mut i: usize) -> usize {
-    i = i.min(s.len());
-    while !s.is_char_boundary(i) {
-        i -= 1;
-    }
-    i
-}
-
-fn words(s: &str) -> Vec<(usize, usize)> {
-    let mut out = Vec::new();
-    let mut start = None;
-    for (i, c) in s.char_indices() {
-        match (c.is_whitespace(), start) {
-            (false, None) => start = Some(i),
-            (true, Some(st)) => {
-                out.push((st, i));
-                start = None;
-            }
-            _ => {}
-        }
-    }
-    if let Some(st) = start {
-        out.push((st, s.len()));
-    }
-    out
-}
-
-fn apply(mut s: String, m: &Mutation) -> String {
-    match m {
-        Mutation::InsertToken(i, t) => {
-            let at = boundary(&s, i.index(s.len() + 1));
-            let sep = if i.index(2) == 0 { " " } else { "" };
-            s.insert_str(at, &format!("{sep}{t}{sep}"));
-            s
-        }
-        Mutation::ReplaceWord(i, t) => {
-            let w = words(&s);
-            if !w.is_empty() {
-                let (a, b) = w[i.index(w.len())];
-                s.replace_range(a..b, t);
-            }
-            s
-        }
-        Mutation::DeleteWord(i) => {
-            let w = words(&s);
-            if !w.is_empty() {
-                let (a, b) = w[i.index(w.len())];
-                s.replace_range(a..b, "");
-            }
-            s
-        }
-        Mutation::DeleteRange(i, n) => {
-            let a = boundary(&s, i.index(s.len() + 1));
-            let b = boundary(&s, a + n);
-            s.replace_range(a..b, "");
-            s
-        }
-        Mutation::InsertText(i, t) => {
-            let at = boundary(&s, i.index(s.len() + 1));
-            s.insert_str(at, t);
-            s
-        }
-        Mutation::SetByte(i, v) | Mutation::FlipBit(i, v) => {
-            let mut b = s.into_bytes();
-            if !b.is_empty() {
-                let k = i.index(b.len());
-                if matches!(m, Mutation::SetByte(..)) {
-                    b[k] = *v;
-                } else {
-                    b[k] ^= 1 << v;
-                }
-            }
-            String::from_utf8_lossy(&b).into_owned()
-        }
-        Mutation::DuplicateLine(i, n) => {
-            let mut lines: Vec<&str> = s.split('\n').collect();
-            let k = i.index(lines.len());
-            let l = lines[k];
-            for _ in 0..*n {
-                lines.insert(k, l);
-            }
-            lines.join("\n")
-        }
-        Mutation::DeleteLine(i) => {
-            let mut lines: Vec<&str> = s.split('\n').collect();
-            lines.remove(i.index(lines.len()));
-            lines.join("\n")
-        }
-        Mutation::DropCloser(i) => {
-            let mut lines: Vec<&str> = s.split('\n').collect();
-            let closers: Vec<usize> = (0..lines.len())
-                .filter(|&k| {
-                    let t = lines[k].trim().to_ascii_lowercase();
-                    t == "endif"
-                        || t == "end if"
-                        || t == "loop"
-                        || t.starts_with("next")
-                        || t == "else"
-                })
-                .collect();
-            if !closers.is_empty() {
-                lines.remove(closers[i.index(closers.len())]);
-            }
-            lines.join("\n")
-        }
-        Mutation::SwapLines(a, b) => {
-            let mut lines: Vec<&str> = s.split('\n').collect();
-            let (x, y) = (a.index(lines.len()), b.index(lines.len()));
-            lines.swap(x, y);
-            lines.join("\n")
-        }
-        Mutation::InsertLine(i, l) => {
-            let mut lines: Vec<&str> = s.split('\n').collect();
-            lines.insert(i.index(lines.len() + 1), l);
-            lines.join("\n")
-        }
-    }
+/// A line a mutation may drop (any case): the end of a block, or an `Else`.
+fn closer(line: &str) -> bool {
+    let t = line.to_ascii_lowercase();
+    t == "endif" || t == "end if" || t == "loop" || t.starts_with("next") || t == "else"
 }
 
 fn mutation_input() -> BoxedStrategy<String> {
-    let n = seeds().len();
-    (
-        0..n,
-        prop::option::of(0..n), // sometimes append a second program
-        prop::collection::vec(mutation(), 1..8),
-    )
-        .prop_map(|(a, b, muts)| {
-            let seeds = seeds();
-            let mut s = seeds[a].to_string();
-            if let Some(b) = b.filter(|_| a % 4 == 0) {
-                s.push_str(seeds[b]);
-            }
-            for m in &muts {
-                s = apply(s, m);
-            }
-            s
-        })
-        .boxed()
+    let line = prop_oneof![2 => typed_leaf(true), 1 => wild_leaf(), 1 => pick(&[
+        "If DriveInput.1 Then", "Else", "Endif", "Do While ON", "Loop",
+        "For Var.I = 1 To 2", "Next", "L1:", "Goto L1",
+    ])];
+    mutated(seeds(), 4, mutation(TOKENS, line.boxed(), false), closer)
 }
 
 // ---------------------------------------------------------------------------------------------
 // (c) Raw strings and bytes
 // ---------------------------------------------------------------------------------------------
 
+/// The ASCII characters that matter to PowerTools (`random_chars` adds the unusual ones).
 const SPECIAL_CHARS: &[char] = &[
-    '\'',
-    '‘',
-    '’',
-    '\r',
-    '\n',
-    '\t',
-    '(',
-    ')',
-    ' ',
-    '.',
-    ':',
-    '=',
-    '<',
-    '>',
-    '-',
-    '+',
-    '*',
-    '/',
-    '^',
-    ',',
-    '"',
-    '_',
-    '0',
-    '9',
-    'e',
-    'E',
-    'I',
-    'f',
-    'x',
-    '\u{0}',
-    '\u{b}',
-    '\u{c}',
-    '\u{85}',
-    '\u{a0}',
-    '\u{2028}',
-    '\u{feff}',
-    'é',
-    'ﬁ',
-    'İ',
-    'ß',
-    '\u{10FFFF}',
-    '😀',
-    '\u{301}',
+    '\'', '‘', '’', '\r', '\n', '\t', '(', ')', ' ', '.', ':', '=', '<', '>', '-', '+', '*', '/',
+    '^', ',', '"', '_', '0', '9', 'e', 'E', 'I', 'f', 'x',
 ];
 
 fn raw_input() -> BoxedStrategy<String> {
-    let ch = prop_oneof![
-        4 => select(SPECIAL_CHARS),
-        4 => proptest::char::range(' ', '~'),
-        1 => any::<char>(),
-    ];
     prop_oneof![
-        // Random characters biased to the ones that matter.
-        4 => prop::collection::vec(ch, 0..400).prop_map(|v| v.into_iter().collect::<String>()),
-        // Arbitrary unicode text.
-        2 => regex("(?s).{0,200}"),
-        // Random bytes, made valid UTF-8 the way a lossy file reader would.
-        2 => prop::collection::vec(any::<u8>(), 0..600)
-            .prop_map(|b| String::from_utf8_lossy(&b).into_owned()),
-        // Token soup.
-        3 => prop::collection::vec((select(TOKENS), pick(&[" ", "", "\n", "\t", "\r\n", "  "])), 0..200)
-            .prop_map(|v| v.into_iter().map(|(t, s)| format!("{t}{s}")).collect::<String>()),
-        // Very long lines of one fragment.
-        2 => (
-            pick(&["", "Var.X = ", "Queue.0.QueueOffset = ", "Wait For ", "If ", "Call ", "Goto ", "x"]),
-            pick(&[
+        4 => random_chars(SPECIAL_CHARS),
+        2 => random_text(),
+        2 => random_bytes(),
+        3 => token_soup(TOKENS, &[" ", "", "\n", "\t", "\r\n", "  "]),
+        2 => long_line(
+            &["", "Var.X = ", "Queue.0.QueueOffset = ", "Wait For ", "If ", "Call ", "Goto ", "x"],
+            &[
                 "(", ")", "a+", "x ", ".", "1", "A", "a.", "-", "NOT ", "If ", "'", "‘", "’", "é",
                 "\u{200b}", "\r", "\t", "( ", "1,", ",", ":", "<>", "Then ", "A.1",
-            ]),
-            prop_oneof![3 => 1usize..600, 2 => 600usize..6000, 1 => 6000usize..40_000],
-        )
-            .prop_map(|(pre, frag, n)| format!("{pre}{}\n", frag.repeat(n))),
-        // Thousands of nested block openers, closed in part, in full, or not at all.
-        2 => (
-            pick(&[
+            ],
+        ),
+        2 => many_openers(
+            &[
                 "If x Then\n",
                 "If DriveInput.1 Then\n",
                 "Do While ON\n",
                 "For Var.I = 1 To 2\n",
                 "If ON Then\nElse\n",
                 "If x Then\r",
-            ]),
-            prop_oneof![1 => 1usize..100, 2 => 100usize..4000],
-            pick(&["", "Endif\n", "Loop\n", "Next\n", "Else\n", "x = 1\n"]),
-            0usize..5000,
-        )
-            .prop_map(|(open, n, close, m)| format!("{}{}", open.repeat(n), close.repeat(m))),
-        // Many lines of one statement.
-        1 => (
-            pick(&["Endif\n", "Loop\n", "Next\n", "Else\n", "L:\n", "Goto L\n", "\n", "End\n", "'\n", "Queue.0.QueueOffset = 1\n"]),
-            1usize..5000,
-            pick(&["", "Do While ON\n", "If ON Then\n", "L:\n"]),
-        )
-            .prop_map(|(line, n, pre)| format!("{pre}{}", line.repeat(n))),
+            ],
+            &["", "Endif\n", "Loop\n", "Next\n", "Else\n", "x = 1\n"],
+        ),
+        1 => many_lines(
+            &["Endif\n", "Loop\n", "Next\n", "Else\n", "L:\n", "Goto L\n", "\n", "End\n", "'\n", "Queue.0.QueueOffset = 1\n"],
+            &["", "Do While ON\n", "If ON Then\n", "L:\n"],
+        ),
         // Many distinct labels and jumps.
         1 => (1usize..2000, any::<bool>()).prop_map(|(n, dup)| {
             let mut s = String::new();
@@ -1373,17 +999,7 @@ fn raw_input() -> BoxedStrategy<String> {
 
 fn edge_inputs() -> Vec<String> {
     let mut v: Vec<String> = vec![
-        String::new(),
-        "\n".into(),
-        "'".into(),
-        "‘".into(),
-        "’".into(),
-        "\r".into(),
-        "\r\n\r\n".into(),
-        "\t\t".into(),
         "\u{feff}End\n".into(),
-        "(".repeat(10_000),
-        ")".repeat(10_000),
         format!("Var.X = {}1", "(".repeat(10_000)),
         format!(
             "Queue.0.QueueOffset = {}1{}",
@@ -1413,13 +1029,8 @@ fn edge_inputs() -> Vec<String> {
         "Endif\n".repeat(10_000),
         "Do While ON\n".to_string() + &"Endif\n".repeat(5000),
         "If ON Then\n".to_string() + &"Else\n".repeat(5000),
-        "L:\n".repeat(5000),
         "Goto L\n".repeat(5000),
-        "A".repeat(200_000),
-        "9".repeat(100_000),
         format!("Var.{}", "a.".repeat(20_000)),
-        "\r".repeat(20_000),
-        "‘’".repeat(10_000),
         "Var.X = 1 ‘curly comment’\nWait For DriveInput.1 ’x\n".into(),
         "Var.X = 1\rVar.X = 2\r".into(),
         "Index.0.Initiate Using Last Using Last On Profile.0 On Profile.1\n".into(),
@@ -1430,335 +1041,23 @@ fn edge_inputs() -> Vec<String> {
         format!("Var.X = {}", "1 + ".repeat(255) + "1"),
         format!("Var.X = {}", "1 + ".repeat(256) + "1"),
     ];
-    for s in seeds() {
-        v.push(s.to_string());
-    }
+    v.extend(seeds());
     v
-}
-
-// ---------------------------------------------------------------------------------------------
-// Harness
-// ---------------------------------------------------------------------------------------------
-
-fn env_u64(name: &str, default: u64) -> u64 {
-    match std::env::var(name) {
-        Ok(s) => s
-            .trim()
-            .replace('_', "")
-            .parse()
-            .unwrap_or_else(|_| panic!("{name}={s:?} is not a number")),
-        Err(_) => default,
-    }
-}
-
-/// A 32-byte ChaCha seed from the run seed and the generator number (splitmix64).
-fn seed_bytes(run_seed: u64, generator: u64) -> [u8; 32] {
-    let mut x = run_seed ^ generator.wrapping_mul(0x9E37_79B9_7F4A_7C15) ^ 0x5041_4345_5246_555A;
-    let mut out = [0u8; 32];
-    for chunk in out.chunks_mut(8) {
-        x = x.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = x;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^= z >> 31;
-        chunk.copy_from_slice(&z.to_le_bytes());
-    }
-    out
-}
-
-/// What a panic in a worker thread said, with its backtrace.
-static LAST_PANIC: Mutex<Option<String>> = Mutex::new(None);
-static HOOK: Once = Once::new();
-
-fn install_panic_hook() {
-    HOOK.call_once(|| {
-        let default = std::panic::take_hook();
-        std::panic::set_hook(Box::new(move |info| {
-            let in_worker = std::thread::current()
-                .name()
-                .is_some_and(|n| n.starts_with("fuzz-"));
-            if in_worker {
-                // Quiet: shrinking re-runs failing inputs many times. Keep the last report.
-                let bt = std::backtrace::Backtrace::force_capture();
-                *LAST_PANIC.lock().unwrap_or_else(|e| e.into_inner()) =
-                    Some(format!("{info}\nbacktrace:\n{bt}"));
-            } else {
-                default(info);
-            }
-        }));
-    });
-}
-
-fn out_dir() -> std::path::PathBuf {
-    let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join("fuzz_parser");
-    let _ = std::fs::create_dir_all(&d);
-    d
-}
-
-fn shown(s: &str) -> String {
-    const MAX: usize = 3000;
-    if s.len() <= MAX {
-        format!("{s:?}")
-    } else {
-        let cut = boundary(s, MAX);
-        format!("{:?}… ({} bytes in all)", &s[..cut], s.len())
-    }
-}
-
-/// Builds a generator's strategy (inside its worker: strategies are not `Send`).
-type MakeStrategy = fn() -> BoxedStrategy<String>;
-
-struct Worker {
-    name: &'static str,
-    cases: u32,
-    stats: Arc<Stats>,
-    handle: std::thread::JoinHandle<Result<(), String>>,
-}
-
-fn spawn_worker(
-    name: &'static str,
-    index: u64,
-    cases: u32,
-    make_strategy: MakeStrategy,
-    machines: Arc<Machines>,
-) -> Worker {
-    let stats = Arc::new(Stats::default());
-    let st = Arc::clone(&stats);
-    let stack = env_u64("PACER_FUZZ_STACK_KIB", 2048) as usize * 1024;
-    let run_seed = env_u64("PACER_FUZZ_SEED", 0);
-    let dump = std::env::var_os("PACER_FUZZ_DUMP").map(std::path::PathBuf::from);
-    let handle = std::thread::Builder::new()
-        .name(format!("fuzz-{name}"))
-        .stack_size(stack)
-        .spawn(move || {
-            let strategy = make_strategy();
-            let config = Config {
-                cases,
-                failure_persistence: None,
-                source_file: None,
-                fork: false,
-                timeout: 0,
-                verbose: 0,
-                max_shrink_iters: 4000,
-                max_shrink_time: 120_000,
-                max_local_rejects: 1_000_000,
-                max_global_rejects: 1_000_000,
-                ..Config::default()
-            };
-            let rng = TestRng::from_seed(RngAlgorithm::ChaCha, &seed_bytes(run_seed, index));
-            let mut runner = TestRunner::new_with_rng(config, rng);
-            let dump_file = dump.map(|d| {
-                let _ = std::fs::create_dir_all(&d);
-                d.join(format!("{name}.current.pt"))
-            });
-            let result = runner.run(&strategy, |input| {
-                st.executed.fetch_add(1, Ordering::Relaxed);
-                {
-                    let mut cur = st.current.lock().unwrap_or_else(|e| e.into_inner());
-                    cur.clear();
-                    cur.push_str(&input);
-                }
-                if let Some(f) = &dump_file {
-                    std::fs::write(f, &input).expect("write PACER_FUZZ_DUMP file");
-                }
-                let t0 = Instant::now();
-                exercise(&input, &machines, &st);
-                let us = t0.elapsed().as_micros() as u64;
-                if us > st.slowest_micros.load(Ordering::Relaxed) {
-                    st.slowest_micros.store(us, Ordering::Relaxed);
-                    *st.slowest_input.lock().unwrap_or_else(|e| e.into_inner()) = input;
-                }
-                Ok(())
-            });
-            st.finished.store(true, Ordering::SeqCst);
-            match result {
-                Ok(()) => Ok(()),
-                Err(TestError::Fail(reason, input)) => {
-                    // Re-run the minimal input once to capture its own panic report.
-                    *LAST_PANIC.lock().unwrap_or_else(|e| e.into_inner()) = None;
-                    let again = catch_unwind(AssertUnwindSafe(|| {
-                        exercise(&input, &machines, &Stats::default())
-                    }));
-                    let report = LAST_PANIC
-                        .lock()
-                        .unwrap_or_else(|e| e.into_inner())
-                        .take()
-                        .unwrap_or_else(|| format!("{reason} (did not panic again: {again:?})"));
-                    let path = out_dir().join(format!("{name}.crash.pt"));
-                    let _ = std::fs::write(&path, &input);
-                    Err(format!(
-                        "generator `{name}`: the front end panicked.\nminimal input ({} bytes, saved to {}):\n{}\n{report}",
-                        input.len(),
-                        path.display(),
-                        shown(&input)
-                    ))
-                }
-                Err(TestError::Abort(reason)) => Err(format!("generator `{name}` aborted: {reason}")),
-            }
-        })
-        .expect("spawn fuzz worker");
-    Worker {
-        name,
-        cases,
-        stats,
-        handle,
-    }
 }
 
 #[test]
 fn fuzz_front_end() {
-    install_panic_hook();
-    let started = Instant::now();
-    let total = env_u64("PACER_FUZZ_CASES", 2000);
-    let hang = Duration::from_secs(env_u64("PACER_FUZZ_HANG_SECS", 120));
-    let only = std::env::var("PACER_FUZZ_ONLY").ok();
-    let machines = Arc::new(Machines::new());
-
-    // Sanity: the fixtures go all the way through, so the harness reaches the compiler.
-    for (i, s) in seeds().iter().enumerate() {
-        let st = Stats::default();
-        exercise(s, &machines, &st);
-        assert_eq!(
-            st.compiled.load(Ordering::Relaxed),
-            2,
-            "seed program {i} should compile on both machines"
-        );
-    }
-    // Fixed edge inputs.
-    let edges = edge_inputs();
-    let edge_stats = Stats::default();
-    for e in &edges {
-        let t0 = Instant::now();
-        exercise(e, &machines, &edge_stats);
-        let el = t0.elapsed();
-        assert!(
-            el < Duration::from_secs(20),
-            "edge input took {el:?}: {}",
-            shown(e)
-        );
-    }
-    let edge_count = edges.len() as u64;
-
-    let grammar = total * 40 / 100;
-    let mutation = total * 35 / 100;
-    let raw = total - grammar - mutation;
-    let plan: Vec<(&'static str, u64, MakeStrategy)> = vec![
-        ("grammar", grammar, grammar_input),
-        ("mutation", mutation, mutation_input),
-        ("raw", raw, raw_input),
-    ];
-    let mut workers = Vec::new();
-    for (i, (name, n, make)) in plan.into_iter().enumerate() {
-        if only.as_deref().is_some_and(|o| o != name) || n == 0 {
-            continue;
-        }
-        let cases = u32::try_from(n).expect("PACER_FUZZ_CASES too large");
-        workers.push(spawn_worker(
-            name,
-            i as u64,
-            cases,
-            make,
-            Arc::clone(&machines),
-        ));
-    }
-
-    // Watchdog: report an input that makes no progress, print progress now and then.
-    let mut last: Vec<(u64, Instant)> = workers.iter().map(|_| (0, Instant::now())).collect();
-    let mut last_report = Instant::now();
-    loop {
-        if workers
-            .iter()
-            .all(|w| w.stats.finished.load(Ordering::SeqCst))
-        {
-            break;
-        }
-        std::thread::sleep(Duration::from_millis(200));
-        for (w, (seen, at)) in workers.iter().zip(last.iter_mut()) {
-            let now = w.stats.executed.load(Ordering::Relaxed);
-            if now != *seen || w.stats.finished.load(Ordering::SeqCst) {
-                *seen = now;
-                *at = Instant::now();
-            } else if at.elapsed() > hang {
-                let cur = w
-                    .stats
-                    .current
-                    .lock()
-                    .unwrap_or_else(|e| e.into_inner())
-                    .clone();
-                let path = out_dir().join(format!("{}.hang.pt", w.name));
-                let _ = std::fs::write(&path, &cur);
-                panic!(
-                    "generator `{}`: no progress for {:?} on input #{} ({} bytes, saved to {}):\n{}",
-                    w.name,
-                    hang,
-                    now,
-                    cur.len(),
-                    path.display(),
-                    shown(&cur)
-                );
-            }
-        }
-        if last_report.elapsed() > Duration::from_secs(30) {
-            last_report = Instant::now();
-            let progress: Vec<String> = workers
-                .iter()
-                .map(|w| {
-                    format!(
-                        "{} {}/{}",
-                        w.name,
-                        w.stats.executed.load(Ordering::Relaxed),
-                        w.cases
-                    )
-                })
-                .collect();
-            eprintln!(
-                "fuzz_parser: {:.0?} {}",
-                started.elapsed(),
-                progress.join(", ")
-            );
-        }
-    }
-
-    let mut failures = Vec::new();
-    let mut generated = 0u64;
-    for w in workers {
-        let s = &w.stats;
-        let executed = s.executed.load(Ordering::Relaxed);
-        generated += executed;
-        eprintln!(
-            "fuzz_parser: {:<8} executed {:>8} (planned {:>8}); parse clean {}, check clean {} \
-             (of 2 machines each), compiled {}, refused by compiler after clean check {}; \
-             slowest {} µs ({} bytes, saved as {}.slowest.pt)",
-            w.name,
-            executed,
-            w.cases,
-            s.parse_clean.load(Ordering::Relaxed),
-            s.check_clean.load(Ordering::Relaxed),
-            s.compiled.load(Ordering::Relaxed),
-            s.compile_refused.load(Ordering::Relaxed),
-            s.slowest_micros.load(Ordering::Relaxed),
-            s.slowest_input
-                .lock()
-                .unwrap_or_else(|e| e.into_inner())
-                .len(),
-            w.name,
-        );
-        let _ = std::fs::write(
-            out_dir().join(format!("{}.slowest.pt", w.name)),
-            &*s.slowest_input.lock().unwrap_or_else(|e| e.into_inner()),
-        );
-        match w.handle.join() {
-            Ok(Ok(())) => {}
-            Ok(Err(msg)) => failures.push(msg),
-            Err(_) => failures.push(format!("worker `{}` died", w.name)),
-        }
-    }
-    eprintln!(
-        "fuzz_parser: total inputs executed: {} ({} generated + {} fixed edge inputs) in {:.1?}",
-        generated + edge_count,
-        generated,
-        edge_count,
-        started.elapsed()
-    );
-    assert!(failures.is_empty(), "{}", failures.join("\n\n"));
+    fuzz::run(fuzz::Target {
+        name: "fuzz_parser",
+        ext: "pt",
+        salt: 0x5041_4345_5246_555A, // "PACERFUZ"
+        machines: Machines::new,
+        exercise,
+        complete_seeds: seeds,
+        edge_inputs,
+        grammar: grammar_input,
+        mutation: mutation_input,
+        raw: raw_input,
+        report_refused: true,
+    });
 }
