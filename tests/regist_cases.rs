@@ -325,6 +325,37 @@ fn master_registration_holds_a_geared_knife_on_drifting_prints() {
 }
 
 #[test]
+fn a_good_mark_sets_the_web_position_to_dim() {
+    // The program reads POS@(web~) an update or so after each mark: with DIM 0 it reads the
+    // web's travel since the mark, 100,000 units/s × the time since the mark's exact instant.
+    let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/regist/web-knife");
+    let run = common::run_loaded(
+        load(&LoadRequest {
+            paths: vec![folder],
+            ..Default::default()
+        })
+        .unwrap_or_else(|d| panic!("{}", d.render_plain())),
+    );
+    let mut mark_time = f64::NAN;
+    let mut checked = 0;
+    for e in &run.events {
+        if e["kind"] == "regist" && e["mark"] == "good" {
+            mark_time = e["time"].as_f64().unwrap_or(f64::NAN);
+        }
+        if e["kind"] == "change" && e["name"] == "WP" && mark_time > 0.3 {
+            let t = e["t"].as_f64().unwrap_or(f64::NAN);
+            let wp = e["value"].as_f64().unwrap_or(f64::NAN);
+            assert!(
+                (wp - 100_000.0 * (t - mark_time)).abs() < 1e-6,
+                "{wp} at {t}"
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked >= 70, "{checked}");
+}
+
+#[test]
 fn without_the_correction_the_knife_drifts_off_the_prints() {
     let own = std::fs::read_to_string(
         Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/regist/web-knife/regist.mb"),
