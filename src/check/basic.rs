@@ -310,13 +310,7 @@ pub fn label_key(text: &str) -> String {
 
 impl BasicChecker<'_> {
     fn report<T>(&mut self, r: Result<T, Problem>) -> Option<T> {
-        match r {
-            Ok(v) => Some(v),
-            Err(p) => {
-                self.problems.push(p);
-                None
-            }
-        }
+        super::keep(&mut self.problems, r)
     }
 
     fn want(&mut self, e: &Expr, ty: BasicTy, why: &str) {

@@ -54,6 +54,11 @@ struct Checker<'a, 'b> {
     labels: IndexMap<String, (Span, String)>,
 }
 
+/// The value of `r`, or `None` with its problem recorded.
+pub(crate) fn keep<T>(problems: &mut Vec<Problem>, r: Result<T, Problem>) -> Option<T> {
+    r.map_err(|p| problems.push(p)).ok()
+}
+
 /// The labels of a program by lower-case name, with where and how each is written; a label
 /// defined twice is reported.
 pub fn label_map(body: &[Stmt], problems: &mut Vec<Problem>) -> IndexMap<String, (Span, String)> {
@@ -267,13 +272,7 @@ impl Checker<'_, '_> {
     }
 
     fn report<T>(&mut self, r: Result<T, Problem>) -> Option<T> {
-        match r {
-            Ok(v) => Some(v),
-            Err(p) => {
-                self.problems.push(p);
-                None
-            }
-        }
+        keep(&mut self.problems, r)
     }
 
     fn expect(&mut self, e: &Expr, ty: Ty, why: &str) {
