@@ -170,19 +170,6 @@ pub fn run(
             Op::StoreFixed { dst, src, decimals } => {
                 store_fixed!(dst, v[src as usize], decimals, here)
             }
-            Op::StoreLong { dst, src } => {
-                let raw = v[src as usize];
-                let x = raw.round_ties_even() + 0.0;
-                if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
-                    pc = here;
-                    let name = name_of(ctx, dst);
-                    fault!("Overflow: {raw} does not fit {name} (a long integer: -2147483648 to 2147483647)");
-                }
-                v[dst as usize] = x;
-                if trace_on && dst < ctx.slot_count {
-                    traced_write(ctx, dst, x);
-                }
-            }
             Op::StoreReal { dst, src } => {
                 let x = v[src as usize];
                 if !x.is_finite() {
@@ -417,28 +404,6 @@ pub fn run(
                 *executed = n;
                 return Exit::Call { program, pc };
             }
-            Op::KernelCall { func, dst, args } => {
-                let a = args as usize;
-                let n_args = crate::check::functions::KERNEL_FUNCTIONS
-                    .iter()
-                    .find(|f| f.1 == func)
-                    .map_or(0, |f| f.2);
-                let values: Vec<f64> = v[a..a + n_args].to_vec();
-                let Some(orion) = ctx.kernel.orion.as_mut() else {
-                    pc = here;
-                    fault!(
-                        "{} works on DSP axes: define them in machine.toml ([axis.1] …)",
-                        func.name()
-                    );
-                };
-                match orion.call(func, &values, v, &mut ctx.now) {
-                    Ok(x) => v[dst as usize] = x,
-                    Err(message) => {
-                        pc = here;
-                        fault!("{}: {message}", func.name());
-                    }
-                }
-            }
             Op::Gosub { target } => {
                 *executed = n;
                 return Exit::Gosub { target, ret: pc };
@@ -447,99 +412,136 @@ pub fn run(
                 *executed = n;
                 return Exit::Return { pc: here };
             }
-            Op::CheckLong { r } => {
-                let x = v[r as usize];
-                if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
-                    pc = here;
-                    fault!("Overflow: {x} does not fit a long integer (-2147483648 to 2147483647)");
+            Op::StoreLong { .. }
+            | Op::CheckLong { .. }
+            | Op::AxisBit { .. }
+            | Op::AxisRead { .. }
+            | Op::AxisWrite { .. }
+            | Op::Motion { .. }
+            | Op::KernelCall { .. } => match motionbasic(*op, here, chunk, v, ctx) {
+                Ok(None) => {}
+                Ok(Some(exit)) => {
+                    *executed = n;
+                    return exit;
                 }
-            }
-            Op::AxisBit { dst, a } => {
-                let x = v[a as usize];
-                if !(x.fract() == 0.0 && (1.0..=16.0).contains(&x)) {
-                    pc = here;
-                    fault!("{x} is not an axis number (1 to 16)");
-                }
-                v[dst as usize] = f64::from(1u32 << (x as u32 - 1));
-            }
-            Op::AxisRead {
-                dst,
-                axes,
-                member,
-                truth,
-            } => match axis_read(ctx, v, v[axes as usize], u32::from(member), truth) {
-                Ok(x) => v[dst as usize] = x,
                 Err(message) => {
                     pc = here;
                     fault!("{message}");
                 }
             },
-            Op::AxisWrite {
-                axes,
-                src,
-                member,
-                hook,
-            } => {
-                if let Err(message) = axis_write(
-                    ctx,
-                    v,
-                    v[axes as usize],
-                    u32::from(member),
-                    hook,
-                    v[src as usize],
-                ) {
-                    pc = here;
-                    fault!("{message}");
-                }
-            }
-            Op::Motion { cmd, axes, args } => {
-                let mask = v[axes as usize];
-                let a = args as usize;
-                let operands = [
-                    v[a],
-                    v[a + 1],
-                    v.get(a + 2).copied().unwrap_or(0.0),
-                    v.get(a + 3).copied().unwrap_or(0.0),
-                ];
-                let Some(orion) = ctx.kernel.orion.as_mut() else {
-                    pc = here;
-                    fault!(
-                        "this machine has no DSP axes: define them in machine.toml ([axis.1] …)"
-                    );
-                };
-                match orion.motion(cmd, mask, &operands, v) {
-                    Ok((true, warning)) => {
-                        if let Some(message) = warning {
-                            let line = chunk.lines.get(here as usize).copied().unwrap_or(0);
-                            ctx.now.trace.event(
-                                ctx.now.tick,
-                                "warning",
-                                &[
-                                    ("task", ctx.task.into()),
-                                    ("program", chunk.program.into()),
-                                    ("line", line.into()),
-                                    ("message", message.into()),
-                                ],
-                            );
-                        }
-                    }
-                    // The axis's motion queue is full: the statement waits for room.
-                    Ok((false, _)) => {
-                        *executed = n;
-                        return Exit::Sleep { ticks: 1, pc: here };
-                    }
-                    Err(message) => {
-                        pc = here;
-                        fault!("{message}");
-                    }
-                }
-            }
             Op::End => {
                 *executed = n;
                 return Exit::End;
             }
         }
     }
+}
+
+/// The instructions only MotionBASIC programs use, kept out of the hot loop: `Ok(Some(exit))`
+/// when the task must stop here (a full motion queue), `Err` for a run-time error.
+#[cold]
+#[inline(never)]
+fn motionbasic(
+    op: Op,
+    here: u32,
+    chunk: &Chunk,
+    v: &mut [f64],
+    ctx: &mut Ctx<'_, '_>,
+) -> Result<Option<Exit>, String> {
+    const NO_AXES: &str = "this machine has no DSP axes: define them in machine.toml ([axis.1] …)";
+    match op {
+        Op::StoreLong { dst, src } => {
+            let raw = v[src as usize];
+            let x = raw.round_ties_even() + 0.0;
+            if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
+                let name = name_of(ctx, dst);
+                return Err(format!(
+                    "Overflow: {raw} does not fit {name} (a long integer: -2147483648 to 2147483647)"
+                ));
+            }
+            v[dst as usize] = x;
+            if ctx.now.trace.enabled() && dst < ctx.slot_count {
+                traced_write(ctx, dst, x);
+            }
+        }
+        Op::CheckLong { r } => {
+            let x = v[r as usize];
+            if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
+                return Err(format!(
+                    "Overflow: {x} does not fit a long integer (-2147483648 to 2147483647)"
+                ));
+            }
+        }
+        Op::AxisBit { dst, a } => {
+            let x = v[a as usize];
+            if !(x.fract() == 0.0 && (1.0..=16.0).contains(&x)) {
+                return Err(format!("{x} is not an axis number (1 to 16)"));
+            }
+            v[dst as usize] = f64::from(1u32 << (x as u32 - 1));
+        }
+        Op::AxisRead {
+            dst,
+            axes,
+            member,
+            truth,
+        } => v[dst as usize] = axis_read(ctx, v, v[axes as usize], u32::from(member), truth)?,
+        Op::AxisWrite {
+            axes,
+            src,
+            member,
+            hook,
+        } => axis_write(
+            ctx,
+            v,
+            v[axes as usize],
+            u32::from(member),
+            hook,
+            v[src as usize],
+        )?,
+        Op::Motion { cmd, axes, args } => {
+            let mask = v[axes as usize];
+            let a = args as usize;
+            let operand = |i: usize| v.get(a + i).copied().unwrap_or(0.0);
+            let operands = [operand(0), operand(1), operand(2), operand(3)];
+            let orion = ctx.kernel.orion.as_mut().ok_or(NO_AXES)?;
+            match orion.motion(cmd, mask, &operands, v)? {
+                (true, Some(message)) => {
+                    let line = chunk.lines.get(here as usize).copied().unwrap_or(0);
+                    ctx.now.trace.event(
+                        ctx.now.tick,
+                        "warning",
+                        &[
+                            ("task", ctx.task.into()),
+                            ("program", chunk.program.into()),
+                            ("line", line.into()),
+                            ("message", message.into()),
+                        ],
+                    );
+                }
+                (true, None) => {}
+                // The axis's motion queue is full: the statement waits for room.
+                (false, _) => return Ok(Some(Exit::Sleep { ticks: 1, pc: here })),
+            }
+        }
+        Op::KernelCall { func, dst, args } => {
+            let a = args as usize;
+            let count = crate::check::functions::KERNEL_FUNCTIONS
+                .iter()
+                .find(|f| f.1 == func)
+                .map_or(0, |f| f.2);
+            let values: Vec<f64> = v.get(a..a + count).map(<[f64]>::to_vec).unwrap_or_default();
+            let orion = ctx
+                .kernel
+                .orion
+                .as_mut()
+                .ok_or_else(|| format!("{} works on DSP axes: {NO_AXES}", func.name()))?;
+            v[dst as usize] = orion
+                .call(func, &values, v, &mut ctx.now)
+                .map_err(|m| format!("{}: {m}", func.name()))?;
+        }
+        _ => {}
+    }
+    Ok(None)
 }
 
 /// An overflow fault, built away from the hot loop.
@@ -597,38 +599,46 @@ fn binary(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
         BinaryOp::BitAnd => (int(x) & int(y)) as f64,
         BinaryOp::BitOr => (int(x) | int(y)) as f64,
         BinaryOp::BitXor => (int(x) ^ int(y)) as f64,
-        BinaryOp::BasicMod => {
-            // Microsoft BASIC: both operands rounded to integers first.
-            let (a, b) = (x.round_ties_even(), y.round_ties_even());
-            if b == 0.0 {
-                return Err("MOD by zero");
-            }
-            a % b
-        }
-        BinaryOp::IntDiv => {
-            // Microsoft BASIC: both operands rounded to integers (halves to even), the quotient
-            // truncated toward zero; a long integer outside 32 bits is an Overflow.
-            let (a, b) = (x.round_ties_even(), y.round_ties_even());
-            let range = f64::from(i32::MIN)..=f64::from(i32::MAX);
-            if !range.contains(&a) || !range.contains(&b) {
-                return Err("Overflow: an operand of \\ does not fit a long integer");
-            }
-            if b == 0.0 {
-                return Err("division by zero");
-            }
-            let q = (a / b).trunc();
-            if !range.contains(&q) {
-                return Err("Overflow: the quotient does not fit a long integer");
-            }
-            q
-        }
+        BinaryOp::IntDiv | BinaryOp::BasicMod => return basic_integer(op, x, y),
     })
+}
+
+/// MotionBASIC's `\\` and `MOD` (Microsoft BASIC): both operands rounded to integers (halves to
+/// even); `\\` truncates its quotient toward zero; a long integer outside 32 bits is an Overflow.
+#[cold]
+#[inline(never)]
+fn basic_integer(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
+    let (a, b) = (x.round_ties_even(), y.round_ties_even());
+    let range = f64::from(i32::MIN)..=f64::from(i32::MAX);
+    if op == BinaryOp::BasicMod {
+        if b == 0.0 {
+            return Err("MOD by zero");
+        }
+        return Ok(a % b);
+    }
+    if !range.contains(&a) || !range.contains(&b) {
+        return Err("Overflow: an operand of \\ does not fit a long integer");
+    }
+    if b == 0.0 {
+        return Err("division by zero");
+    }
+    let q = (a / b).trunc();
+    if !range.contains(&q) {
+        return Err("Overflow: the quotient does not fit a long integer");
+    }
+    Ok(q)
 }
 
 /// The integer a bitwise operator works on: halves rounded to even, as Microsoft BASIC does.
 #[inline]
 fn int(x: f64) -> i64 {
-    x.round_ties_even() as i64
+    // Integers (the common case) convert with one instruction; only fractions need rounding.
+    let i = x as i64;
+    if i as f64 == x {
+        i
+    } else {
+        x.round_ties_even() as i64
+    }
 }
 
 /// Read member `member` of the DSP axes in `mask`.
