@@ -7,6 +7,7 @@ pub mod config;
 pub mod diag;
 pub mod fixed;
 pub mod kernel;
+pub mod kinematics;
 pub mod load;
 pub mod registry;
 pub mod syntax;
