@@ -79,6 +79,8 @@ pub struct Orion {
     fast: Vec<FastTrack>,
     /// Inputs wired to axes' fast inputs: (axis index, input slot).
     fast_inputs: Vec<(usize, SlotId)>,
+    /// Per axis: the numbers of the axes it paces (fixed by the machine file).
+    followers: Vec<Vec<u32>>,
 }
 
 /// Marks on an axis seen by its fast input.
@@ -136,6 +138,16 @@ impl Orion {
                 }),
             }
         }
+        let followers = configs
+            .iter()
+            .map(|m| {
+                configs
+                    .iter()
+                    .filter(|f| f.pacer == Some(m.number))
+                    .map(|f| f.number)
+                    .collect()
+            })
+            .collect();
         let regists = configs
             .iter()
             .map(|_| Regist::new(servo_update).map_err(|e| e.0))
@@ -170,6 +182,7 @@ impl Orion {
             regists,
             fast,
             fast_inputs: Vec::new(),
+            followers,
         })
     }
 

@@ -108,11 +108,16 @@ impl Orion {
                 edges.push((at, true, i, m));
                 track.falls.push(at + track.on_time);
             }
-            let (due, later): (Vec<f64>, Vec<f64>) = track.falls.iter().partition(|&&f| f <= t);
-            track.falls = later;
-            for f in due {
-                let p = self.dsp.position_at(n, f.max(t0)).map_err(|e| e.0)?;
-                edges.push((f.max(t0), false, i, p));
+            // The sensor turning off in this update (the edges are sorted below).
+            let mut k = 0;
+            while k < track.falls.len() {
+                if track.falls[k] <= t {
+                    let f = track.falls.swap_remove(k).max(t0);
+                    let p = self.dsp.position_at(n, f).map_err(|e| e.0)?;
+                    edges.push((f, false, i, p));
+                } else {
+                    k += 1;
+                }
             }
         }
         edges.sort_by(|a, b| a.0.total_cmp(&b.0).then(b.1.cmp(&a.1)));
@@ -165,21 +170,17 @@ impl Orion {
                 );
             }
             let ratio = self.dsp.ratio(n).map_err(|e| e.0)?;
-            // The axes geared to this one, with their ratios: a master correction moves them.
-            let mut followers = Vec::new();
-            for f in self.configs.iter().filter(|f| f.pacer == Some(n)) {
-                if let Some(r) = self.dsp.ratio(f.number).map_err(|e| e.0)? {
-                    followers.push((f.number, r));
-                }
-            }
             let (master_moving, ratio_move) = match (c.pacer, ratio) {
                 // Slave registration: this axis runs the ratio move.
                 (Some(p), Some(_)) => (self.dsp.velocity(p).map_err(|e| e.0)? != 0.0, true),
                 // Master registration: this axis is the master of the ratio moves.
-                _ => (
-                    self.dsp.velocity(n).map_err(|e| e.0)? != 0.0,
-                    !followers.is_empty(),
-                ),
+                _ => {
+                    let mut geared = false;
+                    for &f in &self.followers[i] {
+                        geared |= self.dsp.ratio(f).map_err(|e| e.0)?.is_some();
+                    }
+                    (self.dsp.velocity(n).map_err(|e| e.0)? != 0.0, geared)
+                }
             };
             let (slave, master) = self.regists[i].take_correction(master_moving, ratio_move);
             match ratio {
@@ -190,14 +191,16 @@ impl Orion {
                         self.dsp.shift(n, delta).map_err(|e| e.0)?;
                     }
                 }
-                None => {
-                    // No slave of its own: a slave correction has nothing to move.
-                    for (f, r) in followers {
-                        if master != 0.0 {
+                // No slave of its own (a slave correction has nothing to move): the master
+                // correction moves every axis geared to this one by its ratio.
+                None if master != 0.0 => {
+                    for &f in &self.followers[i] {
+                        if let Some(r) = self.dsp.ratio(f).map_err(|e| e.0)? {
                             self.dsp.shift(f, r * master).map_err(|e| e.0)?;
                         }
                     }
                 }
+                None => {}
             }
         }
         Ok(())
