@@ -9,6 +9,7 @@ pub mod fixed;
 pub mod kernel;
 pub mod kinematics;
 pub mod load;
+pub mod pickplace;
 pub mod registry;
 pub mod syntax;
 pub mod trace;

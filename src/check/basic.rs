@@ -161,9 +161,16 @@ impl Variables {
     }
 
     fn note(&mut self, n: &Name, assigned: bool) {
-        if crate::registry::catalog::find_type(&n.segments[0].text).is_some()
-            && n.segments.len() > 1
-        {
+        // `BELT.SPEED` stays a variable: a belt is always written with its number.
+        let object = match crate::registry::catalog::find_type(&n.segments[0].text) {
+            Some(def) if def.kind == Kind::Belt => n
+                .segments
+                .get(1)
+                .is_some_and(|s| !s.text.is_empty() && s.text.bytes().all(|b| b.is_ascii_digit())),
+            Some(_) => n.segments.len() > 1,
+            None => false,
+        };
+        if object {
             return;
         }
         let written = n.text();

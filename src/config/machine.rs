@@ -49,6 +49,160 @@ pub struct MachineFile {
     /// ORION DSP axes by number (`[axis.1]`), for MotionBASIC programs.
     #[serde(default)]
     pub axis: IndexMap<String, Spanned<AxisSetup>>,
+    /// The Track Pick & Place module (`[pickplace]`): its kinematics and limits, its members'
+    /// initial values by the manual's names, and its belts (`[pickplace.belt.N]`). Checked by
+    /// the registry (members) and `load::pickplace::setup` (the rest).
+    pub pickplace: Option<Spanned<TomlTable>>,
+}
+
+/// The keys of `[pickplace]` that are not members of the module.
+pub const PICKPLACE_SETUP_KEYS: &[&str] =
+    &["kinematics", "delta3", "start", "joint", "sw_limit", "belt"];
+
+/// The keys of `[pickplace.belt.N]` that are not members of the belt: the belt drive's limits.
+pub const BELT_SETUP_KEYS: &[&str] = &["max_vel", "max_acc", "max_jerk"];
+
+/// A TOML table whose keys and values all keep their place in the file.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct TomlTable {
+    /// The entries, in the order the TOML reader gives them (sorted by key).
+    pub entries: Vec<(Spanned<String>, Spanned<TomlValue>)>,
+}
+
+impl TomlTable {
+    /// The entry with this key (exactly as written).
+    pub fn get(&self, key: &str) -> Option<&Spanned<TomlValue>> {
+        self.entries
+            .iter()
+            .find(|(k, _)| k.get_ref() == key)
+            .map(|(_, v)| v)
+    }
+}
+
+/// A TOML value that keeps the place of every value inside it.
+#[derive(Debug, Clone, PartialEq)]
+pub enum TomlValue {
+    /// `true` / `false`.
+    Bool(bool),
+    /// An integer.
+    Integer(i64),
+    /// A float (possibly `inf` or `nan`).
+    Float(f64),
+    /// A string.
+    String(String),
+    /// An array.
+    Array(Vec<Spanned<TomlValue>>),
+    /// A table (inline or not).
+    Table(TomlTable),
+}
+
+impl TomlValue {
+    /// A number (integer or float), if it is one.
+    pub fn as_number(&self) -> Option<f64> {
+        match self {
+            TomlValue::Integer(i) => Some(*i as f64),
+            TomlValue::Float(x) => Some(*x),
+            _ => None,
+        }
+    }
+
+    /// What it is, for messages: "a string", "an array", ….
+    pub fn describe(&self) -> &'static str {
+        match self {
+            TomlValue::Bool(_) => "true/false",
+            TomlValue::Integer(_) => "an integer",
+            TomlValue::Float(_) => "a number",
+            TomlValue::String(_) => "a string",
+            TomlValue::Array(_) => "an array",
+            TomlValue::Table(_) => "a table",
+        }
+    }
+}
+
+/// The key under which the toml deserializer hands over a date-time (which `[pickplace]`
+/// never takes).
+const TOML_DATETIME_KEY: &str = "$__toml_private_datetime";
+
+impl<'de> Deserialize<'de> for TomlTable {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        match TomlValue::deserialize(d)? {
+            TomlValue::Table(t) => Ok(t),
+            other => Err(serde::de::Error::custom(format!(
+                "expected a table, found {}",
+                other.describe()
+            ))),
+        }
+    }
+}
+
+impl<'de> Deserialize<'de> for TomlValue {
+    fn deserialize<D: serde::Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        d.deserialize_any(TomlValueVisitor)
+    }
+}
+
+struct TomlValueVisitor;
+
+impl<'de> serde::de::Visitor<'de> for TomlValueVisitor {
+    type Value = TomlValue;
+
+    fn expecting(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("a TOML value")
+    }
+
+    fn visit_bool<E>(self, v: bool) -> Result<TomlValue, E> {
+        Ok(TomlValue::Bool(v))
+    }
+
+    fn visit_i64<E>(self, v: i64) -> Result<TomlValue, E> {
+        Ok(TomlValue::Integer(v))
+    }
+
+    fn visit_u64<E: serde::de::Error>(self, v: u64) -> Result<TomlValue, E> {
+        i64::try_from(v)
+            .map(TomlValue::Integer)
+            .map_err(|_| E::custom(format!("{v} is too large")))
+    }
+
+    fn visit_f64<E>(self, v: f64) -> Result<TomlValue, E> {
+        Ok(TomlValue::Float(v))
+    }
+
+    fn visit_str<E>(self, v: &str) -> Result<TomlValue, E> {
+        Ok(TomlValue::String(v.to_string()))
+    }
+
+    fn visit_string<E>(self, v: String) -> Result<TomlValue, E> {
+        Ok(TomlValue::String(v))
+    }
+
+    fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<TomlValue, A::Error> {
+        let mut items = Vec::new();
+        while let Some(item) = seq.next_element::<Spanned<TomlValue>>()? {
+            items.push(item);
+        }
+        Ok(TomlValue::Array(items))
+    }
+
+    fn visit_map<A: serde::de::MapAccess<'de>>(self, mut map: A) -> Result<TomlValue, A::Error> {
+        let mut entries = Vec::new();
+        loop {
+            // A date-time comes as a map whose one key carries no span.
+            let key = match map.next_key::<Spanned<String>>() {
+                Ok(Some(key)) => key,
+                Ok(None) => break,
+                Err(e) if e.to_string().contains(TOML_DATETIME_KEY) => {
+                    return Err(serde::de::Error::custom(
+                        "a date or time is not a value here; give a number",
+                    ))
+                }
+                Err(e) => return Err(e),
+            };
+            let value = map.next_value::<Spanned<TomlValue>>()?;
+            entries.push((key, value));
+        }
+        Ok(TomlValue::Table(TomlTable { entries }))
+    }
 }
 
 /// `[axis.N]`: one DSP axis (the motor data and links MotionBASIC's set-up menus give).

@@ -33,6 +33,81 @@ pub struct ScenarioFile {
     /// Marks printed on the material a DSP axis moves, seen by a sensor on a DSP card input.
     #[serde(default)]
     pub marks: Vec<PrintedMarks>,
+    /// Conveying belts of the pick & place module: each belt's speed over time.
+    #[serde(default)]
+    pub belts: Vec<BeltEntry>,
+    /// Workpiece streams reported by detectors on the pick & place belts.
+    #[serde(default)]
+    pub workpieces: Vec<WorkpiecesEntry>,
+}
+
+/// `[[belts]]`: one conveying belt's speed profile (mm/s), jerk-limited S-ramps between speeds.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeltEntry {
+    /// Belt number, 1–16 (CV1 … CV16); must be a belt of the machine's `[pickplace]`.
+    pub belt: Spanned<u32>,
+    /// Speed at the start, mm/s (default 0).
+    pub speed: Option<Spanned<f64>>,
+    /// Speed changes in time order.
+    #[serde(default)]
+    pub changes: Vec<Spanned<BeltChangeEntry>>,
+}
+
+/// `{ at = "20 s", speed = 220.0, ramp = "1 s" }`: a jerk-limited change of a belt's speed.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BeltChangeEntry {
+    /// When the change starts.
+    pub at: Spanned<Duration>,
+    /// The new speed, mm/s (0 stops the belt).
+    pub speed: Spanned<f64>,
+    /// How long the S-ramp to it takes (default 0: a step, only for a belt without an
+    /// acceleration limit).
+    pub ramp: Option<Spanned<Duration>>,
+}
+
+/// `[[workpieces]]`: workpieces a detector reports on a belt, at belt travels given either as
+/// `first`/`pitch`/`count` or as an explicit `at` list.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorkpiecesEntry {
+    /// The belt the workpieces ride on.
+    pub belt: Spanned<u32>,
+    /// Belt travel (mm) at the first detection (default 0).
+    pub first: Option<Spanned<f64>>,
+    /// Belt travel between detections, mm.
+    pub pitch: Option<Spanned<f64>>,
+    /// Number of detections (missing ones included).
+    pub count: Option<Spanned<u32>>,
+    /// Explicit belt travels of the detections, ascending (instead of first/pitch/count).
+    pub at: Option<Spanned<Vec<Spanned<f64>>>>,
+    /// 0-based indices of detections left out (gaps in the stream).
+    #[serde(default)]
+    pub missing: Vec<Spanned<u32>>,
+    /// Nominal X, Y, Z (mm) in belt coordinates at detection (default 0, 0, 0).
+    pub detect: Option<Spanned<[f64; 3]>>,
+    /// Nominal C (degrees) at detection (default 0).
+    pub c: Option<Spanned<f64>>,
+    /// Seeded uniform jitter of the reported X, Y (mm) and C (degrees).
+    pub jitter: Option<WorkpieceJitter>,
+    /// Seed of the jitter (default 0).
+    #[serde(default)]
+    pub seed: u64,
+    /// Time from the receive edge to `xValidPos` (default 0).
+    pub delay: Option<Spanned<Duration>>,
+}
+
+/// `jitter = { x = 4.0, y = 25.0, c = 10.0 }`: ± amplitudes, each default 0.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WorkpieceJitter {
+    /// ± mm on X.
+    pub x: Option<Spanned<f64>>,
+    /// ± mm on Y.
+    pub y: Option<Spanned<f64>>,
+    /// ± degrees on C.
+    pub c: Option<Spanned<f64>>,
 }
 
 /// `[[marks]]`: printed registration marks on a DSP axis's material (a web), with pitch drift,

@@ -6,6 +6,7 @@ pub mod capture;
 pub mod dsp;
 pub mod motion;
 pub mod orion;
+pub mod pickplace;
 pub mod queue;
 pub mod regist;
 pub mod timer;
@@ -119,6 +120,8 @@ pub struct Kernel {
     pub pending_edges: Vec<Edge>,
     /// The ORION DSP axes (machine.toml `[axis.N]`), when the machine has any.
     pub orion: Option<orion::Orion>,
+    /// The pick & place module, when the machine has one.
+    pub pickplace: Option<Box<pickplace::PickPlaceCell>>,
 }
 
 /// Sensor marks tied to the servo axis: the sensor is on while the axis is within
@@ -456,6 +459,7 @@ impl Kernel {
             previous: (0.0, 0.0),
             pending_edges: Vec::new(),
             orion: None,
+            pickplace: None,
         }
     }
 
@@ -577,6 +581,10 @@ impl Kernel {
                 self.sensor_edge(instance, value != 0.0, now.seconds(), v, &|_| now.master);
             }
             Hook::OutputWrite | Hook::MotionInput | Hook::Store => v[slot as usize] = value,
+            Hook::PickPlace => match self.pickplace.as_mut() {
+                Some(pp) => pp.write(slot, value, v),
+                None => v[slot as usize] = value,
+            },
             Hook::QueueRemove
             | Hook::QueueClear
             | Hook::CaptureClear

@@ -13,7 +13,9 @@ use crate::syntax::Dialect;
 use crate::vm::{Assignment, MachineImage};
 use indexmap::IndexMap;
 
+pub mod belts;
 mod marks;
+pub mod pickplace;
 mod scenario;
 use std::path::{Path, PathBuf};
 
@@ -338,6 +340,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
     if autostart.is_empty() && !started_by_assignment {
         autostart.push(programs[0].number);
     }
+    let pp_setup = pickplace::setup(&machine, &mut machine_problems);
     diags.extend_file(&machine_file, machine_problems);
 
     // The scenario.
@@ -347,6 +350,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
     let mut products = Vec::new();
     let mut mark_tracks = Vec::new();
     let mut duration_ns = None;
+    let mut belt_world: Option<belts::BeltWorld> = None;
     let dsp_numbers: Vec<u32> = machine
         .axis
         .keys()
@@ -366,6 +370,8 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
                     products = world.products;
                 }
                 mark_tracks = marks::tracks(&sc.marks, &dsp_numbers, &mut problems);
+                let setups = pp_setup.as_ref().map_or(&[][..], |p| &p.belts[..]);
+                belt_world = Some(belts::belts(&sc, setups, &mut problems));
                 duration_ns = sc.run.duration.as_ref().map(|d| d.get_ref().0);
                 diags.extend_file(&src, problems);
             }
@@ -444,6 +450,43 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
             }
         }
     };
+    let pickplace = match &pp_setup {
+        None => None,
+        Some(setup) => {
+            let (profiles, feeds) = match belt_world {
+                Some(w) => {
+                    let profiles = setup
+                        .belts
+                        .iter()
+                        .map(|b| w.profiles.get(&b.number).cloned().unwrap_or_default())
+                        .collect();
+                    (profiles, w.feeds)
+                }
+                None => (Vec::new(), Vec::new()),
+            };
+            match crate::kernel::pickplace::PickPlaceCell::new(
+                &registry,
+                setup,
+                profiles,
+                feeds,
+                update_ns as f64 / 1e9,
+            ) {
+                Ok(cell) => Some(Box::new(cell)),
+                Err(message) => {
+                    diags.extend_file(
+                        &machine_file,
+                        vec![Problem::error(
+                            "pacer::machine::pickplace",
+                            machine.pickplace.as_ref().map(span_of).unwrap_or_default(),
+                            message,
+                            "here",
+                        )],
+                    );
+                    return Err(diags);
+                }
+            }
+        }
+    };
     let initial = layout.initial_values(&registry);
     let name = machine.machine.name.clone().unwrap_or_else(|| {
         folder
@@ -469,6 +512,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
         products,
         duration_ns,
         orion,
+        pickplace,
     };
     Ok(Loaded {
         image,

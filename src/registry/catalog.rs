@@ -65,6 +65,9 @@ pub enum Hook {
     AxisLatch,
     /// A DSP axis setting the kernel applies at once (POS.MOD@, PLS…@, SENS.MODE@).
     AxisSetting,
+    /// An input or parameter of the pick & place module or one of its belts: stored, and a
+    /// rising edge of an edge-controlled input is remembered until the module's next cycle.
+    PickPlace,
 }
 
 /// How a program may use a member.
@@ -95,6 +98,8 @@ pub struct MemberDef {
     pub hook: Hook,
     /// Continuously moving (positions, timers): not traced as `change` events.
     pub continuous: bool,
+    /// Value at the start of a run, unless the machine file sets another.
+    pub initial: f64,
     /// One line of documentation.
     pub doc: &'static str,
 }
@@ -134,6 +139,8 @@ pub enum Kind {
     Motion,
     Axis,
     BasicVar,
+    PickPlace,
+    Belt,
 }
 
 /// One object type.
@@ -165,6 +172,7 @@ const fn m(name: &'static str, ty: ValueType, access: Access, doc: &'static str)
         access,
         hook: Hook::Store,
         continuous: false,
+        initial: 0.0,
         doc,
     }
 }
@@ -726,6 +734,928 @@ const MOTION: &[MemberDef] = &[
     )),
 ];
 
+// ---------------------------------------------------------------------------------------------
+// The Lenze "Track Pick & Place" module (L_TT1P_TrackPickAndPlaceBase) and its belts, under the
+// manual's designators (sections 3.6.2–3.6.6). Array members are one member per element, named
+// with the manual's 1-based index: `alrActPos[1]` … `alrActPos[13]`.
+
+/// What a pick & place member is: an input or parameter programs set, or an output.
+#[derive(Clone, Copy)]
+enum PpClass {
+    /// An input or parameter: read and written, and the module sees the write.
+    Set,
+    /// An output of the module (or a belt status): read only.
+    Out,
+    /// An output that moves continuously (positions, velocities): not traced as changes.
+    Moving,
+}
+
+const fn pp(
+    name: &'static str,
+    ty: ValueType,
+    class: PpClass,
+    initial: f64,
+    doc: &'static str,
+) -> MemberDef {
+    let mut d = m(name, ty, Read, doc);
+    d.initial = initial;
+    match class {
+        PpClass::Set => {
+            d.access = ReadWrite;
+            d.hook = Hook::PickPlace;
+        }
+        PpClass::Out => {}
+        PpClass::Moving => d.continuous = true,
+    }
+    d
+}
+
+/// One member per element of a manual array, named `name[k]` (k from 1), each documented with
+/// the axis its index stands for: `indexed!(axes13; "alrActPos", Real, Moving, 0.0, "…")`.
+macro_rules! indexed {
+    (axes13; $($rest:tt)*) => {
+        indexed!(@ [(1 "X") (2 "Y") (3 "Z") (4 "A") (5 "B") (6 "C") (7 "A1") (8 "A2") (9 "A3")
+            (10 "A4") (11 "A5") (12 "A6") (13 "Aux1")] $($rest)*)
+    };
+    (real7; $($rest:tt)*) => {
+        indexed!(@ [(1 "A1") (2 "A2") (3 "A3") (4 "A4") (5 "A5") (6 "A6") (7 "Aux1")] $($rest)*)
+    };
+    (pose6; $($rest:tt)*) => {
+        indexed!(@ [(1 "X") (2 "Y") (3 "Z") (4 "A") (5 "B") (6 "C")] $($rest)*)
+    };
+    (@ [$(($i:literal $axis:literal))+] $name:literal, $ty:expr, $class:expr, $init:expr,
+        $doc:literal) => {
+        &[$(pp(
+            concat!($name, "[", $i, "]"),
+            $ty,
+            $class,
+            $init,
+            concat!($doc, " (", $axis, ")"),
+        )),+]
+    };
+}
+
+/// The members of a type made of several lists, as one array (for the arrays `indexed!` makes).
+const fn flatten<const N: usize>(parts: &[&[MemberDef]]) -> [MemberDef; N] {
+    let mut out = [m("", Bit, Read, ""); N];
+    let mut k = 0;
+    let mut i = 0;
+    while i < parts.len() {
+        let mut j = 0;
+        while j < parts[i].len() {
+            out[k] = parts[i][j];
+            k += 1;
+            j += 1;
+        }
+        i += 1;
+    }
+    assert!(k == N, "flatten: the length does not match the parts");
+    out
+}
+
+const fn total_len(parts: &[&[MemberDef]]) -> usize {
+    let mut n = 0;
+    let mut i = 0;
+    while i < parts.len() {
+        n += parts[i].len();
+        i += 1;
+    }
+    n
+}
+
+use PpClass::{Moving, Out, Set};
+
+const PICKPLACE_PARTS: &[&[MemberDef]] = &[
+    // Inputs (3.6.2).
+    &[
+        pp("xEnable", Bit, Set, 0.0, "execute the module"),
+        pp(
+            "xEnableInternalControl",
+            Bit,
+            Set,
+            0.0,
+            "allow the internal control of the axes (visualisation)",
+        ),
+        pp(
+            "xResetError",
+            Bit,
+            Set,
+            0.0,
+            "reset the errors of the axes and of the module",
+        ),
+        pp(
+            "xRegulatorOnALL",
+            Bit,
+            Set,
+            0.0,
+            "controller enable of all axes",
+        ),
+        pp(
+            "xPathStop",
+            Bit,
+            Set,
+            0.0,
+            "stop on the path with lrPathStopDec; READY again when off at standstill",
+        ),
+        pp(
+            "xPathHalt",
+            Bit,
+            Set,
+            0.0,
+            "halt on the path with lrPathHaltDec; READY again when off at standstill",
+        ),
+        pp(
+            "xStopALL",
+            Bit,
+            Set,
+            0.0,
+            "stop every axis on its own with alrStopDec, leaving the path",
+        ),
+        pp(
+            "xGroupHomeExecute",
+            Bit,
+            Set,
+            0.0,
+            "rising edge: home the real axes in the order of aeHomingOrder",
+        ),
+    ],
+    indexed!(real7; "axHomeAbsSwitch", Bit, Set, 0.0, "reference switch of a real axis"),
+    &[pp(
+        "xGroupEnableHWLimit",
+        Bit,
+        Set,
+        0.0,
+        "evaluate the hardware limit switches",
+    )],
+    indexed!(axes13; "axHwLimitPos", Bit, Set, 0.0, "positive hardware limit switch"),
+    indexed!(axes13; "axHwLimitNeg", Bit, Set, 0.0, "negative hardware limit switch"),
+    &[
+        pp(
+            "eSelectAxis",
+            Integer,
+            Set,
+            0.0,
+            "axis to jog: 0 none, 1–6 X Y Z A B C, 7–12 A1–A6, 13 Aux1",
+        ),
+        pp(
+            "xJogPos",
+            Bit,
+            Set,
+            0.0,
+            "jog the selected axis in the positive direction",
+        ),
+        pp(
+            "xJogNeg",
+            Bit,
+            Set,
+            0.0,
+            "jog the selected axis in the negative direction",
+        ),
+        pp(
+            "xExecutePickAndPlace",
+            Bit,
+            Set,
+            0.0,
+            "rising edge: prepare and run the path (queues another profile while one runs)",
+        ),
+        pp(
+            "eSetTarget",
+            Integer,
+            Set,
+            0.0,
+            "target in mode 0: 0 the static position, n a workpiece on belt CVn",
+        ),
+        pp(
+            "xPathInterrupt",
+            Bit,
+            Set,
+            0.0,
+            "hold on the path; off resumes from the break point",
+        ),
+        pp(
+            "xAbort",
+            Bit,
+            Set,
+            0.0,
+            "rising edge at standstill: abort the travel on the path",
+        ),
+        pp(
+            "lrOverride",
+            Real,
+            Set,
+            1.0,
+            "scales speed, acceleration and jerk (1.0: none; other values turn gripper control off)",
+        ),
+        pp(
+            "xAckGripper",
+            Bit,
+            Set,
+            0.0,
+            "rising edge: gripper acknowledged, end the synchronous travel and lift",
+        ),
+    ],
+    indexed!(axes13; "axSwLimitEnabled", Bit, Set, 0.0, "monitor the software limit positions"),
+    // Outputs (3.6.4).
+    &[
+        pp(
+            "xInternalControlActive",
+            Bit,
+            Out,
+            0.0,
+            "internal control of the axes is active",
+        ),
+        pp("eTMState", Integer, Out, 0.0, "current state of the module"),
+        pp("xError", Bit, Out, 0.0, "the module has an error"),
+        pp("xWarning", Bit, Out, 0.0, "the module has a warning"),
+        pp(
+            "eErrorID",
+            Integer,
+            Out,
+            0.0,
+            "number of the error or warning",
+        ),
+        pp("xAxesEnabled", Bit, Out, 0.0, "all axes are enabled"),
+        pp("xAxesGroupEnabled", Bit, Out, 0.0, "the axes group is enabled"),
+        pp(
+            "xDone",
+            Bit,
+            Out,
+            0.0,
+            "the request has been completed successfully",
+        ),
+        pp("xBusy", Bit, Out, 0.0, "a request is being executed"),
+        pp(
+            "xAxesGroupHomed",
+            Bit,
+            Out,
+            0.0,
+            "all axes have been referenced",
+        ),
+        pp(
+            "xInPosition",
+            Bit,
+            Out,
+            0.0,
+            "the tool centre point has reached its position (in the window if xPosInWindow)",
+        ),
+        pp(
+            "xHwLimitSwitchActive",
+            Bit,
+            Out,
+            0.0,
+            "an axis has reached a hardware limit switch",
+        ),
+        pp(
+            "xSwLimitSwitchActive",
+            Bit,
+            Out,
+            0.0,
+            "an axis has reached a software limit position",
+        ),
+    ],
+    indexed!(axes13; "axHwLimitSwitchNeg", Bit, Out, 0.0, "at the negative hardware limit switch"),
+    indexed!(axes13; "axHwLimitSwitchPos", Bit, Out, 0.0, "at the positive hardware limit switch"),
+    indexed!(axes13; "axSwLimitSwitchActive", Bit, Out, 0.0, "at a software limit position"),
+    &[
+        pp(
+            "xPathHold",
+            Bit,
+            Out,
+            0.0,
+            "the path interpolation is stopped and can be continued",
+        ),
+        pp("xGripperCtrlActive", Bit, Out, 0.0, "gripper control is active"),
+        pp(
+            "xPulseGripper",
+            Bit,
+            Out,
+            0.0,
+            "gripper pulse, on for one cycle",
+        ),
+        pp(
+            "lrSetPathVelOut",
+            Real,
+            Moving,
+            0.0,
+            "current setpoint path speed, units/s",
+        ),
+        pp(
+            "lrPathPreparationTime",
+            Real,
+            Out,
+            0.0,
+            "time the path preparation took, s",
+        ),
+        pp(
+            "lrPreCalcProfileTime",
+            Real,
+            Out,
+            0.0,
+            "calculated travel time of the profile to run, s",
+        ),
+    ],
+    indexed!(axes13; "alrActPos", Real, Moving, 0.0, "current position of the axis, units"),
+    indexed!(axes13; "alrActVel", Real, Moving, 0.0, "current velocity of the axis, units/s"),
+    &[
+        pp(
+            "iProfilePointPassed",
+            Integer,
+            Out,
+            0.0,
+            "number of the last point reached in the current profile",
+        ),
+        pp(
+            "xProfileInPreparation",
+            Bit,
+            Out,
+            0.0,
+            "a profile is being prepared (off: another can be added)",
+        ),
+        pp(
+            "xAccDecSync",
+            Bit,
+            Out,
+            0.0,
+            "synchronising to or from a belt (clutch closing or opening)",
+        ),
+        pp("xSynchronised", Bit, Out, 0.0, "synchronised to a belt"),
+        pp(
+            "xInTarget",
+            Bit,
+            Out,
+            0.0,
+            "the target (static or on a belt) has been reached",
+        ),
+        pp(
+            "xInParkPos",
+            Bit,
+            Out,
+            0.0,
+            "the parking position has been reached",
+        ),
+        pp(
+            "eSetTargetOut",
+            Integer,
+            Out,
+            0.0,
+            "the target being approached: 0 static, n belt CVn",
+        ),
+    ],
+    // Parameters (3.6.5).
+    &[
+        pp(
+            "lrPathStopDec",
+            Real,
+            Set,
+            10000.0,
+            "path deceleration for xPathStop, units/s²",
+        ),
+        pp(
+            "lrPathStopJerk",
+            Real,
+            Set,
+            100000.0,
+            "path jerk for xPathStop, units/s³",
+        ),
+        pp(
+            "lrPathHaltDec",
+            Real,
+            Set,
+            100.0,
+            "path deceleration for xPathHalt, units/s²",
+        ),
+        pp(
+            "lrPathJerk",
+            Real,
+            Set,
+            100000.0,
+            "path jerk for xPathHalt and the path interpolation, units/s³",
+        ),
+        pp("lrPathVel", Real, Set, 10.0, "limit of the path speed, units/s"),
+        pp(
+            "lrPathAcc",
+            Real,
+            Set,
+            100.0,
+            "limit of the path acceleration, units/s²",
+        ),
+        pp(
+            "lrPathDec",
+            Real,
+            Set,
+            100.0,
+            "limit of the path deceleration, units/s²",
+        ),
+    ],
+    indexed!(axes13; "alrStopDec", Real, Set, 10000.0,
+        "deceleration of the axis for xStopALL and limits, units/s²"),
+    indexed!(axes13; "alrStopJerk", Real, Set, 100000.0,
+        "jerk of the axis for xStopALL and limits, units/s³"),
+    &[
+        pp(
+            "lrCartesianJogJerk",
+            Real,
+            Set,
+            10000.0,
+            "jerk for jogging X, Y and Z, units/s³",
+        ),
+        pp(
+            "lrCartesianJogVel",
+            Real,
+            Set,
+            10.0,
+            "speed for jogging X, Y and Z, units/s",
+        ),
+        pp(
+            "lrCartesianJogAcc",
+            Real,
+            Set,
+            100.0,
+            "acceleration for jogging X, Y and Z, units/s²",
+        ),
+        pp(
+            "lrCartesianJogDec",
+            Real,
+            Set,
+            100.0,
+            "deceleration for jogging X, Y and Z, units/s²",
+        ),
+        pp(
+            "lrOrientationJogJerk",
+            Real,
+            Set,
+            10000.0,
+            "jerk for jogging A, B and C, units/s³",
+        ),
+        pp(
+            "lrOrientationJogVel",
+            Real,
+            Set,
+            10.0,
+            "speed for jogging A, B and C, units/s",
+        ),
+        pp(
+            "lrOrientationJogAcc",
+            Real,
+            Set,
+            100.0,
+            "acceleration for jogging A, B and C, units/s²",
+        ),
+        pp(
+            "lrOrientationJogDec",
+            Real,
+            Set,
+            100.0,
+            "deceleration for jogging A, B and C, units/s²",
+        ),
+        pp(
+            "lrRealAxisJogJerk",
+            Real,
+            Set,
+            10000.0,
+            "jerk for jogging the real axes A1–A6 and Aux1, units/s³",
+        ),
+        pp(
+            "lrRealAxisJogVel",
+            Real,
+            Set,
+            10.0,
+            "velocity for jogging the real axes A1–A6 and Aux1, units/s",
+        ),
+        pp(
+            "lrRealAxisJogAcc",
+            Real,
+            Set,
+            100.0,
+            "acceleration for jogging the real axes A1–A6 and Aux1, units/s²",
+        ),
+        pp(
+            "lrRealAxisJogDec",
+            Real,
+            Set,
+            100.0,
+            "deceleration for jogging the real axes A1–A6 and Aux1, units/s²",
+        ),
+    ],
+    indexed!(real7; "alrHomePosition", Real, Set, 0.0, "home position of a real axis, units"),
+    indexed!(real7; "aeHomingOrder", Integer, Set, 0.0,
+        "homing order: 0 NoHoming, 1 First … 12 Twelfth"),
+    &[
+        pp(
+            "xUseHomeExtParameter",
+            Bit,
+            Set,
+            0.0,
+            "use the application's homing parameters instead of the axis data",
+        ),
+        pp(
+            "lrXMaxVel",
+            Real,
+            Set,
+            10.0,
+            "maximum velocity of X on the path, units/s",
+        ),
+        pp(
+            "lrYMaxVel",
+            Real,
+            Set,
+            10.0,
+            "maximum velocity of Y on the path, units/s",
+        ),
+        pp(
+            "lrZMaxVel",
+            Real,
+            Set,
+            10.0,
+            "maximum velocity of Z on the path, units/s",
+        ),
+        pp(
+            "lrAMaxVel",
+            Real,
+            Set,
+            10.0,
+            "maximum velocity of A on the path, units/s",
+        ),
+        pp(
+            "lrBMaxVel",
+            Real,
+            Set,
+            10.0,
+            "maximum velocity of B on the path, units/s",
+        ),
+        pp(
+            "lrCMaxVel",
+            Real,
+            Set,
+            10.0,
+            "maximum velocity of C on the path, units/s",
+        ),
+        pp(
+            "lrAux1MaxVel",
+            Real,
+            Set,
+            10.0,
+            "maximum velocity of Aux1 on the path, units/s",
+        ),
+        pp(
+            "lrXMaxAccDec",
+            Real,
+            Set,
+            100.0,
+            "maximum acceleration/deceleration of X on the path, units/s²",
+        ),
+        pp(
+            "lrYMaxAccDec",
+            Real,
+            Set,
+            100.0,
+            "maximum acceleration/deceleration of Y on the path, units/s²",
+        ),
+        pp(
+            "lrZMaxAccDec",
+            Real,
+            Set,
+            100.0,
+            "maximum acceleration/deceleration of Z on the path, units/s²",
+        ),
+        pp(
+            "lrAMaxAccDec",
+            Real,
+            Set,
+            100.0,
+            "maximum acceleration/deceleration of A on the path, units/s²",
+        ),
+        pp(
+            "lrBMaxAccDec",
+            Real,
+            Set,
+            100.0,
+            "maximum acceleration/deceleration of B on the path, units/s²",
+        ),
+        pp(
+            "lrCMaxAccDec",
+            Real,
+            Set,
+            100.0,
+            "maximum acceleration/deceleration of C on the path, units/s²",
+        ),
+        pp(
+            "lrAux1MaxAccDec",
+            Real,
+            Set,
+            100.0,
+            "maximum acceleration/deceleration of Aux1 on the path, units/s²",
+        ),
+        pp(
+            "lrXMaxJerk",
+            Real,
+            Set,
+            10000.0,
+            "maximum jerk of X on the path, units/s³",
+        ),
+        pp(
+            "lrYMaxJerk",
+            Real,
+            Set,
+            10000.0,
+            "maximum jerk of Y on the path, units/s³",
+        ),
+        pp(
+            "lrZMaxJerk",
+            Real,
+            Set,
+            10000.0,
+            "maximum jerk of Z on the path, units/s³",
+        ),
+        pp(
+            "lrAMaxJerk",
+            Real,
+            Set,
+            10000.0,
+            "maximum jerk of A on the path, units/s³",
+        ),
+        pp(
+            "lrBMaxJerk",
+            Real,
+            Set,
+            10000.0,
+            "maximum jerk of B on the path, units/s³",
+        ),
+        pp(
+            "lrCMaxJerk",
+            Real,
+            Set,
+            10000.0,
+            "maximum jerk of C on the path, units/s³",
+        ),
+        // The manual's parameter listing also spells it lrAux1Jerk.
+        alias(
+            pp(
+                "lrAux1MaxJerk",
+                Real,
+                Set,
+                10000.0,
+                "maximum jerk of Aux1 on the path, units/s³",
+            ),
+            &["lrAux1Jerk"],
+        ),
+        pp(
+            "lrGripperClosingTime",
+            Real,
+            Set,
+            0.0,
+            "gripper closes this long before the end of a pick profile, s",
+        ),
+        pp(
+            "lrGripperOpenTime",
+            Real,
+            Set,
+            0.0,
+            "gripper opens this long before the end of a place profile, s",
+        ),
+        pp(
+            "eTargetCoordSystem",
+            Integer,
+            Set,
+            0.0,
+            "coordinate system of the static target position",
+        ),
+        pp(
+            "lrXTargetPos",
+            Real,
+            Set,
+            0.0,
+            "static target position, X, units",
+        ),
+        pp(
+            "lrYTargetPos",
+            Real,
+            Set,
+            0.0,
+            "static target position, Y, units",
+        ),
+        pp(
+            "lrZTargetPos",
+            Real,
+            Set,
+            0.0,
+            "static target position, Z, units",
+        ),
+        pp(
+            "lrATargetPos",
+            Real,
+            Set,
+            180.0,
+            "static target position, A, degrees",
+        ),
+        pp(
+            "lrBTargetPos",
+            Real,
+            Set,
+            0.0,
+            "static target position, B, degrees",
+        ),
+        pp(
+            "lrCTargetPos",
+            Real,
+            Set,
+            0.0,
+            "static target position, C, degrees",
+        ),
+        pp(
+            "lrAux1TargetPos",
+            Real,
+            Set,
+            0.0,
+            "static target position, Aux1, units",
+        ),
+        pp(
+            "lrZStartDist",
+            Real,
+            Set,
+            0.0,
+            "height of the vertical lift at the start, units",
+        ),
+        pp(
+            "ePathMode",
+            Integer,
+            Set,
+            0.0,
+            "path shape: 0 standard, 1 elliptical",
+        ),
+        pp(
+            "lrZDistElliptical",
+            Real,
+            Set,
+            0.0,
+            "height of the ellipse (ePathMode 1), units",
+        ),
+        pp(
+            "lrZTargetDist",
+            Real,
+            Set,
+            0.0,
+            "height of the vertical approach at the target, units",
+        ),
+        pp(
+            "lrBlendingRadius",
+            Real,
+            Set,
+            0.0,
+            "blending radius at the intermediate points, units",
+        ),
+        pp(
+            "xPosInWindow",
+            Bit,
+            Set,
+            0.0,
+            "xInPosition needs the tool inside the tolerance window",
+        ),
+        pp(
+            "lrPosInWindow",
+            Real,
+            Set,
+            0.5,
+            "size of the tolerance window, units",
+        ),
+        pp(
+            "lrTimePosInWindow",
+            Real,
+            Set,
+            50.0,
+            "time the tool must stay inside the window, ms",
+        ),
+        pp(
+            "eTrackingMode",
+            Integer,
+            Set,
+            0.0,
+            "0 single targets, 1 Static⇒CV1, 2 CV1⇒Static, 3 CV1⇒CV2, 4 CV2⇒CV1",
+        ),
+    ],
+];
+
+static PICKPLACE: [MemberDef; total_len(PICKPLACE_PARTS)] = flatten(PICKPLACE_PARTS);
+
+const BELT_PARTS: &[&[MemberDef]] = &[
+    // The input structure ascBeltInput[i] (3.6.3).
+    &[
+        pp(
+            "xWorkpieceOnBeltReceive",
+            Bit,
+            Set,
+            0.0,
+            "rising edge: a workpiece was detected; start tracking it",
+        ),
+        pp(
+            "xValidPos",
+            Bit,
+            Set,
+            0.0,
+            "rising edge: ascInitialObjectPosition is valid for the last detection",
+        ),
+    ],
+    indexed!(pose6; "ascInitialObjectPosition", Real, Set, 0.0,
+        "workpiece position at the detection, belt coordinates"),
+    &[pp(
+        "lrAux1TargetPos",
+        Real,
+        Set,
+        0.0,
+        "target position in Aux1 direction on this belt, units",
+    )],
+    // The parameter array ascConveyorBeltPar[i] (3.6.6).
+    indexed!(pose6; "alrParkPos", Real, Set, 0.0,
+        "parking position for this belt, machine coordinates"),
+    &[pp(
+        "lrZDistBelt",
+        Real,
+        Set,
+        0.0,
+        "height above the workpiece's synchronous position, units",
+    )],
+    indexed!(pose6; "alrConveyorBeltOrigin", Real, Set, 0.0,
+        "origin and alignment of the belt's coordinates, machine coordinates"),
+    &[
+        pp(
+            "lrSyncTimeOnBelt",
+            Real,
+            Set,
+            0.0,
+            "duration of the synchronous travel above the belt, s",
+        ),
+        pp(
+            "lrLowerSyncLimit",
+            Real,
+            Set,
+            0.0,
+            "start of the operating range along the belt, units",
+        ),
+        pp(
+            "lrUpperSyncLimit",
+            Real,
+            Set,
+            0.0,
+            "end of the operating range along the belt, units",
+        ),
+    ],
+    // pacer's own status of the belt.
+    &[
+        pp("Position", Real, Moving, 0.0, "belt travel, mm"),
+        pp("Velocity", Real, Moving, 0.0, "belt velocity, mm/s"),
+        pp(
+            "Workpieces",
+            Integer,
+            Out,
+            0.0,
+            "workpieces tracked on the belt now",
+        ),
+        pp(
+            "Picked",
+            Integer,
+            Out,
+            0.0,
+            "workpieces picked from the belt so far",
+        ),
+        pp(
+            "Missed",
+            Integer,
+            Out,
+            0.0,
+            "workpieces that left the operating range untaken",
+        ),
+    ],
+];
+
+static BELT: [MemberDef; total_len(BELT_PARTS)] = flatten(BELT_PARTS);
+
+/// Highest belt number (CV16).
+pub const MAX_BELTS: u32 = 16;
+
+/// The elements `name[1]` … `name[N]` of an array member (`name` without an index, any case):
+/// the index of the first and N.
+pub fn find_array(members: &[MemberDef], name: &str) -> Option<(usize, usize)> {
+    let is_element = |m: &MemberDef, k: usize| {
+        m.name
+            .strip_suffix(&format!("[{k}]"))
+            .is_some_and(|base| base.eq_ignore_ascii_case(name))
+    };
+    let first = members.iter().position(|m| is_element(m, 1))?;
+    let len = members[first..]
+        .iter()
+        .enumerate()
+        .take_while(|(i, m)| is_element(m, i + 1))
+        .count();
+    Some((first, len))
+}
+
+/// Split `name[k]` into `name` and k; None for a name without an index.
+pub fn split_index(name: &str) -> Option<(&str, &str)> {
+    let open = name.strip_suffix(']')?.rfind('[')?;
+    let index = &name[open + 1..name.len() - 1];
+    Some((&name[..open], index))
+}
+
 /// Every object type, in the order the docs list them.
 pub static TYPES: &[TypeDef] = &[
     t(
@@ -953,6 +1883,27 @@ pub static TYPES: &[TypeDef] = &[
         &[],
         "MotionBASIC variable",
     ),
+    t(
+        "PickPlace",
+        Kind::PickPlace,
+        Instances::Global,
+        None,
+        &PICKPLACE,
+        &[],
+        "the Track Pick & Place module (machine.toml [pickplace]); members under the manual's names",
+    ),
+    t(
+        "Belt",
+        Kind::Belt,
+        Instances::Numbered {
+            first: 1,
+            default_count: 0,
+        },
+        None,
+        &BELT,
+        &[],
+        "conveying belt CVn of the pick & place module (machine.toml [pickplace.belt.N])",
+    ),
 ];
 
 #[allow(clippy::too_many_arguments)]
@@ -988,7 +1939,12 @@ pub fn find_type(name: &str) -> Option<&'static TypeDef> {
 
 /// Find a member by name or alias, ignoring case.
 pub fn find_member<'a>(members: &'a [MemberDef], name: &str) -> Option<&'a MemberDef> {
-    members.iter().find(|m| {
+    member_position(members, name).map(|i| &members[i])
+}
+
+/// The index of a member by name or alias, ignoring case.
+pub fn member_position(members: &[MemberDef], name: &str) -> Option<usize> {
+    members.iter().position(|m| {
         m.name.eq_ignore_ascii_case(name) || m.aliases.iter().any(|a| a.eq_ignore_ascii_case(name))
     })
 }

@@ -1,7 +1,7 @@
 //! Resolving written names (`Queue.0.QueueOffset`, `Var.Count`, `DriveInput.4`, `FeedRateOverride`)
 //! to slots, with the nearest valid name on a miss.
 
-use super::catalog::{self, find_member, Access, Hook, Instances, Kind, MemberDef, ValueType};
+use super::catalog::{self, Access, Hook, Instances, Kind, MemberDef, ValueType};
 use super::{Registry, SlotId, TypeInstances, GLOBAL_INSTANCE};
 use crate::diag::{nearest, Problem};
 use crate::syntax::ast::{Name, Segment};
@@ -58,6 +58,9 @@ impl Registry {
             ));
         };
         let t = self.of(def.kind);
+        if matches!(def.kind, Kind::PickPlace | Kind::Belt) && self.of(Kind::PickPlace).count == 0 {
+            return Err(no_pickplace(first));
+        }
         if def.instances == Instances::Global {
             let Some(seg) = segs.get(1) else {
                 return Err(needs_member(name, t));
@@ -103,9 +106,16 @@ impl Registry {
         let range = text.span();
         let span = crate::syntax::span::Span::new(range.start, range.end);
         let s = text.get_ref();
+        let plain = |seg: &str| {
+            !seg.is_empty() && seg.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+        };
+        // A segment may end with an index: `PickPlace.alrStopDec[2]`.
         let valid = !s.is_empty()
-            && s.split('.').all(|seg| {
-                !seg.is_empty() && seg.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')
+            && s.split('.').all(|seg| match catalog::split_index(seg) {
+                Some((base, index)) => {
+                    plain(base) && !index.is_empty() && index.chars().all(|c| c.is_ascii_digit())
+                }
+                None => plain(seg),
             });
         if !valid {
             return Err(Problem::error(
@@ -171,6 +181,15 @@ impl Registry {
                 if n >= t.first && n - t.first < t.count {
                     return Ok(n - t.first);
                 }
+                if t.def.kind == Kind::Belt {
+                    return Err(Problem::error(
+                        CODE_INSTANCE,
+                        seg.span,
+                        format!("the machine has no belt {}", seg.text),
+                        "no such belt",
+                    )
+                    .with_help(belt_help(t, &seg.text)));
+                }
                 return Err(Problem::error(
                     CODE_INSTANCE,
                     seg.span,
@@ -212,6 +231,9 @@ impl Registry {
         type_name: &str,
     ) -> Result<usize, Problem> {
         member_index(members, &seg.text).ok_or_else(|| {
+            if let Some(p) = array_problem(members, seg, type_name) {
+                return p;
+            }
             Problem::error(
                 CODE_MEMBER,
                 seg.span,
@@ -220,14 +242,7 @@ impl Registry {
             )
             .with_help(match nearest(&seg.text, members.iter().map(|m| m.name)) {
                 Some(n) => format!("did you mean `{n}`?"),
-                None => format!(
-                    "members: {}",
-                    members
-                        .iter()
-                        .map(|m| m.name)
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
+                None => member_list(members),
             })
         })
     }
@@ -249,8 +264,87 @@ impl Registry {
 }
 
 fn member_index(members: &[MemberDef], name: &str) -> Option<usize> {
-    let m = find_member(members, name)?;
-    members.iter().position(|x| std::ptr::eq(x, m))
+    catalog::member_position(members, name)
+}
+
+/// The problem for an array member written without its index, or with one out of range.
+fn array_problem(members: &[MemberDef], seg: &Segment, type_name: &str) -> Option<Problem> {
+    let text = seg.text.as_str();
+    if let Some((first, len)) = catalog::find_array(members, text) {
+        let base = catalog::split_index(members[first].name)?.0;
+        return Some(
+            Problem::error(
+                CODE_MEMBER,
+                seg.span,
+                format!("{type_name}.{base} is an array of {len}: name one element"),
+                "which element?",
+            )
+            .with_help(format!("write {base}[1] to {base}[{len}]")),
+        );
+    }
+    let (base, index) = catalog::split_index(text)?;
+    let (first, len) = catalog::find_array(members, base)?;
+    let base = catalog::split_index(members[first].name)?.0;
+    Some(
+        Problem::error(
+            CODE_MEMBER,
+            seg.span,
+            format!("{type_name}.{base} has no element {index}"),
+            "index out of range",
+        )
+        .with_help(format!("its elements are {base}[1] to {base}[{len}]")),
+    )
+}
+
+/// The members of a type for a help line; a long list (the pick & place module's) is cut short.
+fn member_list(members: &[MemberDef]) -> String {
+    const SHOWN: usize = 24;
+    let mut names: Vec<&str> = Vec::new();
+    for m in members {
+        let name = match catalog::split_index(m.name) {
+            Some((base, _)) => base,
+            None => m.name,
+        };
+        if !names.contains(&name) {
+            names.push(name);
+        }
+    }
+    if names.len() > SHOWN {
+        format!(
+            "members include {}, … ({} in all; arrays are written name[k])",
+            names[..SHOWN].join(", "),
+            names.len()
+        )
+    } else {
+        format!("members: {}", names.join(", "))
+    }
+}
+
+/// A machine without `[pickplace]` named the module or a belt.
+fn no_pickplace(seg: &Segment) -> Problem {
+    Problem::error(
+        "pacer::check::no_pickplace",
+        seg.span,
+        format!(
+            "this machine has no pick & place module, so `{}` does not exist",
+            seg.text
+        ),
+        "no [pickplace] in machine.toml",
+    )
+    .with_help(
+        "add a [pickplace] table to machine.toml (and [pickplace.belt.N] for each belt) to give \
+         the machine the Track Pick & Place module",
+    )
+}
+
+/// Help for a belt the machine does not have.
+fn belt_help(t: &TypeInstances, written: &str) -> String {
+    let add = format!("add [pickplace.belt.{written}] to machine.toml");
+    match t.count {
+        0 => format!("the machine has no belts: {add}"),
+        1 => format!("the machine has Belt.1; {add}"),
+        n => format!("the machine has Belt.1 to Belt.{n}; {add}"),
+    }
 }
 
 fn instance_word(t: &TypeInstances) -> &'static str {
@@ -279,18 +373,11 @@ fn instance_help(t: &TypeInstances) -> String {
 }
 
 fn needs_member(name: &Name, t: &TypeInstances) -> Problem {
-    let list = t
-        .def
-        .members
-        .iter()
-        .map(|m| m.name)
-        .collect::<Vec<_>>()
-        .join(", ");
     Problem::error(
         CODE_MEMBER,
         name.span,
         format!("`{}` needs a member", name.text()),
         "which member?",
     )
-    .with_help(format!("members: {list}"))
+    .with_help(member_list(t.def.members))
 }

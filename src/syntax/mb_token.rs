@@ -210,7 +210,17 @@ pub fn lex(src: &str) -> impl Iterator<Item = Spanned<'_>> {
         .peekable();
     let mut line_start = true;
     std::iter::from_fn(move || {
-        let (l, tok, r) = raw.next()?;
+        let (l, mut tok, mut r) = raw.next()?;
+        // `PickPlace.alrActPos[3]`: an index right after a dotted name is part of the name.
+        if let MbTok::Name(n) = tok {
+            if let Some(end) = indexed_name_end(src, n, r) {
+                while raw.peek().is_some_and(|t| t.0 < end) {
+                    raw.next();
+                }
+                tok = MbTok::Name(src.get(l..end).unwrap_or(n));
+                r = end;
+            }
+        }
         let at_start = line_start;
         line_start = matches!(tok, MbTok::Newline);
         if let (true, MbTok::Name(n)) = (at_start, tok) {
@@ -221,4 +231,16 @@ pub fn lex(src: &str) -> impl Iterator<Item = Spanned<'_>> {
         }
         Some(Ok((l, tok, r)))
     })
+}
+
+/// Where a dotted name `n` ending at `r` ends when `[digits]` follows it with no space
+/// (`Belt.2.ascInitialObjectPosition[1]`); None otherwise, so `[ ]` elsewhere still groups
+/// like `( )`.
+fn indexed_name_end(src: &str, n: &str, r: usize) -> Option<usize> {
+    if !n.contains('.') || !n.ends_with(|c: char| c.is_ascii_alphanumeric() || c == '_') {
+        return None;
+    }
+    let rest = src.get(r..)?.strip_prefix('[')?;
+    let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
+    (digits > 0 && rest[digits..].starts_with(']')).then_some(r + digits + 2)
 }

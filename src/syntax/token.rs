@@ -19,8 +19,9 @@ pub enum Tok<'s> {
     #[regex(r"[0-9]+(\.[0-9]*)?([eE][+-]?[0-9]+)?", |lex| lex.slice())]
     #[regex(r"\.[0-9]+([eE][+-]?[0-9]+)?", |lex| lex.slice())]
     Number(&'s str),
-    /// A plain or dotted name: `Var.Count`, `Queue.0.QueueEmpty`, `MyLabel`.
-    #[regex(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z0-9_]+)*", |lex| lex.slice())]
+    /// A plain or dotted name: `Var.Count`, `Queue.0.QueueEmpty`, `MyLabel`. A segment after a
+    /// dot may end with an index in brackets, part of the name: `PickPlace.alrActPos[3]`.
+    #[regex(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z0-9_]+(\[[0-9]+\])?)*", |lex| lex.slice())]
     Name(&'s str),
 
     #[token("wait", ignore(case))]

@@ -77,6 +77,8 @@ pub struct MachineImage {
     pub duration_ns: Option<u64>,
     /// The ORION DSP axes, with their scenario marks, when the machine has any.
     pub orion: Option<crate::kernel::orion::Orion>,
+    /// The pick & place module with its belts and workpieces, when the machine has one.
+    pub pickplace: Option<Box<crate::kernel::pickplace::PickPlaceCell>>,
 }
 
 /// A run-time error in a program.
@@ -180,6 +182,7 @@ impl Machine {
         let mut kernel = Kernel::new(&image.registry);
         kernel.set_marks(image.axis_marks.clone());
         kernel.orion = image.orion.clone();
+        kernel.pickplace = image.pickplace.clone();
         let world = World::new(image.edges.clone(), image.master.clone());
         let tasks = (0..image.tasks).map(|_| Task::free()).collect();
         let slot_count = image.registry.slot_count();
@@ -252,6 +255,26 @@ impl Machine {
 
     /// Run until the duration, the end of all programs, or an error.
     pub fn run(&mut self, duration_ns: Option<u64>) -> RunSummary {
+        self.run_observed(duration_ns, &mut |_| {})
+    }
+
+    /// The pick & place module, when the machine has one.
+    pub fn pickplace(&self) -> Option<&crate::kernel::pickplace::PickPlaceCell> {
+        self.kernel.pickplace.as_deref()
+    }
+
+    /// The time of the current update, seconds.
+    pub fn time(&self) -> f64 {
+        self.seconds()
+    }
+
+    /// Like [`Machine::run`], calling `observe` after every update (tests and tools watch the
+    /// machine this way).
+    pub fn run_observed(
+        &mut self,
+        duration_ns: Option<u64>,
+        observe: &mut dyn FnMut(&Machine),
+    ) -> RunSummary {
         let tick_ns = self.image.tick_ns;
         let limit_ns = duration_ns.or(self.image.duration_ns);
         let last_tick = limit_ns.map(|d| d / tick_ns);
@@ -283,6 +306,7 @@ impl Machine {
         loop {
             if self.error.is_none() {
                 self.step();
+                observe(self);
             }
             if self.error.is_some() {
                 stop_reason = "run-time error".to_string();
@@ -378,6 +402,21 @@ impl Machine {
                         task: 0,
                         program: 0,
                         file: "DSP axes".into(),
+                        line: 0,
+                        message,
+                        time: self.tick as f64 * self.image.tick_ns as f64 / 1e9,
+                    });
+                    return;
+                }
+            }
+            if let Some(pp) = self.kernel.pickplace.as_mut() {
+                if let Err(message) = pp.generate(&mut self.values, &mut now) {
+                    now.trace
+                        .machine_message(self.tick, "error", message.clone());
+                    self.error = Some(RunError {
+                        task: 0,
+                        program: 0,
+                        file: "pick & place".into(),
                         line: 0,
                         message,
                         time: self.tick as f64 * self.image.tick_ns as f64 / 1e9,

@@ -4,8 +4,10 @@
 //! inside one update (or a glitch in a steady level) is still seen, for that one update, as the
 //! opposite level: pulse catching, so no press is lost however short.
 
+pub mod belt;
 pub mod master;
 pub mod products;
+pub mod workpieces;
 
 use crate::registry::SlotId;
 use master::MasterProfile;

@@ -1,0 +1,651 @@
+//! The pick & place module as the registry sees it: program writes to `PickPlace.…` and
+//! `Belt.N.…` go in (rising edges of the edge-controlled inputs are remembered until the
+//! module's next cycle, so a pulse shorter than an update is never lost); each update the
+//! scenario's belts move and feed workpieces, the module runs one cycle, and its outputs come
+//! out into the members and its events into the trace.
+
+use super::Now;
+use crate::pickplace::io::{BeltParams, Edges, Inputs, Params};
+use crate::pickplace::module::{Event, Module};
+use crate::pickplace::robot::AXES;
+use crate::pickplace::setup::PickPlaceSetup;
+use crate::registry::{Kind, Registry, SlotId, GLOBAL_INSTANCE};
+use crate::trace::number;
+use crate::world::belt::BeltProfile;
+use crate::world::workpieces::WorkpieceFeed;
+
+/// Slots of the module's members.
+#[derive(Debug, Clone)]
+struct Slots {
+    execute: SlotId,
+    abort: SlotId,
+    ack: SlotId,
+    home: SlotId,
+    enable: SlotId,
+    reset: SlotId,
+    regulator: SlotId,
+    stop: SlotId,
+    halt: SlotId,
+    stop_all: SlotId,
+    interrupt: SlotId,
+    jog_pos: SlotId,
+    jog_neg: SlotId,
+    select: SlotId,
+    set_target: SlotId,
+    override_: SlotId,
+    hw_enable: SlotId,
+    hw_pos: [SlotId; AXES],
+    hw_neg: [SlotId; AXES],
+    sw_enabled: [SlotId; AXES],
+    params: ParamSlots,
+    out: OutSlots,
+}
+
+#[derive(Debug, Clone)]
+struct ParamSlots {
+    scalars: [SlotId; 7],
+    stop_dec: [SlotId; AXES],
+    stop_jerk: [SlotId; AXES],
+    jog: [[SlotId; 4]; 3],
+    home_pos: [SlotId; 7],
+    home_order: [SlotId; 7],
+    limits: [[SlotId; 3]; 7],
+    gripper: [SlotId; 2],
+    coord: SlotId,
+    target: [SlotId; 7],
+    shape: [SlotId; 8],
+    mode: SlotId,
+}
+
+#[derive(Debug, Clone)]
+struct OutSlots {
+    bits: [SlotId; 19],
+    ints: [SlotId; 4],
+    reals: [SlotId; 3],
+    act_pos: [SlotId; AXES],
+    act_vel: [SlotId; AXES],
+    hw_pos: [SlotId; AXES],
+    hw_neg: [SlotId; AXES],
+    sw_active: [SlotId; AXES],
+}
+
+/// Slots of one belt's members.
+#[derive(Debug, Clone)]
+struct BeltSlots {
+    receive: SlotId,
+    valid: SlotId,
+    initial: [SlotId; 6],
+    aux: SlotId,
+    park: [SlotId; 6],
+    z_dist: SlotId,
+    origin: [SlotId; 6],
+    sync: SlotId,
+    lower: SlotId,
+    upper: SlotId,
+    status: [SlotId; 5],
+}
+
+const OUT_BITS: [&str; 19] = [
+    "xError",
+    "xWarning",
+    "xAxesEnabled",
+    "xAxesGroupEnabled",
+    "xDone",
+    "xBusy",
+    "xAxesGroupHomed",
+    "xInPosition",
+    "xHwLimitSwitchActive",
+    "xSwLimitSwitchActive",
+    "xPathHold",
+    "xGripperCtrlActive",
+    "xPulseGripper",
+    "xProfileInPreparation",
+    "xAccDecSync",
+    "xSynchronised",
+    "xInTarget",
+    "xInParkPos",
+    "xInternalControlActive",
+];
+
+/// The module and its world: belts driven by the scenario and the workpieces it feeds.
+#[derive(Debug, Clone)]
+pub struct PickPlaceCell {
+    module: Module,
+    slots: Slots,
+    belt_slots: Vec<BeltSlots>,
+    profiles: Vec<BeltProfile>,
+    feeds: Vec<WorkpieceFeed>,
+    next_receive: usize,
+    valids: Vec<(f64, usize, usize)>,
+    next_valid: usize,
+    edges: Edges,
+    belt_edges: Vec<(bool, bool)>,
+    program_ids: Vec<u32>,
+    events: Vec<Event>,
+    pulsed: Vec<SlotId>,
+}
+
+fn find(registry: &Registry, kind: Kind, instance: u32, name: &str) -> Result<SlotId, String> {
+    registry
+        .slot_of(kind, instance, name)
+        .ok_or_else(|| format!("the catalog has no {kind:?} member {name} (a bug in pacer)"))
+}
+
+fn arr<const N: usize>(
+    registry: &Registry,
+    kind: Kind,
+    instance: u32,
+    name: &str,
+) -> Result<[SlotId; N], String> {
+    let mut out = [0; N];
+    for (k, s) in out.iter_mut().enumerate() {
+        *s = find(registry, kind, instance, &format!("{name}[{}]", k + 1))?;
+    }
+    Ok(out)
+}
+
+impl PickPlaceCell {
+    /// The module of a machine with its scenario's belts (`profiles`, in the set-up's belt
+    /// order) and workpiece feeds.
+    pub fn new(
+        registry: &Registry,
+        setup: &PickPlaceSetup,
+        profiles: Vec<BeltProfile>,
+        feeds: Vec<WorkpieceFeed>,
+        dt: f64,
+    ) -> Result<PickPlaceCell, String> {
+        let g = |name: &str| find(registry, Kind::PickPlace, GLOBAL_INSTANCE, name);
+        let ga = |name: &str| arr::<AXES>(registry, Kind::PickPlace, GLOBAL_INSTANCE, name);
+        let axes7 = ["X", "Y", "Z", "A", "B", "C", "Aux1"];
+        let mut limits = [[0; 3]; 7];
+        for (k, a) in axes7.iter().enumerate() {
+            limits[k] = [
+                g(&format!("lr{a}MaxVel"))?,
+                g(&format!("lr{a}MaxAccDec"))?,
+                g(&format!("lr{a}MaxJerk"))?,
+            ];
+        }
+        let mut jog = [[0; 4]; 3];
+        for (k, kind) in ["Cartesian", "Orientation", "RealAxis"].iter().enumerate() {
+            for (m, what) in ["Jerk", "Vel", "Acc", "Dec"].iter().enumerate() {
+                jog[k][m] = g(&format!("lr{kind}Jog{what}"))?;
+            }
+        }
+        let mut target = [0; 7];
+        for (k, a) in axes7.iter().enumerate() {
+            target[k] = g(&format!("lr{a}TargetPos"))?;
+        }
+        let params = ParamSlots {
+            scalars: [
+                g("lrPathStopDec")?,
+                g("lrPathStopJerk")?,
+                g("lrPathHaltDec")?,
+                g("lrPathJerk")?,
+                g("lrPathVel")?,
+                g("lrPathAcc")?,
+                g("lrPathDec")?,
+            ],
+            stop_dec: ga("alrStopDec")?,
+            stop_jerk: ga("alrStopJerk")?,
+            jog,
+            home_pos: arr::<7>(
+                registry,
+                Kind::PickPlace,
+                GLOBAL_INSTANCE,
+                "alrHomePosition",
+            )?,
+            home_order: arr::<7>(registry, Kind::PickPlace, GLOBAL_INSTANCE, "aeHomingOrder")?,
+            limits,
+            gripper: [g("lrGripperClosingTime")?, g("lrGripperOpenTime")?],
+            coord: g("eTargetCoordSystem")?,
+            target,
+            shape: [
+                g("lrZStartDist")?,
+                g("ePathMode")?,
+                g("lrZDistElliptical")?,
+                g("lrZTargetDist")?,
+                g("lrBlendingRadius")?,
+                g("xPosInWindow")?,
+                g("lrPosInWindow")?,
+                g("lrTimePosInWindow")?,
+            ],
+            mode: g("eTrackingMode")?,
+        };
+        let mut bits = [0; 19];
+        for (k, name) in OUT_BITS.iter().enumerate() {
+            bits[k] = g(name)?;
+        }
+        let out = OutSlots {
+            bits,
+            ints: [
+                g("eTMState")?,
+                g("eErrorID")?,
+                g("iProfilePointPassed")?,
+                g("eSetTargetOut")?,
+            ],
+            reals: [
+                g("lrSetPathVelOut")?,
+                g("lrPathPreparationTime")?,
+                g("lrPreCalcProfileTime")?,
+            ],
+            act_pos: ga("alrActPos")?,
+            act_vel: ga("alrActVel")?,
+            hw_pos: ga("axHwLimitSwitchPos")?,
+            hw_neg: ga("axHwLimitSwitchNeg")?,
+            sw_active: ga("axSwLimitSwitchActive")?,
+        };
+        let slots = Slots {
+            execute: g("xExecutePickAndPlace")?,
+            abort: g("xAbort")?,
+            ack: g("xAckGripper")?,
+            home: g("xGroupHomeExecute")?,
+            enable: g("xEnable")?,
+            reset: g("xResetError")?,
+            regulator: g("xRegulatorOnALL")?,
+            stop: g("xPathStop")?,
+            halt: g("xPathHalt")?,
+            stop_all: g("xStopALL")?,
+            interrupt: g("xPathInterrupt")?,
+            jog_pos: g("xJogPos")?,
+            jog_neg: g("xJogNeg")?,
+            select: g("eSelectAxis")?,
+            set_target: g("eSetTarget")?,
+            override_: g("lrOverride")?,
+            hw_enable: g("xGroupEnableHWLimit")?,
+            hw_pos: ga("axHwLimitPos")?,
+            hw_neg: ga("axHwLimitNeg")?,
+            sw_enabled: ga("axSwLimitEnabled")?,
+            params,
+            out,
+        };
+        let mut belt_slots = Vec::new();
+        for b in &setup.belts {
+            let i = b.number - 1;
+            let f = |name: &str| find(registry, Kind::Belt, i, name);
+            let a6 = |name: &str| arr::<6>(registry, Kind::Belt, i, name);
+            belt_slots.push(BeltSlots {
+                receive: f("xWorkpieceOnBeltReceive")?,
+                valid: f("xValidPos")?,
+                initial: a6("ascInitialObjectPosition")?,
+                aux: f("lrAux1TargetPos")?,
+                park: a6("alrParkPos")?,
+                z_dist: f("lrZDistBelt")?,
+                origin: a6("alrConveyorBeltOrigin")?,
+                sync: f("lrSyncTimeOnBelt")?,
+                lower: f("lrLowerSyncLimit")?,
+                upper: f("lrUpperSyncLimit")?,
+                status: [
+                    f("Position")?,
+                    f("Velocity")?,
+                    f("Workpieces")?,
+                    f("Picked")?,
+                    f("Missed")?,
+                ],
+            });
+        }
+        let index_of = |n: u32| setup.belts.iter().position(|b| b.number == n);
+        let mut valids: Vec<(f64, usize, usize)> = feeds
+            .iter()
+            .enumerate()
+            .filter_map(|(k, f)| index_of(f.belt).map(|i| (f.valid, i, k)))
+            .collect();
+        valids.sort_by(|a, b| a.0.total_cmp(&b.0).then(a.2.cmp(&b.2)));
+        let n = setup.belts.len();
+        let mut profiles = profiles;
+        profiles.resize(n, BeltProfile::stopped());
+        Ok(PickPlaceCell {
+            module: Module::new(setup, dt),
+            slots,
+            belt_slots,
+            profiles,
+            feeds,
+            next_receive: 0,
+            valids,
+            next_valid: 0,
+            edges: Edges::default(),
+            belt_edges: vec![(false, false); n],
+            program_ids: vec![1_000_000; n],
+            events: Vec::new(),
+            pulsed: Vec::new(),
+        })
+    }
+
+    /// The module.
+    pub fn module(&self) -> &Module {
+        &self.module
+    }
+
+    /// The belts' speed profiles, in the module's belt order.
+    pub fn profiles(&self) -> &[BeltProfile] {
+        &self.profiles
+    }
+
+    /// The scenario's workpiece feeds, in time order.
+    pub fn feeds(&self) -> &[WorkpieceFeed] {
+        &self.feeds
+    }
+
+    /// A program writes a member: stored, and a rising edge of an edge-controlled input is
+    /// remembered for the next cycle.
+    pub fn write(&mut self, slot: SlotId, value: f64, v: &mut [f64]) {
+        let rising = value != 0.0 && v[slot as usize] == 0.0;
+        v[slot as usize] = value;
+        if !rising {
+            return;
+        }
+        let s = &self.slots;
+        if slot == s.execute {
+            self.edges.x_execute_pick_and_place = true;
+        } else if slot == s.abort {
+            self.edges.x_abort = true;
+        } else if slot == s.ack {
+            self.edges.x_ack_gripper = true;
+        } else if slot == s.home {
+            self.edges.x_group_home_execute = true;
+        } else if let Some(i) = self.belt_slots.iter().position(|b| b.receive == slot) {
+            self.belt_edges[i].0 = true;
+        } else if let Some(i) = self.belt_slots.iter().position(|b| b.valid == slot) {
+            self.belt_edges[i].1 = true;
+        }
+    }
+
+    fn inputs(&self, v: &[f64]) -> Inputs {
+        let s = &self.slots;
+        let b = |x: SlotId| v[x as usize] != 0.0;
+        let i = |x: SlotId| v[x as usize] as i32;
+        Inputs {
+            x_enable: b(s.enable),
+            x_reset_error: b(s.reset),
+            x_regulator_on_all: b(s.regulator),
+            x_path_stop: b(s.stop),
+            x_path_halt: b(s.halt),
+            x_stop_all: b(s.stop_all),
+            x_path_interrupt: b(s.interrupt),
+            x_jog_pos: b(s.jog_pos),
+            x_jog_neg: b(s.jog_neg),
+            e_select_axis: i(s.select),
+            e_set_target: i(s.set_target),
+            lr_override: v[s.override_ as usize],
+            x_group_enable_hw_limit: b(s.hw_enable),
+            ax_hw_limit_pos: s.hw_pos.map(b),
+            ax_hw_limit_neg: s.hw_neg.map(b),
+            ax_sw_limit_enabled: s.sw_enabled.map(b),
+        }
+    }
+
+    fn params(&self, v: &[f64]) -> Params {
+        let p = &self.slots.params;
+        let r = |x: SlotId| v[x as usize];
+        let sc = p.scalars.map(r);
+        let jog = p.jog.map(|k| k.map(r));
+        Params {
+            lr_path_stop_dec: sc[0],
+            lr_path_stop_jerk: sc[1],
+            lr_path_halt_dec: sc[2],
+            lr_path_jerk: sc[3],
+            lr_path_vel: sc[4],
+            lr_path_acc: sc[5],
+            lr_path_dec: sc[6],
+            alr_stop_dec: p.stop_dec.map(r),
+            alr_stop_jerk: p.stop_jerk.map(r),
+            cartesian_jog: jog[0],
+            orientation_jog: jog[1],
+            real_axis_jog: jog[2],
+            alr_home_position: p.home_pos.map(r),
+            ae_homing_order: p.home_order.map(|x| r(x) as i32),
+            cartesian_limits: p.limits.map(|l| l.map(r)),
+            lr_gripper_closing_time: r(p.gripper[0]),
+            lr_gripper_open_time: r(p.gripper[1]),
+            e_target_coord_system: r(p.coord) as i32,
+            target: p.target.map(r),
+            lr_z_start_dist: r(p.shape[0]),
+            e_path_mode: r(p.shape[1]) as i32,
+            lr_z_dist_elliptical: r(p.shape[2]),
+            lr_z_target_dist: r(p.shape[3]),
+            lr_blending_radius: r(p.shape[4]),
+            x_pos_in_window: r(p.shape[5]) != 0.0,
+            lr_pos_in_window: r(p.shape[6]),
+            lr_time_pos_in_window: r(p.shape[7]),
+            e_tracking_mode: r(p.mode) as i32,
+        }
+    }
+
+    fn belt_params(&self, v: &[f64]) -> Vec<BeltParams> {
+        let r = |x: SlotId| v[x as usize];
+        self.belt_slots
+            .iter()
+            .map(|b| BeltParams {
+                alr_park_pos: b.park.map(r),
+                lr_z_dist_belt: r(b.z_dist),
+                alr_conveyor_belt_origin: b.origin.map(r),
+                lr_sync_time_on_belt: r(b.sync),
+                lr_lower_sync_limit: r(b.lower),
+                lr_upper_sync_limit: r(b.upper),
+                lr_aux1_target_pos: r(b.aux),
+            })
+            .collect()
+    }
+
+    /// One cycle of the module at this update.
+    pub fn generate(&mut self, v: &mut [f64], now: &mut Now<'_>) -> Result<(), String> {
+        let t = now.seconds();
+        for s in self.pulsed.drain(..) {
+            v[s as usize] = 0.0;
+        }
+        // The scenario's detector: receive edges at their exact instants, the belt travel
+        // latched there; valid-position edges after their delay.
+        while let Some(f) = self.feeds.get(self.next_receive) {
+            if f.receive > t {
+                break;
+            }
+            if let Some(i) = self.belt_slots_index(f.belt) {
+                let travel = self.profiles[i].position(f.receive);
+                let id = f.id;
+                self.module.receive(i, id, travel, &mut self.events);
+                let s = self.belt_slots[i].receive;
+                v[s as usize] = 1.0;
+                self.pulsed.push(s);
+            }
+            self.next_receive += 1;
+        }
+        while let Some(&(at, i, k)) = self.valids.get(self.next_valid) {
+            if at > t {
+                break;
+            }
+            let pos = self.feeds[k].position;
+            self.module.validate(i, pos);
+            let bs = &self.belt_slots[i];
+            for (s, x) in bs.initial.iter().zip(pos) {
+                v[*s as usize] = x;
+            }
+            v[bs.valid as usize] = 1.0;
+            self.pulsed.push(bs.valid);
+            self.next_valid += 1;
+        }
+        // A program's detector: edges at this update's travel.
+        for i in 0..self.belt_slots.len() {
+            let (receive, valid) = std::mem::take(&mut self.belt_edges[i]);
+            if receive {
+                let travel = self.profiles[i].position(t);
+                self.program_ids[i] += 1;
+                let id = self.program_ids[i];
+                self.module.receive(i, id, travel, &mut self.events);
+            }
+            if valid {
+                let pos = self.belt_slots[i].initial.map(|s| v[s as usize]);
+                self.module.validate(i, pos);
+            }
+        }
+        let belts: Vec<(f64, f64)> = self
+            .profiles
+            .iter()
+            .map(|p| (p.position(t), p.velocity(t)))
+            .collect();
+        let inputs = self.inputs(v);
+        let params = self.params(v);
+        let belt_params = self.belt_params(v);
+        let edges = std::mem::take(&mut self.edges);
+        let out = self.module.cycle(
+            t,
+            &inputs,
+            edges,
+            &params,
+            &belt_params,
+            &belts,
+            &mut self.events,
+        );
+        let o = &self.slots.out;
+        let bits = [
+            out.x_error,
+            out.x_warning,
+            out.x_axes_enabled,
+            out.x_axes_enabled,
+            out.x_done,
+            out.x_busy,
+            out.x_axes_group_homed,
+            out.x_in_position,
+            out.x_hw_limit_switch_active,
+            out.x_sw_limit_switch_active,
+            out.x_path_hold,
+            out.x_gripper_ctrl_active,
+            out.x_pulse_gripper,
+            out.x_profile_in_preparation,
+            out.x_acc_dec_sync,
+            out.x_synchronised,
+            out.x_in_target,
+            out.x_in_park_pos,
+            false,
+        ];
+        for (s, b) in o.bits.iter().zip(bits) {
+            v[*s as usize] = f64::from(u8::from(b));
+        }
+        let ints = [
+            out.e_tm_state as i32,
+            out.e_error_id,
+            out.i_profile_point_passed,
+            out.e_set_target_out,
+        ];
+        for (s, x) in o.ints.iter().zip(ints) {
+            v[*s as usize] = f64::from(x);
+        }
+        let reals = [
+            out.lr_set_path_vel_out,
+            out.lr_path_preparation_time,
+            out.lr_pre_calc_profile_time,
+        ];
+        for (s, x) in o.reals.iter().zip(reals) {
+            v[*s as usize] = x;
+        }
+        for i in 0..AXES {
+            v[o.act_pos[i] as usize] = out.alr_act_pos[i];
+            v[o.act_vel[i] as usize] = out.alr_act_vel[i];
+            v[o.hw_pos[i] as usize] = f64::from(u8::from(out.ax_hw_limit_switch_pos[i]));
+            v[o.hw_neg[i] as usize] = f64::from(u8::from(out.ax_hw_limit_switch_neg[i]));
+            v[o.sw_active[i] as usize] = f64::from(u8::from(out.ax_sw_limit_switch_active[i]));
+        }
+        for (b, (bs, &(travel, vel))) in self
+            .module
+            .belts
+            .iter()
+            .zip(self.belt_slots.iter().zip(&belts))
+        {
+            let st = [
+                travel,
+                vel,
+                b.pieces.len() as f64,
+                f64::from(b.picked),
+                f64::from(b.missed),
+            ];
+            for (s, x) in bs.status.iter().zip(st) {
+                v[*s as usize] = x;
+            }
+        }
+        self.trace(now);
+        Ok(())
+    }
+
+    fn belt_slots_index(&self, number: u32) -> Option<usize> {
+        self.module.belt_index(number)
+    }
+
+    fn trace(&mut self, now: &mut Now<'_>) {
+        for e in self.events.drain(..) {
+            let tick = now.tick;
+            match e {
+                Event::State(s) => now
+                    .trace
+                    .event(tick, "pp_state", &[("state", s.name().into())]),
+                Event::Planned {
+                    target,
+                    duration,
+                    scale,
+                } => now.trace.event(
+                    tick,
+                    "pp_path",
+                    &[
+                        ("target", target.into()),
+                        ("duration", number(duration)),
+                        ("scale", number(scale)),
+                    ],
+                ),
+                Event::Pick { belt, id, position } | Event::Place { belt, id, position } => {
+                    let kind = if matches!(e, Event::Pick { .. }) {
+                        "pick"
+                    } else {
+                        "place"
+                    };
+                    now.trace.event(
+                        tick,
+                        kind,
+                        &[
+                            ("belt", belt.map_or(serde_json::Value::Null, Into::into)),
+                            ("id", id.map_or(serde_json::Value::Null, Into::into)),
+                            ("x", number(position[0])),
+                            ("y", number(position[1])),
+                            ("z", number(position[2])),
+                        ],
+                    )
+                }
+                Event::Reached {
+                    target,
+                    id,
+                    position,
+                } => now.trace.event(
+                    tick,
+                    "pp_target",
+                    &[
+                        ("target", target.into()),
+                        ("id", id.map_or(serde_json::Value::Null, Into::into)),
+                        ("x", number(position[0])),
+                        ("y", number(position[1])),
+                        ("z", number(position[2])),
+                    ],
+                ),
+                Event::Missed { belt, id, x } => now.trace.event(
+                    tick,
+                    "missed",
+                    &[("belt", belt.into()), ("id", id.into()), ("x", number(x))],
+                ),
+                Event::Gripper { close } => now.trace.event(
+                    tick,
+                    "gripper",
+                    &[("action", if close { "close" } else { "open" }.into())],
+                ),
+                Event::Error { id, message } => now.trace.event(
+                    tick,
+                    "pp_error",
+                    &[("id", id.into()), ("message", message.into())],
+                ),
+                Event::Warning { id, message } => now.trace.event(
+                    tick,
+                    "pp_warning",
+                    &[("id", id.into()), ("message", message.into())],
+                ),
+                Event::Homed { order } => {
+                    now.trace
+                        .event(tick, "pp_homed", &[("order", order.into())])
+                }
+            }
+        }
+    }
+}

@@ -1,0 +1,1691 @@
+//! The module itself: the state machine of the manual (§3.7), tracking modes 0–4, the profile
+//! queue, stop/halt/interrupt/abort, the gripper pulse, jog, homing and limit monitoring. One
+//! call of [`Module::cycle`] is one task cycle of the technology module.
+
+use super::io::{errors, BeltParams, Edges, Inputs, Outputs, Params, TmState};
+use super::law::{DoubleS, Limits, Stop};
+use super::plan::{Goal, PathParams, PlanError, Planner, Request};
+use super::robot::{Pose, Robot, AUX1, AXES, AXIS_NAMES, C};
+use super::setup::{AxisLimit, PickPlaceSetup};
+use super::track::Belt;
+use super::trajectory::{Follow, Leg, Trajectory};
+use std::collections::VecDeque;
+
+/// Most profiles the module holds (the one running and those queued behind it).
+pub const MAX_PROFILES: usize = 8;
+
+/// What the module reports to the trace.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Event {
+    /// eTMState changed.
+    State(TmState),
+    /// A path was prepared.
+    Planned {
+        /// eSetTargetOut of the path.
+        target: i32,
+        /// Its duration, s.
+        duration: f64,
+        /// The time scale the axis limits imposed (1: none).
+        scale: f64,
+    },
+    /// A workpiece was taken (after the synchronous travel on a belt, or at a static position).
+    Pick {
+        /// Belt number, or None for the static position.
+        belt: Option<u32>,
+        /// Workpiece id on the belt.
+        id: Option<u32>,
+        /// Tool position, mm.
+        position: [f64; 3],
+    },
+    /// A workpiece was put down.
+    Place {
+        /// Belt number, or None for the static position.
+        belt: Option<u32>,
+        /// Place position id on the belt.
+        id: Option<u32>,
+        /// Tool position, mm.
+        position: [f64; 3],
+    },
+    /// A mode-0 target was reached (after the synchronous travel, on a belt).
+    Reached {
+        /// eSetTargetOut: 0 static, n belt n.
+        target: i32,
+        /// Workpiece id, on a belt.
+        id: Option<u32>,
+        /// Tool position, mm.
+        position: [f64; 3],
+    },
+    /// A workpiece left the operating range before it could be taken.
+    Missed {
+        /// Belt number.
+        belt: u32,
+        /// Workpiece id.
+        id: u32,
+        /// Its X on the belt, mm.
+        x: f64,
+    },
+    /// xPulseGripper: `close` for a pick profile, open for a place profile.
+    Gripper {
+        /// True: closing (pick), false: opening (place).
+        close: bool,
+    },
+    /// An error (state ERROR).
+    Error {
+        /// eErrorID.
+        id: i32,
+        /// What happened.
+        message: String,
+    },
+    /// A warning (xWarning).
+    Warning {
+        /// eErrorID.
+        id: i32,
+        /// What happened.
+        message: String,
+    },
+    /// A homing group finished.
+    Homed {
+        /// The aeHomingOrder value of the group.
+        order: i32,
+    },
+}
+
+/// A mode-0 profile: eSetTarget and the static target (lrX…TargetPos … lrAux1TargetPos).
+type Profile = (i32, [f64; 7]);
+
+/// Which side of a tracking mode.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Side {
+    Static,
+    Belt(usize),
+}
+
+/// What a move is for.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Purpose {
+    Pick,
+    Place,
+    /// To a belt's parking position, to wait there.
+    Park(usize),
+    /// A mode-0 target.
+    Target,
+}
+
+/// A path-accurate braking in progress.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Braking {
+    s0: f64,
+    tau0: f64,
+    law: Stop,
+    interrupt: bool,
+}
+
+#[derive(Debug, Clone, PartialEq)]
+struct Active {
+    traj: Trajectory,
+    tau: f64,
+    purpose: Purpose,
+    target_out: i32,
+    wp: Option<(usize, u32)>,
+    lead: f64,
+    pulsed: bool,
+    gripper_ok: bool,
+    interrupted: bool,
+    braking: Option<Braking>,
+    /// Stopped on the path, waiting for a resume.
+    held: bool,
+    /// What the source belt has added so far, and its travel at the last update.
+    src_off: [f64; 3],
+    src_travel: f64,
+}
+
+// One phase lives in the module at a time and changes a few times a second: its size costs
+// nothing worth an allocation.
+#[allow(clippy::large_enum_variant)]
+#[derive(Debug, Clone, PartialEq)]
+enum Phase {
+    Idle,
+    Move(Box<Active>),
+    /// Synchronous travel on a belt after arriving.
+    Dwell {
+        until: f64,
+        purpose: Purpose,
+        wp: Option<(usize, u32)>,
+        target_out: i32,
+    },
+    /// Every axis braking on its own (xStopALL, a limit switch).
+    AxisStop {
+        t0: f64,
+        from: [f64; 5],
+        dir: [f64; 5],
+        laws: Box<[Stop; 5]>,
+    },
+    Jog {
+        axis: usize,
+        dir: f64,
+        t0: f64,
+        origin: f64,
+        law: DoubleS,
+        stop: Option<(Stop, f64, f64)>,
+    },
+    Homing {
+        next: i32,
+    },
+}
+
+/// The technology module.
+#[derive(Debug, Clone)]
+pub struct Module {
+    planner: Planner,
+    joint_limits: [AxisLimit; 3],
+    sw_machine: [Option<(f64, f64)>; AXES],
+    /// The belts, in machine order.
+    pub belts: Vec<Belt>,
+    state: TmState,
+    phase: Phase,
+    /// The setpoint.
+    pose: Pose,
+    /// The belt the tool moves with when not on a path: (belt, anchor pose at zero offset).
+    follow: Option<(Follow, Pose)>,
+    holding: bool,
+    looping: bool,
+    finish_then_stop: bool,
+    /// Mode-0 profiles: eSetTarget and the static target as they were at their edge (an
+    /// accepted profile does not change, manual §3.15).
+    queue: VecDeque<Profile>,
+    /// A path given up by xStopALL or a jog: the next xExecute edge runs it again from the
+    /// start (mode 0: this profile).
+    restart: Option<(Purpose, Option<Profile>)>,
+    /// The static target of the profile running (mode 0).
+    current_target: Profile,
+    error: Option<(i32, String)>,
+    warning: Option<i32>,
+    homed: bool,
+    at_park: Option<usize>,
+    /// Earliest time to look again for a workpiece while waiting at a park position.
+    wait_until: f64,
+    hist: [[f64; AXES]; 2],
+    jog_armed: (bool, bool),
+    last_enabled: bool,
+    done: bool,
+    pulse: bool,
+    last_profile_time: f64,
+    last_override: f64,
+    dt: f64,
+    t: f64,
+    /// Each belt's travel this cycle (kept to spare an allocation per cycle).
+    travel_buf: Vec<f64>,
+}
+
+/// The five Cartesian coordinates a stop brakes one by one: X, Y, Z, C, Aux1.
+const STOP_AXES: [usize; 5] = [0, 1, 2, C, AUX1];
+
+impl Module {
+    /// The module of a machine with update period `dt` seconds.
+    pub fn new(setup: &PickPlaceSetup, dt: f64) -> Module {
+        let robot = Robot {
+            kinematics: setup.kinematics.clone(),
+            limits: [AxisLimit::default(); AXES],
+        };
+        let belts = setup.belts.iter().map(|b| Belt::new(b.number)).collect();
+        let pose = Pose {
+            p: setup.start,
+            ..Pose::default()
+        };
+        let mut m = Module {
+            planner: Planner {
+                robot,
+                sw: [None; AXES],
+                dt,
+                belt_limits: setup.belts.iter().map(|b| b.limit).collect(),
+            },
+            joint_limits: setup.joint_limits,
+            sw_machine: setup.sw_limits,
+            belts,
+            state: TmState::Disabled,
+            phase: Phase::Idle,
+            pose,
+            follow: None,
+            holding: false,
+            looping: false,
+            finish_then_stop: false,
+            queue: VecDeque::new(),
+            restart: None,
+            current_target: (0, [0.0; 7]),
+            error: None,
+            warning: None,
+            homed: false,
+            at_park: None,
+            wait_until: 0.0,
+            hist: [[0.0; AXES]; 2],
+            jog_armed: (false, false),
+            last_enabled: false,
+            done: false,
+            pulse: false,
+            last_profile_time: 0.0,
+            last_override: 1.0,
+            dt,
+            t: 0.0,
+            travel_buf: Vec::new(),
+        };
+        if let Ok(q) = m.planner.robot.axes(&m.pose) {
+            m.hist = [q, q];
+        }
+        m
+    }
+
+    /// The setpoint now.
+    pub fn pose(&self) -> Pose {
+        self.pose
+    }
+
+    /// The workpiece the tool travels synchronously with now (after arriving on it): belt
+    /// number and workpiece id.
+    pub fn sync_target(&self) -> Option<(u32, u32)> {
+        match &self.phase {
+            Phase::Dwell {
+                wp: Some((i, id)), ..
+            } => self.belts.get(*i).map(|b| (b.number, *id)),
+            _ => None,
+        }
+    }
+
+    /// The state now.
+    pub fn state(&self) -> TmState {
+        self.state
+    }
+
+    /// Index of belt `number` in the module's list.
+    pub fn belt_index(&self, number: u32) -> Option<usize> {
+        self.belts.iter().position(|b| b.number == number)
+    }
+
+    /// A receive edge on belt `index` when the belt had travelled `travel`.
+    pub fn receive(&mut self, index: usize, id: u32, travel: f64, events: &mut Vec<Event>) {
+        let Some(b) = self.belts.get_mut(index) else {
+            return;
+        };
+        if !b.receive(id, travel) {
+            let number = b.number;
+            self.warning = Some(errors::BELT_LIST_FULL);
+            events.push(Event::Warning {
+                id: errors::BELT_LIST_FULL,
+                message: format!(
+                    "belt {number} already tracks {} workpieces: workpiece {id} is not tracked",
+                    super::track::MAX_WORKPIECES
+                ),
+            });
+        }
+    }
+
+    /// A valid-position edge on belt `index`: the oldest workpiece without a position gets it.
+    pub fn validate(&mut self, index: usize, pos: [f64; 6]) -> bool {
+        self.belts.get_mut(index).is_some_and(|b| b.validate(pos))
+    }
+
+    fn set_state(&mut self, s: TmState, events: &mut Vec<Event>) {
+        if s != self.state {
+            self.state = s;
+            events.push(Event::State(s));
+        }
+    }
+
+    fn fail(&mut self, id: i32, message: String, events: &mut Vec<Event>) {
+        self.error = Some((id, message.clone()));
+        events.push(Event::Error { id, message });
+        self.looping = false;
+        self.queue.clear();
+        self.set_state(TmState::Error, events);
+    }
+
+    fn plan_error(&mut self, e: PlanError, events: &mut Vec<Event>) {
+        let id = match &e {
+            PlanError::NoSolution(_) => errors::NO_SOLUTION,
+            PlanError::SwLimit { upper: true, .. } => errors::SW_LIMIT_POS,
+            PlanError::SwLimit { upper: false, .. } => errors::SW_LIMIT_NEG,
+            PlanError::Limits { .. } => errors::AXIS_LIMITS,
+            PlanError::Param(_) | PlanError::Gone(_) => errors::INVALID_PARAMETER,
+        };
+        self.fail(id, e.to_string(), events);
+    }
+
+    /// Take the parameters that shape planning.
+    fn configure(&mut self, params: &Params, inputs: &Inputs, belt_params: &[BeltParams]) {
+        let mut limits = [AxisLimit::default(); AXES];
+        // Cartesian X, Y, Z, A, B, C from the parameters; Aux1 too; real axes from the machine.
+        for (k, i) in [0usize, 1, 2, 3, 4, 5, AUX1].into_iter().enumerate() {
+            let l = params.cartesian_limits[k];
+            limits[i] = AxisLimit {
+                max_vel: l[0],
+                max_acc: l[1],
+                max_jerk: l[2],
+            };
+        }
+        if matches!(
+            self.planner.robot.kinematics,
+            super::setup::Kinematics::Delta3(_)
+        ) {
+            limits[6..9].copy_from_slice(&self.joint_limits);
+        }
+        self.planner.robot.limits = limits;
+        for i in 0..AXES {
+            self.planner.sw[i] = if inputs.ax_sw_limit_enabled[i] {
+                self.sw_machine[i]
+            } else {
+                None
+            };
+        }
+        for (b, p) in self.belts.iter_mut().zip(belt_params) {
+            if b.origin != p.alr_conveyor_belt_origin {
+                b.origin = p.alr_conveyor_belt_origin;
+                b.frame = super::frame::Frame::from_pose(b.origin);
+            }
+        }
+    }
+
+    fn path_params(&self, params: &Params) -> Result<PathParams, String> {
+        let law = Limits {
+            vel: params.lr_path_vel,
+            acc: params.lr_path_acc,
+            dec: params.lr_path_dec,
+            jerk: params.lr_path_jerk,
+        };
+        for (name, v) in [
+            ("lrPathVel", law.vel),
+            ("lrPathAcc", law.acc),
+            ("lrPathDec", law.dec),
+            ("lrPathJerk", law.jerk),
+        ] {
+            if !(v.is_finite() && v > 0.0) {
+                return Err(format!("{name} = {v}: it must be more than 0"));
+            }
+        }
+        for (name, v) in [
+            ("lrBlendingRadius", params.lr_blending_radius),
+            ("lrZDistElliptical", params.lr_z_dist_elliptical),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(format!("{name} = {v}: it must be 0 or more"));
+            }
+        }
+        if !matches!(params.e_path_mode, 0 | 1) {
+            return Err(format!(
+                "ePathMode = {}: it must be 0 (linear) or 1 (elliptical)",
+                params.e_path_mode
+            ));
+        }
+        if params.e_target_coord_system != 0 {
+            return Err(format!(
+                "eTargetCoordSystem = {}: pacer supports the machine coordinate system (0) only",
+                params.e_target_coord_system
+            ));
+        }
+        Ok(PathParams {
+            law,
+            radius: params.lr_blending_radius,
+            elliptical: params.e_path_mode == 1,
+            ellipse_height: params.lr_z_dist_elliptical,
+        })
+    }
+
+    /// The pose of the tool on the current phase.
+    fn current_pose(&self) -> Pose {
+        match &self.follow {
+            Some((f, anchor)) => {
+                let o = f.offset_at(self.belts.get(f.belt).map_or(f.base, |b| b.travel));
+                let mut p = *anchor;
+                for (x, d) in p.p.iter_mut().zip(o) {
+                    *x += d;
+                }
+                p
+            }
+            None => self.pose,
+        }
+    }
+
+    /// One cycle at time `t`. `belts`: each belt's travel and speed now.
+    #[allow(clippy::too_many_arguments)]
+    pub fn cycle(
+        &mut self,
+        t: f64,
+        inputs: &Inputs,
+        edges: Edges,
+        params: &Params,
+        belt_params: &[BeltParams],
+        belts: &[(f64, f64)],
+        events: &mut Vec<Event>,
+    ) -> Outputs {
+        self.t = t;
+        self.pulse = false;
+        self.travel_buf.clear();
+        for (b, &(travel, v)) in self.belts.iter_mut().zip(belts) {
+            b.travel = travel;
+            b.velocity = v;
+            self.travel_buf.push(travel);
+        }
+        self.configure(params, inputs, belt_params);
+        let enabled = inputs.x_enable;
+        let axes_on = enabled && inputs.x_regulator_on_all;
+        if !enabled {
+            self.phase = Phase::Idle;
+            self.set_state(TmState::Disabled, events);
+        } else if self.state == TmState::Disabled {
+            self.set_state(TmState::Ready, events);
+        }
+        // Commands set while the axes were off need a new rising edge once they are on.
+        if axes_on && !self.last_enabled {
+            self.jog_armed = (!inputs.x_jog_pos, !inputs.x_jog_neg);
+        }
+        if !inputs.x_jog_pos {
+            self.jog_armed.0 = true;
+        }
+        if !inputs.x_jog_neg {
+            self.jog_armed.1 = true;
+        }
+        self.last_enabled = axes_on;
+        let edges = if axes_on { edges } else { Edges::default() };
+        if enabled && !axes_on && !matches!(self.phase, Phase::Idle) {
+            // The drives are off: nothing moves any more.
+            self.phase = Phase::Idle;
+            self.follow = None;
+            self.looping = false;
+            self.queue.clear();
+        }
+
+        if enabled {
+            self.limits_switches(inputs, params, events);
+            if self.state == TmState::Error {
+                if inputs.x_reset_error && !self.hw_active(inputs) {
+                    self.error = None;
+                    self.warning = None;
+                    if matches!(self.phase, Phase::Idle) {
+                        self.set_state(TmState::Ready, events);
+                    }
+                }
+            } else if inputs.x_reset_error {
+                self.warning = None;
+            }
+            if axes_on && self.state != TmState::Error {
+                self.commands(inputs, edges, params, belt_params, events);
+            }
+        }
+        self.advance(inputs, edges, params, belt_params, events);
+        self.drop_missed(belt_params, events);
+        self.outputs(inputs, params, axes_on)
+    }
+
+    fn hw_active(&self, inputs: &Inputs) -> bool {
+        inputs.x_group_enable_hw_limit
+            && (inputs.ax_hw_limit_pos.iter().any(|&x| x)
+                || inputs.ax_hw_limit_neg.iter().any(|&x| x))
+    }
+
+    fn limits_switches(&mut self, inputs: &Inputs, params: &Params, events: &mut Vec<Event>) {
+        if !self.hw_active(inputs) || self.state == TmState::Error {
+            return;
+        }
+        let (i, pos) = match inputs.ax_hw_limit_pos.iter().position(|&x| x) {
+            Some(i) => (i, true),
+            None => (
+                inputs.ax_hw_limit_neg.iter().position(|&x| x).unwrap_or(0),
+                false,
+            ),
+        };
+        self.stop_axes(params);
+        let (id, which) = if pos {
+            (errors::HW_LIMIT_POS, "positive")
+        } else {
+            (errors::HW_LIMIT_NEG, "negative")
+        };
+        self.fail(
+            id,
+            format!(
+                "the {which} hardware limit switch of axis {} is active",
+                AXIS_NAMES[i]
+            ),
+            events,
+        );
+    }
+
+    /// Every axis brakes on its own from where it is going (xStopALL, limit switches).
+    fn stop_axes(&mut self, params: &Params) {
+        let dt = self.dt;
+        let now = self.hist[0];
+        let prev = self.hist[1];
+        let pose = self.pose;
+        let from = [pose.p[0], pose.p[1], pose.p[2], pose.c, pose.aux];
+        let mut dir = [0.0; 5];
+        let mut laws = [Stop::plan(0.0, 0.0, 1.0, 1.0).ok(); 5];
+        for (k, &i) in STOP_AXES.iter().enumerate() {
+            let v = (now[i] - prev[i]) / dt;
+            dir[k] = if v < 0.0 { -1.0 } else { 1.0 };
+            let dec = params.alr_stop_dec[i].max(1e-9);
+            let jerk = params.alr_stop_jerk[i].max(1e-9);
+            laws[k] = Stop::plan(v.abs(), 0.0, dec, jerk).ok();
+        }
+        let laws = laws.map(|l| {
+            l.unwrap_or_else(|| {
+                Stop::plan(0.0, 0.0, 1.0, 1.0).unwrap_or_else(|_| unreachable_stop())
+            })
+        });
+        self.follow = None;
+        // The laws start from the last update's setpoint and speed.
+        self.phase = Phase::AxisStop {
+            t0: self.t - self.dt,
+            from,
+            dir,
+            laws: Box::new(laws),
+        };
+    }
+
+    fn commands(
+        &mut self,
+        inputs: &Inputs,
+        edges: Edges,
+        params: &Params,
+        belt_params: &[BeltParams],
+        events: &mut Vec<Event>,
+    ) {
+        let stop = inputs.x_path_stop || inputs.x_path_halt;
+        if inputs.x_stop_all && !matches!(self.phase, Phase::AxisStop { .. }) {
+            let moving = !matches!(self.phase, Phase::Idle) || self.follow.is_some();
+            if moving {
+                if let Phase::Move(a) = &self.phase {
+                    let again = (a.purpose == Purpose::Target).then_some(self.current_target);
+                    self.restart = Some((a.purpose, again));
+                }
+                self.stop_axes(params);
+            }
+            self.looping = false;
+            self.set_state(TmState::Stop, events);
+            return;
+        }
+        if stop {
+            match &mut self.phase {
+                Phase::Move(a) if a.braking.is_none() && !a.held => {
+                    let (dec, jerk) = if inputs.x_path_stop {
+                        (params.lr_path_stop_dec, params.lr_path_stop_jerk)
+                    } else {
+                        (params.lr_path_halt_dec, params.lr_path_jerk)
+                    };
+                    brake(a, dec, jerk, false);
+                    a.gripper_ok = false;
+                }
+                Phase::Dwell { .. } => self.stop_axes(params),
+                Phase::Idle if self.follow.is_some() => self.stop_axes(params),
+                _ => {}
+            }
+            // The modes end at once on a stop or halt (manual §3.19).
+            self.looping = false;
+            self.set_state(TmState::Stop, events);
+            return;
+        }
+        if self.state == TmState::Stop && self.is_still() {
+            self.set_state(TmState::Ready, events);
+        }
+        if matches!(self.state, TmState::JogPos | TmState::JogNeg)
+            && matches!(self.phase, Phase::Idle)
+            && !inputs.x_jog_pos
+            && !inputs.x_jog_neg
+        {
+            self.set_state(TmState::Ready, events);
+        }
+        // Interrupt: brake on the path, resume from the break point when released.
+        if let Phase::Move(a) = &mut self.phase {
+            if inputs.x_path_interrupt && a.braking.is_none() && !a.held {
+                brake(a, params.lr_path_stop_dec, params.lr_path_stop_jerk, true);
+                a.gripper_ok = false;
+                a.interrupted = true;
+                self.set_state(TmState::PathInterrupt, events);
+            } else if !inputs.x_path_interrupt && a.held && self.state == TmState::PathInterrupt {
+                resume(a);
+                self.set_state(TmState::MovePp, events);
+            }
+        }
+        if edges.x_abort && self.is_still() {
+            if matches!(self.phase, Phase::Move(_)) || self.restart.is_some() {
+                self.phase = Phase::Idle;
+                self.restart = None;
+            }
+            self.looping = false;
+            self.queue.clear();
+            self.finish_then_stop = false;
+            self.set_state(TmState::Ready, events);
+        } else if edges.x_abort && self.looping {
+            // In motion: the current path is travelled to its end, then the mode stops.
+            self.finish_then_stop = true;
+        }
+        if edges.x_group_home_execute && self.state == TmState::Ready && self.is_idle() {
+            self.phase = Phase::Homing { next: 1 };
+            self.set_state(TmState::Homing, events);
+        }
+        // Jogging is allowed from READY, also with a path held by a stop (manual §3.16); the
+        // held path is then run again from the start by the next xExecute edge, from wherever
+        // the jog left the tool.
+        let held = matches!(&self.phase, Phase::Move(a) if a.held);
+        if self.state == TmState::Ready && (self.is_idle() || held) {
+            let sel = inputs.e_select_axis;
+            if (1..=13).contains(&sel) {
+                let pos = inputs.x_jog_pos && self.jog_armed.0;
+                let neg = inputs.x_jog_neg && self.jog_armed.1;
+                if pos || neg {
+                    if let Phase::Move(a) = &self.phase {
+                        let again = (a.purpose == Purpose::Target).then_some(self.current_target);
+                        self.restart = Some((a.purpose, again));
+                    }
+                    self.start_jog(
+                        (sel - 1) as usize,
+                        if pos { 1.0 } else { -1.0 },
+                        params,
+                        events,
+                    );
+                }
+            }
+        }
+        if edges.x_execute_pick_and_place {
+            self.execute(inputs, params, belt_params, events);
+        }
+    }
+
+    fn is_idle(&self) -> bool {
+        matches!(self.phase, Phase::Idle) && self.follow.is_none()
+    }
+
+    fn is_still(&self) -> bool {
+        match &self.phase {
+            Phase::Idle => self.follow.is_none(),
+            Phase::Move(a) => a.held,
+            _ => false,
+        }
+    }
+
+    fn execute(
+        &mut self,
+        inputs: &Inputs,
+        params: &Params,
+        belt_params: &[BeltParams],
+        events: &mut Vec<Event>,
+    ) {
+        self.done = false;
+        if let Some((_, again)) = self.restart.take() {
+            // The path given up runs again from the start, from where the tool is now.
+            if let Some(entry) = again {
+                self.queue.push_front(entry);
+            }
+            if params.e_tracking_mode != 0 {
+                self.looping = true;
+            }
+            if matches!(self.phase, Phase::Idle) {
+                self.next_move(params, belt_params, events);
+            }
+            return;
+        }
+        if let Phase::Move(a) = &mut self.phase {
+            if a.held && self.state == TmState::Ready {
+                resume(a);
+                self.set_state(TmState::MovePp, events);
+                if params.e_tracking_mode != 0 {
+                    self.looping = true;
+                }
+                return;
+            }
+        }
+        match params.e_tracking_mode {
+            0 => {
+                if self.queue.len() + usize::from(!matches!(self.phase, Phase::Idle)) < MAX_PROFILES
+                {
+                    self.queue.push_back((inputs.e_set_target, params.target));
+                }
+            }
+            1..=4 => {
+                self.looping = true;
+                self.finish_then_stop = false;
+            }
+            m => {
+                self.fail(
+                    errors::INVALID_PARAMETER,
+                    format!("eTrackingMode = {m}: it must be 0 to 4"),
+                    events,
+                );
+                return;
+            }
+        }
+        self.restart = None;
+        if matches!(self.phase, Phase::Idle) {
+            self.next_move(params, belt_params, events);
+        }
+    }
+
+    /// The two sides of a tracking mode: (pick from, place onto).
+    fn sides(&self, mode: i32) -> Result<(Side, Side), String> {
+        let belt = |n: u32| {
+            self.belt_index(n).map(Side::Belt).ok_or_else(|| {
+                format!(
+                    "eTrackingMode = {mode} needs belt {n} ([pickplace.belt.{n}] in machine.toml)"
+                )
+            })
+        };
+        Ok(match mode {
+            1 => (Side::Static, belt(1)?),
+            2 => (belt(1)?, Side::Static),
+            3 => (belt(1)?, belt(2)?),
+            4 => (belt(2)?, belt(1)?),
+            m => return Err(format!("eTrackingMode = {m}: it must be 0 to 4")),
+        })
+    }
+
+    /// Choose and prepare the next move, if there is one to make.
+    fn next_move(&mut self, params: &Params, belt_params: &[BeltParams], events: &mut Vec<Event>) {
+        let pp = match self.path_params(params) {
+            Ok(p) => p,
+            Err(m) => return self.fail(errors::INVALID_PARAMETER, m, events),
+        };
+        let (side, purpose, target_out) = if self.looping {
+            let (pick, place) = match self.sides(params.e_tracking_mode) {
+                Ok(s) => s,
+                Err(m) => return self.fail(errors::INVALID_PARAMETER, m, events),
+            };
+            if self.holding {
+                (place, Purpose::Place, side_target(place))
+            } else {
+                (pick, Purpose::Pick, side_target(pick))
+            }
+        } else if let Some(&(target, static_target)) = self.queue.front() {
+            self.current_target = (target, static_target);
+            let side = if target == 0 {
+                Side::Static
+            } else {
+                match u32::try_from(target).ok().and_then(|n| self.belt_index(n)) {
+                    Some(i) => Side::Belt(i),
+                    None => {
+                        self.queue.pop_front();
+                        return self.fail(
+                            errors::INVALID_PARAMETER,
+                            format!("eSetTarget = {target}: the machine has no belt {target}"),
+                            events,
+                        );
+                    }
+                }
+            };
+            (side, Purpose::Target, target)
+        } else {
+            return;
+        };
+        let start = self.current_pose();
+        let src = self.follow.map(|(f, _)| Follow {
+            base: self.belts.get(f.belt).map_or(f.base, |b| b.travel),
+            ..f
+        });
+        let lift = match self.follow {
+            Some((f, _)) => belt_params.get(f.belt).map_or(0.0, |b| b.lr_z_dist_belt),
+            None => params.lr_z_start_dist,
+        };
+        let request = |goal| Request {
+            start,
+            src,
+            lift,
+            goal,
+        };
+        match side {
+            Side::Static => {
+                let t = if purpose == Purpose::Target {
+                    self.current_target.1
+                } else {
+                    params.target
+                };
+                let goal = Goal::Point {
+                    pose: Pose {
+                        p: [t[0], t[1], t[2]],
+                        ab: start.ab,
+                        c: t[5],
+                        aux: t[6],
+                    },
+                    approach: params.lr_z_target_dist,
+                };
+                match self.planner.plan(&request(goal), &pp, &self.belts) {
+                    Ok(p) => self.begin(p.traj, p.scale, purpose, target_out, None, params, events),
+                    Err(e) => self.plan_error(e, events),
+                }
+            }
+            Side::Belt(i) => {
+                let Some(bp) = belt_params.get(i).copied() else {
+                    return;
+                };
+                if self.t < self.wait_until && self.at_park == Some(i) {
+                    return;
+                }
+                let sync = bp.lr_sync_time_on_belt.max(0.0);
+                let v = self.belts[i].velocity;
+                let candidates: Vec<u32> = self.belts[i]
+                    .pieces
+                    .iter()
+                    .filter(|w| w.pos0.is_some())
+                    .map(|w| w.id)
+                    .collect();
+                // A first guess of the travel time: the last move's.
+                let t_est = if self.last_profile_time > 0.0 {
+                    self.last_profile_time
+                } else {
+                    0.3
+                };
+                for id in candidates {
+                    let x_now = self.belts[i]
+                        .pieces
+                        .iter()
+                        .find(|w| w.id == id)
+                        .and_then(|w| w.belt_x(self.belts[i].travel))
+                        .unwrap_or(0.0);
+                    // No move is quicker than the straight line at full path speed with the
+                    // belt bringing the workpiece toward the tool: a workpiece that would be
+                    // out of range even then is dropped without planning.
+                    let t_min = self.belts[i]
+                        .pieces
+                        .iter()
+                        .find(|w| w.id == id)
+                        .and_then(|w| self.belts[i].position_of(w, self.belts[i].travel))
+                        .map_or(0.0, |p| {
+                            let d = ((p[0] - start.p[0]).powi(2)
+                                + (p[1] - start.p[1]).powi(2)
+                                + (p[2] - start.p[2]).powi(2))
+                            .sqrt();
+                            d / (pp.law.vel + v.abs())
+                        });
+                    if x_now + v * (t_min + sync) > bp.lr_upper_sync_limit {
+                        self.miss(i, id, events);
+                        continue;
+                    }
+                    if x_now + v * t_est < bp.lr_lower_sync_limit {
+                        // Far upstream: no use planning yet.
+                        let wait = if v > 0.0 {
+                            (bp.lr_lower_sync_limit - x_now) / v - t_est
+                        } else {
+                            0.05
+                        };
+                        return self.park(i, &bp, &pp, start, src, lift, wait, events);
+                    }
+                    let goal = Goal::Workpiece {
+                        belt: i,
+                        id,
+                        approach: bp.lr_z_dist_belt,
+                        aux: bp.lr_aux1_target_pos,
+                    };
+                    match self.planner.plan(&request(goal), &pp, &self.belts) {
+                        Ok(p) => {
+                            let x = p.arrival_x.unwrap_or(0.0);
+                            if x + v * sync > bp.lr_upper_sync_limit {
+                                self.miss(i, id, events);
+                                continue;
+                            }
+                            if x < bp.lr_lower_sync_limit {
+                                // Not in the operating range yet: wait at the park position
+                                // until it can be met there.
+                                let wait = if v > 0.0 {
+                                    (bp.lr_lower_sync_limit - x) / v
+                                } else {
+                                    0.05
+                                };
+                                return self.park(i, &bp, &pp, start, src, lift, wait, events);
+                            }
+                            self.at_park = None;
+                            return self.begin(
+                                p.traj,
+                                p.scale,
+                                purpose,
+                                target_out,
+                                Some((i, id)),
+                                params,
+                                events,
+                            );
+                        }
+                        Err(e) => return self.plan_error(e, events),
+                    }
+                }
+                self.park(i, &bp, &pp, start, src, lift, 0.0, events);
+            }
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn park(
+        &mut self,
+        i: usize,
+        bp: &BeltParams,
+        pp: &PathParams,
+        start: Pose,
+        src: Option<Follow>,
+        lift: f64,
+        wait: f64,
+        events: &mut Vec<Event>,
+    ) {
+        self.wait_until = self.t + wait.max(0.0);
+        if self.at_park == Some(i) && self.follow.is_none() {
+            return;
+        }
+        let park = bp.alr_park_pos;
+        let goal = Goal::Park {
+            pose: Pose {
+                p: [park[0], park[1], park[2]],
+                ab: start.ab,
+                c: park[5],
+                aux: start.aux,
+            },
+        };
+        let req = Request {
+            start,
+            src,
+            lift,
+            goal,
+        };
+        match self.planner.plan(&req, pp, &self.belts) {
+            Ok(p) => {
+                self.at_park = Some(i);
+                let out = self.belts.get(i).map_or(0, |b| b.number as i32);
+                self.begin_inner(p.traj, p.scale, Purpose::Park(i), out, None, 0.0, events);
+            }
+            Err(e) => self.plan_error(e, events),
+        }
+    }
+
+    fn miss(&mut self, i: usize, id: u32, events: &mut Vec<Event>) {
+        let b = &mut self.belts[i];
+        if let Some(w) = b.remove(id) {
+            b.missed += 1;
+            events.push(Event::Missed {
+                belt: b.number,
+                id,
+                x: w.belt_x(b.travel).unwrap_or(0.0),
+            });
+        }
+    }
+
+    /// Workpieces the tool can no longer meet inside the operating range are dropped.
+    fn drop_missed(&mut self, belt_params: &[BeltParams], events: &mut Vec<Event>) {
+        let busy: Option<(usize, u32)> = match &self.phase {
+            Phase::Move(a) => a.wp,
+            Phase::Dwell { wp, .. } => *wp,
+            _ => None,
+        };
+        for i in 0..self.belts.len() {
+            let Some(bp) = belt_params.get(i) else {
+                continue;
+            };
+            // Checked every cycle for every workpiece: no allocation unless one is late.
+            let limit = bp.lr_upper_sync_limit;
+            let sync = bp.lr_sync_time_on_belt.max(0.0);
+            while let Some(id) = {
+                let b = &self.belts[i];
+                b.pieces
+                    .iter()
+                    .filter(|w| busy != Some((i, w.id)))
+                    .find(|w| {
+                        w.belt_x(b.travel)
+                            .is_some_and(|x| x + b.velocity * sync > limit)
+                    })
+                    .map(|w| w.id)
+            } {
+                self.miss(i, id, events);
+            }
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn begin(
+        &mut self,
+        traj: Trajectory,
+        scale: f64,
+        purpose: Purpose,
+        target_out: i32,
+        wp: Option<(usize, u32)>,
+        params: &Params,
+        events: &mut Vec<Event>,
+    ) {
+        let lead = match purpose {
+            Purpose::Pick | Purpose::Target => params.lr_gripper_closing_time,
+            Purpose::Place => params.lr_gripper_open_time,
+            Purpose::Park(_) => 0.0,
+        };
+        if purpose == Purpose::Target {
+            self.queue.pop_front();
+        }
+        self.begin_inner(traj, scale, purpose, target_out, wp, lead, events);
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn begin_inner(
+        &mut self,
+        traj: Trajectory,
+        scale: f64,
+        purpose: Purpose,
+        target_out: i32,
+        wp: Option<(usize, u32)>,
+        lead: f64,
+        events: &mut Vec<Event>,
+    ) {
+        events.push(Event::Planned {
+            target: target_out,
+            duration: traj.duration,
+            scale,
+        });
+        self.last_profile_time = traj.duration;
+        self.follow = None;
+        let src_travel = traj
+            .src
+            .map_or(0.0, |f| self.belts.get(f.belt).map_or(f.base, |b| b.travel));
+        self.phase = Phase::Move(Box::new(Active {
+            traj,
+            tau: 0.0,
+            purpose,
+            target_out,
+            wp,
+            lead,
+            pulsed: false,
+            gripper_ok: lead > 0.0,
+            interrupted: false,
+            braking: None,
+            held: false,
+            src_off: [0.0; 3],
+            src_travel,
+        }));
+        self.set_state(TmState::MovePp, events);
+    }
+
+    fn start_jog(&mut self, axis: usize, dir: f64, params: &Params, events: &mut Vec<Event>) {
+        let [jerk, vel, acc, dec] = match axis {
+            0..=2 => params.cartesian_jog,
+            3..=5 => params.orientation_jog,
+            _ => params.real_axis_jog,
+        };
+        if !self.planner.robot.has_axis(axis) {
+            return;
+        }
+        let law = match DoubleS::plan(
+            1e12,
+            Limits {
+                vel,
+                acc,
+                dec,
+                jerk,
+            },
+        ) {
+            Ok(l) => l,
+            Err(e) => return self.fail(errors::INVALID_PARAMETER, format!("jog: {e}"), events),
+        };
+        let origin = match self.planner.robot.axes(&self.pose) {
+            Ok(q) => q[axis],
+            Err(e) => return self.fail(errors::NO_SOLUTION, e.to_string(), events),
+        };
+        self.phase = Phase::Jog {
+            axis,
+            dir,
+            t0: self.t,
+            origin,
+            law,
+            stop: None,
+        };
+        self.set_state(
+            if dir > 0.0 {
+                TmState::JogPos
+            } else {
+                TmState::JogNeg
+            },
+            events,
+        );
+    }
+
+    /// Put `value` on manual axis `axis` of the pose (real axes through the kinematics).
+    fn set_axis(&self, axis: usize, value: f64) -> Result<Pose, String> {
+        let mut p = self.pose;
+        match axis {
+            0..=2 => p.p[axis] = value,
+            3 | 4 => p.ab[axis - 3] = value,
+            5 => p.c = value,
+            AUX1 => p.aux = value,
+            _ => {
+                let mut q = self
+                    .planner
+                    .robot
+                    .axes(&self.pose)
+                    .map_err(|e| e.to_string())?;
+                q[axis] = value;
+                if axis == 9 {
+                    p.c = value;
+                } else {
+                    p.p = self
+                        .planner
+                        .robot
+                        .forward([q[6], q[7], q[8]])
+                        .map_err(|e| e.to_string())?;
+                }
+            }
+        }
+        Ok(p)
+    }
+
+    fn advance(
+        &mut self,
+        inputs: &Inputs,
+        edges: Edges,
+        params: &Params,
+        belt_params: &[BeltParams],
+        events: &mut Vec<Event>,
+    ) {
+        let dt = self.dt;
+        let ovr = inputs.lr_override;
+        let rate = if ovr.is_finite() {
+            ovr.clamp(0.0, 1.0)
+        } else {
+            1.0
+        };
+        let travels = std::mem::take(&mut self.travel_buf);
+        let phase = std::mem::replace(&mut self.phase, Phase::Idle);
+        self.phase = match phase {
+            Phase::Idle => {
+                self.pose = self.current_pose();
+                if (self.looping || !self.queue.is_empty())
+                    && self.state != TmState::Error
+                    && self.state != TmState::Stop
+                    && inputs.x_regulator_on_all
+                {
+                    self.phase = Phase::Idle;
+                    self.next_move(params, belt_params, events);
+                    if matches!(self.phase, Phase::Idle)
+                        && self.at_park.is_some()
+                        && self.state != TmState::Error
+                    {
+                        self.set_state(TmState::MovePp, events);
+                    }
+                    std::mem::replace(&mut self.phase, Phase::Idle)
+                } else {
+                    if self.state == TmState::MovePp && !self.looping && self.queue.is_empty() {
+                        self.done = true;
+                        self.set_state(TmState::Ready, events);
+                    }
+                    Phase::Idle
+                }
+            }
+            Phase::Move(mut a) => {
+                if rate != 1.0 || ovr != self.last_override {
+                    a.gripper_ok = false;
+                }
+                a.tau += rate * dt;
+                let s = match a.braking {
+                    // Braking at the stretch's own end: it runs on until then.
+                    Some(b) if a.tau < b.tau0 => a.traj.state(a.tau).s,
+                    Some(b) => {
+                        if a.tau - b.tau0 >= b.law.duration() {
+                            a.held = true;
+                            a.tau = b.tau0 + b.law.duration();
+                        }
+                        b.s0 + b.law.sample(a.tau - b.tau0).s
+                    }
+                    None => a.traj.state(a.tau).s,
+                };
+                if let Some(f) = a.traj.src {
+                    let now = travels.get(f.belt).copied().unwrap_or(a.src_travel);
+                    let step = a.traj.src_step(s, now - a.src_travel);
+                    for (o, x) in a.src_off.iter_mut().zip(step) {
+                        *o += x;
+                    }
+                    a.src_travel = now;
+                }
+                self.pose = a.traj.pose_at(s, a.src_off, &travels);
+                let remaining = a.traj.duration - a.tau;
+                if a.gripper_ok && !a.pulsed && a.braking.is_none() && remaining <= a.lead + 1e-9 {
+                    a.pulsed = true;
+                    self.pulse = true;
+                    events.push(Event::Gripper {
+                        close: a.purpose != Purpose::Place,
+                    });
+                }
+                if a.braking.is_none() && !a.held && a.tau >= a.traj.duration {
+                    if a.interrupted && a.lead > 0.0 && !a.pulsed {
+                        self.pulse = true;
+                        events.push(Event::Gripper {
+                            close: a.purpose != Purpose::Place,
+                        });
+                    }
+                    self.arrive(*a, belt_params, events)
+                } else {
+                    Phase::Move(a)
+                }
+            }
+            Phase::Dwell {
+                until,
+                purpose,
+                wp,
+                target_out,
+            } => {
+                self.pose = self.current_pose();
+                if self.t + 1e-9 >= until || edges.x_ack_gripper {
+                    self.finish_dwell(purpose, wp, target_out, events);
+                    if self.looping || !self.queue.is_empty() {
+                        self.next_move(params, belt_params, events);
+                    } else if let Some((f, _)) = self.follow {
+                        // Nothing more to do on this belt: leave it for its parking position.
+                        if let Some(bp) = belt_params.get(f.belt).copied() {
+                            if let Ok(pp) = self.path_params(params) {
+                                let start = self.current_pose();
+                                let src = Some(Follow {
+                                    base: self.belts[f.belt].travel,
+                                    ..f
+                                });
+                                self.park(
+                                    f.belt,
+                                    &bp,
+                                    &pp,
+                                    start,
+                                    src,
+                                    bp.lr_z_dist_belt,
+                                    0.0,
+                                    events,
+                                );
+                            }
+                        }
+                    }
+                    std::mem::replace(&mut self.phase, Phase::Idle)
+                } else {
+                    Phase::Dwell {
+                        until,
+                        purpose,
+                        wp,
+                        target_out,
+                    }
+                }
+            }
+            Phase::AxisStop {
+                t0,
+                from,
+                dir,
+                laws,
+            } => {
+                let t = self.t - t0;
+                let mut done = true;
+                let mut vals = [0.0; 5];
+                for k in 0..5 {
+                    let st = laws[k].sample(t);
+                    vals[k] = from[k] + dir[k] * st.s;
+                    done &= t >= laws[k].duration();
+                }
+                self.pose.p = [vals[0], vals[1], vals[2]];
+                self.pose.c = vals[3];
+                self.pose.aux = vals[4];
+                if done {
+                    Phase::Idle
+                } else {
+                    Phase::AxisStop {
+                        t0,
+                        from,
+                        dir,
+                        laws,
+                    }
+                }
+            }
+            Phase::Jog {
+                axis,
+                dir,
+                t0,
+                origin,
+                law,
+                mut stop,
+            } => {
+                let t = self.t - t0;
+                let held = if dir > 0.0 {
+                    inputs.x_jog_pos
+                } else {
+                    inputs.x_jog_neg
+                };
+                let [_, _, _, dec] = match axis {
+                    0..=2 => params.cartesian_jog,
+                    3..=5 => params.orientation_jog,
+                    _ => params.real_axis_jog,
+                };
+                let jerk = match axis {
+                    0..=2 => params.cartesian_jog[0],
+                    3..=5 => params.orientation_jog[0],
+                    _ => params.real_axis_jog[0],
+                };
+                let run = law.sample(t);
+                // Brake in time for a software limit the jog is heading for.
+                let limit = self.planner.sw[axis].map(|(lo, hi)| if dir > 0.0 { hi } else { lo });
+                if stop.is_none() {
+                    let brake_now = !held
+                        || limit.is_some_and(|l| {
+                            Stop::plan(run.v, run.a, dec, jerk).is_ok_and(|s| {
+                                (origin + dir * (run.s + s.distance()) - l) * dir >= 0.0
+                            })
+                        });
+                    if brake_now {
+                        if let Ok(s) = Stop::plan(run.v, run.a, dec, jerk) {
+                            stop = Some((s, t, run.s));
+                        }
+                    }
+                }
+                let (s, finished) = match stop {
+                    Some((law_s, ts, s0)) => {
+                        let st = law_s.sample(t - ts);
+                        (s0 + st.s, t - ts >= law_s.duration())
+                    }
+                    None => (run.s, false),
+                };
+                match self.set_axis(axis, origin + dir * s) {
+                    Ok(p) => self.pose = p,
+                    Err(m) => {
+                        self.fail(errors::NO_SOLUTION, format!("jog: {m}"), events);
+                        return;
+                    }
+                }
+                if finished {
+                    if held && limit.is_some() {
+                        let (id, which) = if dir > 0.0 {
+                            (errors::SW_LIMIT_POS, "positive")
+                        } else {
+                            (errors::SW_LIMIT_NEG, "negative")
+                        };
+                        self.fail(
+                            id,
+                            format!(
+                                "jog of axis {} stopped at its {which} software limit",
+                                AXIS_NAMES[axis]
+                            ),
+                            events,
+                        );
+                        return;
+                    }
+                    // READY only once both jog inputs are reset (manual §3.8).
+                    if !inputs.x_jog_pos && !inputs.x_jog_neg {
+                        self.set_state(TmState::Ready, events);
+                    }
+                    self.jog_armed = (!inputs.x_jog_pos, !inputs.x_jog_neg);
+                    Phase::Idle
+                } else {
+                    Phase::Jog {
+                        axis,
+                        dir,
+                        t0,
+                        origin,
+                        law,
+                        stop,
+                    }
+                }
+            }
+            Phase::Homing { next } => self.home(next, params, events),
+        };
+        self.travel_buf = travels;
+    }
+
+    fn home(&mut self, next: i32, params: &Params, events: &mut Vec<Event>) -> Phase {
+        // One homing group per cycle, in aeHomingOrder: the group's real axes take their
+        // alrHomePosition (the reference is known from then on).
+        let mut order = next;
+        while order <= 12 {
+            let group: Vec<usize> = (0..7)
+                .filter(|&k| params.ae_homing_order[k] == order)
+                .collect();
+            if !group.is_empty() {
+                if let Ok(mut q) = self.planner.robot.axes(&self.pose) {
+                    for &k in &group {
+                        if k < 6 {
+                            q[6 + k] = params.alr_home_position[k];
+                        } else {
+                            self.pose.aux = params.alr_home_position[6];
+                        }
+                    }
+                    match self.planner.robot.forward([q[6], q[7], q[8]]) {
+                        Ok(p) => self.pose.p = p,
+                        Err(e) => {
+                            self.fail(errors::NO_SOLUTION, format!("homing: {e}"), events);
+                            return Phase::Idle;
+                        }
+                    }
+                }
+                events.push(Event::Homed { order });
+                return Phase::Homing { next: order + 1 };
+            }
+            order += 1;
+        }
+        self.homed = true;
+        self.set_state(TmState::Ready, events);
+        Phase::Idle
+    }
+
+    fn arrive(&mut self, a: Active, belt_params: &[BeltParams], events: &mut Vec<Event>) -> Phase {
+        let end = a.traj.length();
+        let anchor = a.traj.pose_at(end, a.src_off, &[]);
+        match a.traj.dst {
+            // The anchor is the end point with the belt at its predicted travel.
+            Some(f) => self.follow = Some((f, anchor)),
+            None => {
+                self.follow = None;
+                self.pose = anchor;
+            }
+        }
+        self.pose = self.current_pose();
+        match (a.purpose, a.wp) {
+            (Purpose::Park(_), _) => {
+                self.follow = None;
+                Phase::Idle
+            }
+            (_, Some((i, _))) => {
+                let sync = belt_params
+                    .get(i)
+                    .map_or(0.0, |b| b.lr_sync_time_on_belt.max(0.0));
+                Phase::Dwell {
+                    until: self.t + sync.max(self.dt * 0.5),
+                    purpose: a.purpose,
+                    wp: a.wp,
+                    target_out: a.target_out,
+                }
+            }
+            (purpose, None) => {
+                self.finish_dwell(purpose, None, a.target_out, events);
+                Phase::Idle
+            }
+        }
+    }
+
+    fn finish_dwell(
+        &mut self,
+        purpose: Purpose,
+        wp: Option<(usize, u32)>,
+        target_out: i32,
+        events: &mut Vec<Event>,
+    ) {
+        let position = self.pose.p;
+        let belt = wp.and_then(|(i, _)| self.belts.get(i).map(|b| b.number));
+        let id = wp.map(|(_, id)| id);
+        if let Some((i, id)) = wp {
+            if let Some(b) = self.belts.get_mut(i) {
+                if b.remove(id).is_some() {
+                    b.picked += 1;
+                }
+            }
+        }
+        match purpose {
+            Purpose::Pick => {
+                self.holding = true;
+                events.push(Event::Pick { belt, id, position });
+            }
+            Purpose::Place => {
+                self.holding = false;
+                events.push(Event::Place { belt, id, position });
+                if self.finish_then_stop {
+                    self.looping = false;
+                    self.finish_then_stop = false;
+                }
+            }
+            Purpose::Target => events.push(Event::Reached {
+                target: target_out,
+                id,
+                position,
+            }),
+            Purpose::Park(_) => {}
+        }
+    }
+
+    fn outputs(&mut self, inputs: &Inputs, params: &Params, axes_on: bool) -> Outputs {
+        let q = self.planner.robot.axes(&self.pose).unwrap_or(self.hist[0]);
+        let dt = self.dt;
+        let mut vel = [0.0; AXES];
+        for i in 0..AXES {
+            vel[i] = (q[i] - self.hist[0][i]) / dt;
+        }
+        self.hist[1] = self.hist[0];
+        self.hist[0] = q;
+        let mut o = Outputs {
+            e_tm_state: self.state,
+            x_error: self.error.is_some(),
+            x_warning: self.warning.is_some(),
+            e_error_id: self
+                .error
+                .as_ref()
+                .map(|e| e.0)
+                .or(self.warning)
+                .unwrap_or(0),
+            x_axes_enabled: axes_on,
+            x_done: self.done,
+            x_axes_group_homed: self.homed,
+            alr_act_pos: q,
+            alr_act_vel: vel,
+            x_pulse_gripper: self.pulse,
+            lr_pre_calc_profile_time: self.last_profile_time,
+            lr_path_preparation_time: if self.last_profile_time > 0.0 {
+                dt
+            } else {
+                0.0
+            },
+            x_profile_in_preparation: self.queue.len() + 1 >= MAX_PROFILES,
+            ..Outputs::default()
+        };
+        o.x_busy = !matches!(self.phase, Phase::Idle) || self.looping || !self.queue.is_empty();
+        let hw = inputs.x_group_enable_hw_limit;
+        o.ax_hw_limit_switch_pos = inputs.ax_hw_limit_pos.map(|x| hw && x);
+        o.ax_hw_limit_switch_neg = inputs.ax_hw_limit_neg.map(|x| hw && x);
+        o.ax_sw_limit_switch_active = std::array::from_fn(|i| {
+            self.planner.sw[i].is_some_and(|(lo, hi)| q[i] <= lo + 1e-9 || q[i] >= hi - 1e-9)
+        });
+        o.x_hw_limit_switch_active = o
+            .ax_hw_limit_switch_pos
+            .iter()
+            .chain(o.ax_hw_limit_switch_neg.iter())
+            .any(|&x| x);
+        o.x_sw_limit_switch_active = o.ax_sw_limit_switch_active.iter().any(|&x| x);
+        o.x_gripper_ctrl_active = (params.lr_gripper_closing_time > 0.0
+            || params.lr_gripper_open_time > 0.0)
+            && inputs.lr_override == 1.0;
+        match &self.phase {
+            Phase::Move(a) => {
+                let st = a.traj.state(a.tau);
+                let speed = match a.braking {
+                    _ if a.held => 0.0,
+                    Some(b) if a.tau >= b.tau0 => b.law.sample(a.tau - b.tau0).v,
+                    _ => st.v,
+                };
+                o.lr_set_path_vel_out = speed * inputs.lr_override.clamp(0.0, 1.0);
+                o.i_profile_point_passed = a.traj.points_passed(st.s) as i32;
+                let w = a.traj.weight(st.s);
+                let follows = a.traj.src.is_some() || a.traj.dst.is_some();
+                o.x_acc_dec_sync = follows && w > 0.0 && w < 1.0;
+                o.x_synchronised =
+                    (a.traj.src.is_some() && w == 0.0) || (a.traj.dst.is_some() && w == 1.0);
+                o.x_path_hold = a.held;
+                o.e_set_target_out = a.target_out;
+                o.x_gripper_ctrl_active &= a.gripper_ok;
+            }
+            Phase::Dwell { target_out, .. } => {
+                o.x_synchronised = true;
+                o.x_in_target = true;
+                o.x_in_position = true;
+                o.e_set_target_out = *target_out;
+            }
+            Phase::Idle => {
+                o.x_in_park_pos = self.at_park.is_some() && self.follow.is_none();
+                o.x_in_position = self.follow.is_none();
+                o.x_in_target = self.follow.is_none() && self.at_park.is_none() && self.done;
+                o.x_synchronised = self.follow.is_some();
+            }
+            _ => {}
+        }
+        self.last_override = inputs.lr_override;
+        o
+    }
+}
+
+fn side_target(side: Side) -> i32 {
+    match side {
+        Side::Static => 0,
+        Side::Belt(i) => i as i32 + 1,
+    }
+}
+
+fn unreachable_stop() -> Stop {
+    // Stop::plan(0, 0, 1, 1) always succeeds; this only satisfies the type.
+    Stop::plan(0.0, 0.0, 1.0, 1.0).unwrap_or_else(|_| unreachable_stop())
+}
+
+/// Brake along the path from where the move is, without overrunning the stretch's end.
+fn brake(a: &mut Active, dec: f64, jerk: f64, interrupt: bool) {
+    let tau = a.tau;
+    let Some(leg) = a.traj.legs.iter().rev().find(|l| tau >= l.t0).copied() else {
+        return;
+    };
+    let st = leg.law.sample(tau - leg.t0);
+    let leg_end = leg.s0 + leg.law.length();
+    // The manual takes the stop's deceleration and jerk only where they are higher than the
+    // path's, so a stop never ends beyond where the path itself would.
+    let dec = dec.max(a.traj.law.dec);
+    let jerk = jerk.max(a.traj.law.jerk);
+    if let Ok(stop) = Stop::plan(st.v.max(0.0), st.a, dec, jerk) {
+        let s0 = leg.s0 + st.s;
+        if s0 + stop.distance() <= leg_end + 1e-9 {
+            a.braking = Some(Braking {
+                s0,
+                tau0: tau,
+                law: stop,
+                interrupt,
+            });
+            return;
+        }
+    }
+    // The stretch's own deceleration ends sooner: let it bring the tool to rest at its end.
+    let rest = leg.t0 + leg.law.duration();
+    let stop = Stop::plan(0.0, 0.0, 1.0, 1.0).unwrap_or_else(|_| unreachable_stop());
+    a.braking = Some(Braking {
+        s0: leg_end,
+        tau0: rest,
+        law: stop,
+        interrupt,
+    });
+    // Until `rest` the leg runs on; `advance` samples the braking only from tau0.
+}
+
+/// Continue a held move from where it stopped: the rest of its stretch gets a new law.
+fn resume(a: &mut Active) {
+    let Some(b) = a.braking.take() else {
+        a.held = false;
+        return;
+    };
+    let s = b.s0 + b.law.distance();
+    let tau = a.tau;
+    let idx = a
+        .traj
+        .legs
+        .iter()
+        .rposition(|l| l.s0 <= s + 1e-12)
+        .unwrap_or(0);
+    let leg = a.traj.legs[idx];
+    let leg_end = leg.s0 + leg.law.length();
+    let lim = a.traj.law;
+    let mut legs = Vec::with_capacity(a.traj.legs.len());
+    let mut t0 = tau;
+    if let Ok(law) = DoubleS::plan((leg_end - s).max(0.0), lim) {
+        legs.push(Leg { s0: s, t0, law });
+        t0 += law.duration();
+    }
+    for l in &a.traj.legs[idx + 1..] {
+        legs.push(Leg { t0, ..*l });
+        t0 += l.law.duration();
+    }
+    a.traj.legs = legs;
+    a.traj.duration = t0;
+    a.held = false;
+}

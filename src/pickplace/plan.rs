@@ -1,0 +1,532 @@
+//! Path preparation: from where the tool is to a goal (a static position, a workpiece on a
+//! belt, a parking position), the geometry through the intermediate points, the motion law
+//! along it, and the interception of a moving workpiece; then the move is checked at every
+//! servo update it will take, and slowed (uniformly in time) until no axis — Cartesian or
+//! real — exceeds its velocity, acceleration or jerk, with the followed belts' own limits
+//! kept in reserve so a belt changing speed mid-move cannot push an axis over.
+
+use super::law::{DoubleS, Limits};
+use super::path::{self, Path, P3};
+use super::robot::{Pose, Robot, AXES, AXIS_NAMES};
+use super::setup::AxisLimit;
+use super::track::Belt;
+use super::trajectory::{Follow, Leg, Trajectory};
+use crate::kinematics::KinematicsError;
+
+/// How the path is shaped and how fast it may go (the module's parameters).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PathParams {
+    /// lrPathVel, lrPathAcc, lrPathDec, lrPathJerk.
+    pub law: Limits,
+    /// lrBlendingRadius.
+    pub radius: f64,
+    /// ePathMode = 1.
+    pub elliptical: bool,
+    /// lrZDistElliptical.
+    pub ellipse_height: f64,
+}
+
+/// Where a move goes.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum Goal {
+    /// A static position; the approach comes from `approach` above it (lrZTargetDist).
+    Point {
+        /// The target pose.
+        pose: Pose,
+        /// Height of Intermediate Point 2 above it.
+        approach: f64,
+    },
+    /// A workpiece on a belt, met where the belt will have carried it.
+    Workpiece {
+        /// Index of the belt in the module's list.
+        belt: usize,
+        /// The workpiece's id.
+        id: u32,
+        /// Height of Intermediate Point 2 above it (the belt's lrZDistBelt).
+        approach: f64,
+        /// Aux1 at the target (the belt input's lrAux1TargetPos).
+        aux: f64,
+    },
+    /// A parking position, reached by two blended lines.
+    Park {
+        /// The parking pose.
+        pose: Pose,
+    },
+}
+
+/// A move to prepare.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Request {
+    /// The tool's pose now.
+    pub start: Pose,
+    /// The belt the tool moves with now, if any.
+    pub src: Option<Follow>,
+    /// Height of Intermediate Point 1 above the start.
+    pub lift: f64,
+    /// Where to.
+    pub goal: Goal,
+}
+
+/// Why a move cannot be prepared.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum PlanError {
+    /// A point of the path is out of the robot's reach.
+    #[error("no kinematic solution on the planned path: {0}")]
+    NoSolution(KinematicsError),
+    /// The path crosses a software limit position.
+    #[error(
+        "the planned path takes axis {axis} to {value:.3}, beyond its software limit {limit:.3}"
+    )]
+    SwLimit {
+        /// Manual axis name.
+        axis: &'static str,
+        /// Where the path would take it.
+        value: f64,
+        /// The limit.
+        limit: f64,
+        /// True for the upper limit.
+        upper: bool,
+    },
+    /// An axis cannot keep up even with the path slowed down.
+    #[error("axis {axis} cannot keep within its {what} limit on this path ({detail})")]
+    Limits {
+        /// Manual axis name.
+        axis: &'static str,
+        /// "velocity", "acceleration" or "jerk".
+        what: &'static str,
+        /// Why.
+        detail: String,
+    },
+    /// A parameter makes no path.
+    #[error("{0}")]
+    Param(String),
+    /// The workpiece is no longer tracked, or its position is unknown.
+    #[error("workpiece {0} is not tracked")]
+    Gone(u32),
+}
+
+/// A prepared move.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Planned {
+    /// The move.
+    pub traj: Trajectory,
+    /// For a workpiece: its X on the belt when the tool arrives.
+    pub arrival_x: Option<f64>,
+    /// The time scale the limits imposed (1: none).
+    pub scale: f64,
+    /// Limit checks run (planning iterations).
+    pub iterations: u32,
+}
+
+/// The planner: the robot, its limits, and the servo update the moves are checked at.
+#[derive(Debug, Clone)]
+pub struct Planner {
+    /// Robot and axis limits (Cartesian from the parameters, real axes from the machine).
+    pub robot: Robot,
+    /// Software limits in force, per manual axis.
+    pub sw: [Option<(f64, f64)>; AXES],
+    /// Servo update, s.
+    pub dt: f64,
+    /// The belts' own limits, per belt index.
+    pub belt_limits: Vec<AxisLimit>,
+}
+
+/// Share of each limit the plan may use; the rest absorbs what the plan cannot predict (the
+/// second-order effect of a belt's speed change on a Delta3's joints).
+const MARGIN: f64 = 0.97;
+/// Finite-difference step for a joint's sensitivity to belt travel, mm.
+const EPS: f64 = 1e-3;
+
+fn add(a: P3, b: P3) -> P3 {
+    [a[0] + b[0], a[1] + b[1], a[2] + b[2]]
+}
+
+fn up(h: f64) -> P3 {
+    [0.0, 0.0, h]
+}
+
+/// Peak use of each kind of limit, relative to what is allowed (≤ 1: within).
+#[derive(Debug, Clone, Copy, Default)]
+struct Use {
+    ratio: [f64; 3],
+    axis: [usize; 3],
+}
+
+impl Planner {
+    /// Prepare a move. `belts` as the module tracks them now.
+    pub fn plan(
+        &self,
+        req: &Request,
+        params: &PathParams,
+        belts: &[Belt],
+    ) -> Result<Planned, PlanError> {
+        let mut scale = 1.0;
+        let mut iterations = 0;
+        loop {
+            iterations += 1;
+            let law = Limits {
+                vel: params.law.vel * scale,
+                acc: params.law.acc * scale * scale,
+                dec: params.law.dec * scale * scale,
+                jerk: params.law.jerk * scale * scale * scale,
+            };
+            let (traj, arrival_x) = self.shape(req, params, law, belts)?;
+            let used = self.check(&traj, belts)?;
+            let worst = used.ratio.iter().cloned().fold(0.0, f64::max);
+            if worst <= 1.0 {
+                return Ok(Planned {
+                    traj,
+                    arrival_x,
+                    scale,
+                    iterations,
+                });
+            }
+            if iterations >= 12 {
+                let k = (0..3)
+                    .max_by(|&a, &b| used.ratio[a].total_cmp(&used.ratio[b]))
+                    .unwrap_or(0);
+                return Err(PlanError::Limits {
+                    axis: AXIS_NAMES[used.axis[k]],
+                    what: ["velocity", "acceleration", "jerk"][k],
+                    detail: format!(
+                        "still {:.0} % of the limit with the path slowed to {:.4} of its speed",
+                        used.ratio[k] * 100.0,
+                        scale
+                    ),
+                });
+            }
+            // Time scaling by λ scales velocity by λ, acceleration by λ², jerk by λ³.
+            let f = [used.ratio[0], used.ratio[1].sqrt(), used.ratio[2].cbrt()]
+                .into_iter()
+                .fold(1.0, f64::max);
+            scale *= 0.995 / f;
+        }
+    }
+
+    /// The geometry and law for limits `law`, iterated until the arrival time, the place the
+    /// belt carries a workpiece to, and the source belt's predicted share (P) agree.
+    fn shape(
+        &self,
+        req: &Request,
+        params: &PathParams,
+        law: Limits,
+        belts: &[Belt],
+    ) -> Result<(Trajectory, Option<f64>), PlanError> {
+        let start = req.start.p;
+        let src_speed = req
+            .src
+            .map_or(0.0, |f| belts.get(f.belt).map_or(0.0, |b| b.velocity));
+        let mut t_arrive = 0.0;
+        let mut secant: Option<(f64, f64)> = None;
+        let mut shift = [0.0; 3];
+        let mut out = None;
+        for _ in 0..8 {
+            let minus = |p: P3| [p[0] - shift[0], p[1] - shift[1], p[2] - shift[2]];
+            let (traj, x) = match req.goal {
+                Goal::Point { pose, approach } => {
+                    let ip1 = add(start, up(req.lift));
+                    let ip2 = minus(add(pose.p, up(approach)));
+                    let path = self.geometry(start, ip1, ip2, minus(pose.p), params)?;
+                    let t = self.finish(path, req, params, law, None, pose.c, pose.aux, shift)?;
+                    (t, None)
+                }
+                Goal::Park { pose } => {
+                    let ip1 = add(start, up(req.lift + params.ellipse_height));
+                    let r = params.ellipse_height + params.radius;
+                    let path = path::blended(&[start, ip1, minus(pose.p)], r)
+                        .map_err(|e| PlanError::Param(e.to_string()))?;
+                    let p = PathParams {
+                        elliptical: false,
+                        radius: r,
+                        ..*params
+                    };
+                    let t = self.finish(path, req, &p, law, None, pose.c, pose.aux, shift)?;
+                    (t, None)
+                }
+                Goal::Workpiece {
+                    belt,
+                    id,
+                    approach,
+                    aux,
+                } => {
+                    let b = belts.get(belt).ok_or(PlanError::Gone(id))?;
+                    let w = b
+                        .pieces
+                        .iter()
+                        .find(|w| w.id == id && w.pos0.is_some())
+                        .ok_or(PlanError::Gone(id))?;
+                    let base = b.travel + b.velocity * t_arrive;
+                    let end = b.position_of(w, base).ok_or(PlanError::Gone(id))?;
+                    let ip1 = add(start, up(req.lift));
+                    let ip2 = minus(add(end, b.frame.rotate(up(approach))));
+                    let path = self.geometry(start, ip1, ip2, minus(end), params)?;
+                    let follow = Follow {
+                        belt,
+                        dir: b.direction(),
+                        base,
+                    };
+                    let t =
+                        self.finish(path, req, params, law, Some(follow), b.c_of(w), aux, shift)?;
+                    (t, w.belt_x(base))
+                }
+            };
+            let p = self.predicted_src(&traj, src_speed);
+            // Nothing below depends on these agreeing exactly (the end is exact anyway): they
+            // only make the prediction good, to well under a micrometre of belt travel.
+            let f = traj.duration - t_arrive;
+            let settled = f.abs() < 1e-7 && (0..3).all(|k| (p[k] - shift[k]).abs() < 1e-6);
+            // Secant steps on arrival time = duration: the fixed point converges only as fast
+            // as the belt is slow against the path.
+            let next = match secant {
+                Some((t0, f0)) if (f - f0).abs() > 1e-15 => {
+                    t_arrive - f * (t_arrive - t0) / (f - f0)
+                }
+                _ => traj.duration,
+            };
+            secant = Some((t_arrive, f));
+            t_arrive = if next.is_finite() && next >= 0.0 {
+                next
+            } else {
+                traj.duration
+            };
+            shift = p;
+            out = Some((traj, x));
+            if settled {
+                break;
+            }
+        }
+        out.ok_or_else(|| PlanError::Param("no path".into()))
+    }
+
+    /// What the source belt adds over the move at its present speed, summed update by update
+    /// as the interpolator does.
+    fn predicted_src(&self, traj: &Trajectory, speed: f64) -> [f64; 3] {
+        let Some(f) = traj.src else {
+            return [0.0; 3];
+        };
+        let n = (traj.duration / self.dt).ceil() as i64;
+        let mut sum = 0.0;
+        for k in 1..=n {
+            let s = traj.state(k as f64 * self.dt).s;
+            sum += 1.0 - traj.weight(s);
+        }
+        let d = speed * self.dt * sum;
+        [f.dir[0] * d, f.dir[1] * d, f.dir[2] * d]
+    }
+
+    fn geometry(
+        &self,
+        start: P3,
+        ip1: P3,
+        ip2: P3,
+        end: P3,
+        params: &PathParams,
+    ) -> Result<Path, PlanError> {
+        let r = if params.elliptical {
+            path::elliptical(start, ip1, ip2, end, params.ellipse_height, params.radius)
+        } else {
+            path::blended(&[start, ip1, ip2, end], params.radius)
+        };
+        r.map_err(|e| PlanError::Param(e.to_string()))
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn finish(
+        &self,
+        path: Path,
+        req: &Request,
+        params: &PathParams,
+        law: Limits,
+        dst: Option<Follow>,
+        c: f64,
+        aux: f64,
+        src_final: P3,
+    ) -> Result<Trajectory, PlanError> {
+        let length = path.length();
+        let marks: Vec<f64> = path.marks().to_vec();
+        let (first, last) = match (marks.first(), marks.last()) {
+            (Some(&a), Some(&b)) if b > a => (a, b),
+            _ => (0.0, length),
+        };
+        // Blended: one rest-to-rest law over the whole path. Not blended: the tool stops at
+        // each intermediate point (path speed 0 there), so each stretch has its own law.
+        // Wherever the direction still jumps (a corner no arc could round), the tool must stop
+        // too.
+        let mut stops: Vec<f64> = path.corners().to_vec();
+        if params.radius <= 0.0 {
+            stops.extend_from_slice(&marks);
+        }
+        stops.sort_by(f64::total_cmp);
+        let mut cuts = vec![0.0];
+        for m in stops {
+            if m > cuts[cuts.len() - 1] + 1e-9 && m < length - 1e-9 {
+                cuts.push(m);
+            }
+        }
+        cuts.push(length);
+        let mut legs = Vec::with_capacity(cuts.len());
+        let mut t0 = 0.0;
+        for k in 0..cuts.len() - 1 {
+            let law = DoubleS::plan(cuts[k + 1] - cuts[k], law)
+                .map_err(|e| PlanError::Param(e.to_string()))?;
+            legs.push(Leg {
+                s0: cuts[k],
+                t0,
+                law,
+            });
+            t0 += law.duration();
+        }
+        let mut points = marks;
+        points.push(length);
+        Ok(Trajectory {
+            path,
+            legs,
+            src: req.src,
+            dst,
+            window: (first, last),
+            c: (req.start.c, c),
+            aux: (req.start.aux, aux),
+            ab: req.start.ab,
+            duration: t0,
+            points,
+            src_final,
+            law,
+        })
+    }
+
+    /// Run the move at the servo update with the belts at their present speeds and measure,
+    /// per axis, the discrete velocity, acceleration and jerk the drives will see.
+    fn check(&self, traj: &Trajectory, belts: &[Belt]) -> Result<Use, PlanError> {
+        let dt = self.dt;
+        let follows: Vec<Follow> = traj.src.iter().chain(traj.dst.iter()).copied().collect();
+        // What the followed belts may still add: the rest of their speed range, all of their
+        // acceleration and jerk, along each Cartesian axis.
+        let mut reserve = [[0.0; 3]; AXES];
+        for f in &follows {
+            let lim = self.belt_limits.get(f.belt).copied().unwrap_or_default();
+            let v_now = belts.get(f.belt).map_or(0.0, |b| b.velocity);
+            for (i, r) in reserve.iter_mut().enumerate().take(3) {
+                let comp = f.dir[i].abs();
+                r[0] = f64::max(r[0], comp * (lim.max_vel - v_now).max(0.0));
+                r[1] = f64::max(r[1], comp * lim.max_acc);
+                r[2] = f64::max(r[2], comp * lim.max_jerk);
+            }
+        }
+        let travel_now: Vec<f64> = belts.iter().map(|b| b.travel).collect();
+        let speed: Vec<f64> = belts.iter().map(|b| b.velocity).collect();
+        let mut travel = travel_now.clone();
+        let n_end = (traj.duration / dt).ceil() as i64 + 3;
+        let mut hist = [[0.0; AXES]; 4];
+        let mut used = Use::default();
+        let src_speed = traj
+            .src
+            .map_or(0.0, |f| speed.get(f.belt).copied().unwrap_or(0.0));
+        let mut src_off = [0.0; 3];
+        let mut sens = [0.0f64; 3];
+        for (k, n) in (-3..=n_end).enumerate() {
+            let t = n as f64 * dt;
+            for (b, x) in travel.iter_mut().enumerate() {
+                *x = travel_now[b] + speed[b] * t;
+            }
+            let st = traj.state(t.max(0.0));
+            if n <= 0 {
+                // Before the move the tool rides the source belt.
+                src_off = traj.src.map_or([0.0; 3], |f| {
+                    let d = src_speed * t;
+                    [f.dir[0] * d, f.dir[1] * d, f.dir[2] * d]
+                });
+            } else {
+                let step = traj.src_step(st.s, src_speed * dt);
+                for (o, x) in src_off.iter_mut().zip(step) {
+                    *o += x;
+                }
+            }
+            let pose = traj.pose_at(st.s, src_off, &travel);
+            let q = self.robot.axes(&pose).map_err(PlanError::NoSolution)?;
+            for (i, lim) in self.sw.iter().enumerate() {
+                if let Some((lo, hi)) = lim {
+                    if self.robot.has_axis(i) && (q[i] < *lo || q[i] > *hi) {
+                        let upper = q[i] > *hi;
+                        return Err(PlanError::SwLimit {
+                            axis: AXIS_NAMES[i],
+                            value: q[i],
+                            limit: if upper { *hi } else { *lo },
+                            upper,
+                        });
+                    }
+                }
+            }
+            hist.rotate_right(1);
+            hist[0] = q;
+            if k < 3 {
+                continue;
+            }
+            // Joints: how much a millimetre of belt travel moves each, here. It changes
+            // slowly along the path (and the reserve it sizes is a small share of the limit):
+            // every eighth update is enough.
+            if k % 8 == 3 && matches!(self.robot.kinematics, super::setup::Kinematics::Delta3(_)) {
+                sens = [0.0; 3];
+                for f in &follows {
+                    let mut p2 = pose;
+                    for (x, d) in p2.p.iter_mut().zip(f.dir) {
+                        *x += d * EPS;
+                    }
+                    let q2 = self.robot.axes(&p2).map_err(PlanError::NoSolution)?;
+                    for j in 0..3 {
+                        sens[j] = sens[j].max((q2[6 + j] - q[6 + j]).abs() / EPS);
+                    }
+                }
+            }
+            for i in 0..AXES {
+                let lim = self.robot.limits[i];
+                if !self.robot.has_axis(i) {
+                    continue;
+                }
+                let mut r = reserve[i];
+                if (6..9).contains(&i) {
+                    let bl = follows
+                        .iter()
+                        .map(|f| self.belt_limits.get(f.belt).copied().unwrap_or_default())
+                        .fold(AxisLimit::default(), |a, b| AxisLimit {
+                            max_vel: a.max_vel.max(b.max_vel),
+                            max_acc: a.max_acc.max(b.max_acc),
+                            max_jerk: a.max_jerk.max(b.max_jerk),
+                        });
+                    let s = sens[i - 6];
+                    r = [s * bl.max_vel, s * bl.max_acc, s * bl.max_jerk];
+                }
+                let h = |m: usize| hist[m][i];
+                let v = (h(0) - h(1)) / dt;
+                let a = (h(0) - 2.0 * h(1) + h(2)) / (dt * dt);
+                let j = (h(0) - 3.0 * h(1) + 3.0 * h(2) - h(3)) / (dt * dt * dt);
+                for (kind, (x, l)) in [(v, lim.max_vel), (a, lim.max_acc), (j, lim.max_jerk)]
+                    .into_iter()
+                    .enumerate()
+                {
+                    if l <= 0.0 {
+                        continue;
+                    }
+                    let allowed = (l - r[kind]) * MARGIN;
+                    let ratio = if allowed > 0.0 {
+                        x.abs() / allowed
+                    } else {
+                        f64::INFINITY
+                    };
+                    if ratio > used.ratio[kind] {
+                        used.ratio[kind] = ratio;
+                        used.axis[kind] = i;
+                    }
+                }
+            }
+        }
+        if used.ratio.iter().any(|r| r.is_infinite()) {
+            let k = used.ratio.iter().position(|r| r.is_infinite()).unwrap_or(0);
+            return Err(PlanError::Limits {
+                axis: AXIS_NAMES[used.axis[k]],
+                what: ["velocity", "acceleration", "jerk"][k],
+                detail: "the followed belt's own limit leaves nothing for the path".into(),
+            });
+        }
+        Ok(used)
+    }
+}
