@@ -1170,6 +1170,13 @@ impl Module {
         events: &mut Vec<Event>,
     ) {
         let dt = self.dt;
+        if self.state == TmState::Error
+            && self.follow.is_some()
+            && matches!(self.phase, Phase::Idle)
+        {
+            // An error while riding a belt: the tool cannot stay on it; every axis brakes.
+            self.stop_axes(params);
+        }
         let ovr = inputs.lr_override;
         let rate = if ovr.is_finite() {
             ovr.clamp(0.0, 1.0)
@@ -1367,7 +1374,15 @@ impl Module {
                     }
                     None => (run.s, false),
                 };
-                match self.set_axis(axis, origin + dir * s) {
+                // A Cartesian jog must stay where the robot reaches.
+                let moved = self.set_axis(axis, origin + dir * s).and_then(|p| {
+                    self.planner
+                        .robot
+                        .axes(&p)
+                        .map(|_| p)
+                        .map_err(|e| e.to_string())
+                });
+                match moved {
                     Ok(p) => self.pose = p,
                     Err(m) => {
                         self.fail(errors::NO_SOLUTION, format!("jog: {m}"), events);

@@ -267,7 +267,10 @@ impl Planner {
                     };
                     let t =
                         self.finish(path, req, params, law, Some(follow), b.c_of(w), aux, shift)?;
-                    (t, w.belt_x(base))
+                    // Where the workpiece really is when this move ends: the arrival the range
+                    // is checked with, whether or not the arrival time settled.
+                    let x = w.belt_x(b.travel + b.velocity * t.duration);
+                    (t, x)
                 }
             };
             let p = self.predicted_src(&traj, src_speed);

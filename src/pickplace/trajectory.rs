@@ -97,7 +97,7 @@ pub struct Trajectory {
 /// the path is moving adds no step in acceleration.
 pub fn smooth5(x: f64) -> f64 {
     let x = x.clamp(0.0, 1.0);
-    x * x * x * (10.0 + x * (6.0 * x - 15.0))
+    (x * x * x * (10.0 + x * (6.0 * x - 15.0))).clamp(0.0, 1.0)
 }
 
 impl Trajectory {
