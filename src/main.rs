@@ -74,6 +74,8 @@ enum Command {
         /// Print nothing but errors
         #[arg(long, short)]
         quiet: bool,
+        #[command(flatten)]
+        export: pacer::export::ExportArgs,
     },
     /// Parse and check programs (and the machine and scenario files) without running
     Check {
@@ -87,6 +89,16 @@ enum Command {
     Disasm {
         #[command(flatten)]
         project: Project,
+    },
+    /// Draw plots (SVG) from a recorded trace, without running again
+    Plot(pacer::export::PlotArgs),
+    /// Poke at the simulated machine: type statements, step, watch, set inputs
+    Repl {
+        /// A machine folder (default: an empty machine with the default machine.toml)
+        folder: Option<PathBuf>,
+        /// Language of typed lines: pt (PowerTools) or mb (MotionBASIC); default: the programs'
+        #[arg(long, value_parser = ["pt", "mb"])]
+        dialect: Option<String>,
     },
 }
 
@@ -104,7 +116,18 @@ fn main() -> ExitCode {
             duration,
             trace,
             quiet,
-        } => run(project, scenario, duration, trace, quiet, color),
+            export,
+        } => run(project, scenario, duration, trace, quiet, export, color),
+        Command::Plot(args) => match pacer::export::plot_command(&args) {
+            Ok(path) => {
+                say!("plot: {}", path.display());
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                warn!("error: {e}");
+                ExitCode::from(e.exit_code())
+            }
+        },
         Command::Check { project, scenario } => {
             let req = LoadRequest {
                 paths: project.paths,
@@ -119,6 +142,13 @@ fn main() -> ExitCode {
                 }
                 Err(d) => problems(&d, color),
             }
+        }
+        Command::Repl { folder, dialect } => {
+            let dialect = dialect.map(|d| match d.as_str() {
+                "mb" => pacer::syntax::Dialect::MotionBasic,
+                _ => pacer::syntax::Dialect::PowerTools,
+            });
+            ExitCode::from(pacer::repl::run(pacer::repl::Options { folder, dialect }))
         }
         Command::Disasm { project } => {
             let req = LoadRequest {
@@ -158,6 +188,7 @@ fn run(
     duration: Option<f64>,
     trace: Option<PathBuf>,
     quiet: bool,
+    export: pacer::export::ExportArgs,
     color: bool,
 ) -> ExitCode {
     let duration_ns = match duration.map(pacer::config::values::seconds_to_ns) {
@@ -188,14 +219,35 @@ fn run(
             }
         },
     };
+    let mut export = match pacer::export::Export::open(&export, &loaded.image) {
+        Ok(e) => e,
+        Err(e) => {
+            warn!("error: {e}");
+            return ExitCode::from(e.exit_code());
+        }
+    };
+    let sink = export.trace_sink(sink);
     let tick_ns = loaded.image.tick_ns;
     let name = loaded.image.name.clone();
     let mut machine = Machine::new(loaded.image, Trace::new(sink, tick_ns));
-    let summary = machine.run(duration_ns);
+    // Observed only when something is exported: otherwise the run is exactly what it was.
+    let summary = if export.is_active() {
+        export.start(&machine);
+        machine.run_observed(duration_ns, &mut |m| export.observe(m))
+    } else {
+        machine.run(duration_ns)
+    };
     if let Err(e) = machine.finish() {
         warn!("error: writing the trace: {e}");
         return ExitCode::from(EXIT_IO);
     }
+    let exported = match export.finish(machine.registry()) {
+        Ok(w) => w,
+        Err(e) => {
+            warn!("error: {e}");
+            return ExitCode::from(e.exit_code());
+        }
+    };
     if !quiet {
         let events: Vec<String> = summary
             .events
@@ -213,6 +265,9 @@ fn run(
         );
         if let Some(p) = &trace {
             say!("trace: {}", p.display());
+        }
+        for (kind, p) in &exported {
+            say!("{kind}: {}", p.display());
         }
     }
     match summary.error {

@@ -7,6 +7,15 @@ cd "$(dirname "$0")/.."
 # Rust components used below (present on the standard toolchain; added if missing).
 rustup component add rustfmt clippy >/dev/null 2>&1 || true
 
+# pyvcd, the independent VCD parser tests/export_vcd.rs reads pacer's VCD with: pinned, and
+# installed beside the build (target/pytools), not into the system's Python.
+export PACER_PYTOOLS="$PWD/target/pytools"
+if ! PYTHONPATH="$PACER_PYTOOLS" python3 -c \
+    'import importlib.metadata as m, sys; sys.exit(m.version("pyvcd") != "0.5.1")' 2>/dev/null; then
+    python3 -m pip install --quiet --disable-pip-version-check --root-user-action=ignore \
+        --upgrade --target "$PACER_PYTOOLS" pyvcd==0.5.1
+fi
+
 cargo fmt --all -- --check
 cargo clippy --all-targets --locked -- -D warnings
 cargo test --locked

@@ -189,6 +189,48 @@ pub fn compile(
     }
 }
 
+/// Compile one expression (a line typed at the REPL) into a chunk that leaves its value in a
+/// fresh hidden register of `layout`, returned with the chunk.
+pub fn compile_expr(
+    expr: &Expr,
+    file: &str,
+    program: u32,
+    registry: &Registry,
+    layout: &mut Layout,
+    dialect: Dialect,
+) -> Result<(Chunk, Reg), Vec<Problem>> {
+    let mut c = Compiler {
+        registry,
+        dialect,
+        basic_labels: Vec::new(),
+        layout,
+        lines_of: LineIndex::new(""),
+        ops: Vec::new(),
+        lines: Vec::new(),
+        line: 1,
+        temp_top: 0,
+        stmt_start: 0,
+        labels: IndexMap::new(),
+        gotos: Vec::new(),
+        problems: Vec::new(),
+    };
+    let value = c.expr(expr);
+    let dst = c.layout.hidden();
+    c.emit(Op::Move { dst, src: value });
+    c.emit(Op::End);
+    if c.problems.is_empty() {
+        let chunk = Chunk {
+            program,
+            file: file.to_string(),
+            ops: c.ops,
+            lines: c.lines,
+        };
+        Ok((chunk, dst))
+    } else {
+        Err(c.problems)
+    }
+}
+
 /// The index of a member of the DSP axis object.
 fn axis_member(name: &str) -> Option<(u8, Hook)> {
     let def = crate::registry::catalog::find_type("Axis")?;

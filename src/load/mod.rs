@@ -52,8 +52,23 @@ struct ProgramFile {
 /// Default update period, nanoseconds.
 pub const UPDATE_NS: u64 = DEFAULT_UPDATE_NS;
 
+/// Options of a load beyond its files (the REPL needs them).
+#[derive(Debug, Clone, Default)]
+pub struct LoadOptions {
+    /// A machine with no programs is no error (the REPL's empty default machine).
+    pub allow_no_programs: bool,
+    /// Spare MotionBASIC variable slots to reserve for variables first used in typed lines
+    /// (named [`crate::vm::live::SPARE_VARIABLE`]`N` until then).
+    pub spare_basic_vars: usize,
+}
+
 /// Load, check and compile. On any error, every problem found is returned.
 pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
+    load_with(req, &LoadOptions::default())
+}
+
+/// [`load`] with options.
+pub fn load_with(req: &LoadRequest, options: &LoadOptions) -> Result<Loaded, Diagnostics> {
     let mut diags = Diagnostics::new();
     let (folder, files) = split_paths(&req.paths, &mut diags)?;
     let machine_path = req.machine.clone().or_else(|| {
@@ -141,7 +156,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
         }
         programs.sort_by_key(|p| p.number);
     }
-    if programs.is_empty() {
+    if programs.is_empty() && !options.allow_no_programs {
         diags.extend_file(
             &machine_file,
             vec![Problem::error(
@@ -189,8 +204,14 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
     }
     // Problems in the machine file do not stop the checks of the rest of it, nor of the
     // programs: everything wrong is reported at once.
-    let (registry, registry_problems) =
-        Registry::build_with_basic(&machine, &numbers, &basic_vars.list());
+    let mut variables = basic_vars.list();
+    variables.extend((0..options.spare_basic_vars).map(|i| {
+        (
+            format!("{}{i}", crate::vm::live::SPARE_VARIABLE),
+            crate::registry::ValueType::Real,
+        )
+    }));
+    let (registry, registry_problems) = Registry::build_with_basic(&machine, &numbers, &variables);
     machine_problems.extend(registry_problems);
     let registry = Some(registry);
 
@@ -338,7 +359,7 @@ pub fn load(req: &LoadRequest) -> Result<Loaded, Diagnostics> {
         .iter()
         .any(|a| a.dest.hook == crate::registry::Hook::ProgramInitiate);
     if autostart.is_empty() && !started_by_assignment {
-        autostart.push(programs[0].number);
+        autostart.extend(programs.first().map(|p| p.number));
     }
     let pp_setup = pickplace::setup(&machine, &mut machine_problems);
     diags.extend_file(&machine_file, machine_problems);

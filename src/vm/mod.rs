@@ -10,6 +10,7 @@
 //! the control loop ("each update, after the control loop, one task runs").
 
 pub mod exec;
+pub mod live;
 pub mod task;
 
 use crate::compile::Chunk;
@@ -29,6 +30,9 @@ pub const MAX_CALL_DEPTH: usize = 16;
 
 /// Upper bound on a run with no duration whose programs never end (simulated seconds).
 pub const DEFAULT_MAX_SECONDS: u64 = 3600;
+
+/// The program number of chunks typed at the REPL (no program has it: numbers come from files).
+pub const REPL_PROGRAM: u32 = u32::MAX;
 
 /// An assignment: a bit source drives a destination member every update.
 #[derive(Debug, Clone)]
@@ -145,6 +149,12 @@ pub struct Machine {
     master_now: f64,
     /// Slots of the master's position and velocity.
     master_slots: (SlotId, SlotId),
+    /// The run has begun: `start` traced, autostart programs started.
+    begun: bool,
+    /// An update has been computed (`tick` is the last one computed, not the next).
+    stepped: bool,
+    /// The REPL's own task, after the machine's tasks, once a typed line has run.
+    repl_task: Option<usize>,
 }
 
 /// Trace every registry slot whose value differs from the snapshot, in slot order.
@@ -229,6 +239,9 @@ impl Machine {
                     "MasterVelFeedback",
                 ),
             ),
+            begun: false,
+            stepped: false,
+            repl_task: None,
             image,
         };
         m.kernel.start(&mut m.values);
@@ -244,6 +257,11 @@ impl Machine {
     /// The registry.
     pub fn registry(&self) -> &Registry {
         &self.image.registry
+    }
+
+    /// The state of task `task` (exporters draw it; `None` past the last task).
+    pub fn task_state(&self, task: usize) -> Option<TaskState> {
+        self.tasks.get(task).map(|t| t.state)
     }
 
     /// Current value of a member by name, e.g. `Queue.0.QueueOffset` (for tests and tools).
@@ -279,29 +297,7 @@ impl Machine {
         let limit_ns = duration_ns.or(self.image.duration_ns);
         let last_tick = limit_ns.map(|d| d / tick_ns);
         let max_tick = DEFAULT_MAX_SECONDS * 1_000_000_000 / tick_ns;
-        self.trace.event(
-            0,
-            "start",
-            &[
-                ("machine", self.image.name.clone().into()),
-                ("update", crate::trace::number(tick_ns as f64 / 1e9)),
-                ("tasks", self.image.tasks.into()),
-                ("units", serde_json::json!({"motor": self.image.registry.units.motor, "master": self.image.registry.units.master})),
-            ],
-        );
-        let autostart = self.image.autostart.clone();
-        for p in autostart {
-            if let Err(message) = self.start_program(p) {
-                self.error = Some(RunError {
-                    task: 0,
-                    program: p,
-                    file: String::new(),
-                    line: 0,
-                    message,
-                    time: 0.0,
-                });
-            }
-        }
+        self.begin();
         let stop_reason;
         loop {
             if self.error.is_none() {
@@ -359,6 +355,44 @@ impl Machine {
     /// Flush the trace.
     pub fn finish(&mut self) -> std::io::Result<()> {
         self.trace.finish()
+    }
+
+    /// Begin the run, once: trace `start` and start the autostart programs. [`Machine::run`]
+    /// does it; tools that drive the machine update by update ([`Machine::advance`], the REPL)
+    /// get it at their first update or typed statement.
+    pub fn begin(&mut self) {
+        if self.begun {
+            return;
+        }
+        self.begun = true;
+        self.trace_start(0);
+        let autostart = self.image.autostart.clone();
+        for p in autostart {
+            if let Err(message) = self.start_program(p) {
+                self.error = Some(RunError {
+                    task: 0,
+                    program: p,
+                    file: String::new(),
+                    line: 0,
+                    message,
+                    time: 0.0,
+                });
+            }
+        }
+    }
+
+    fn trace_start(&mut self, tick: u64) {
+        let tick_ns = self.image.tick_ns;
+        self.trace.event(
+            tick,
+            "start",
+            &[
+                ("machine", self.image.name.clone().into()),
+                ("update", crate::trace::number(tick_ns as f64 / 1e9)),
+                ("tasks", self.image.tasks.into()),
+                ("units", serde_json::json!({"motor": self.image.registry.units.motor, "master": self.image.registry.units.master})),
+            ],
+        );
     }
 
     /// Time of the current update, seconds.
@@ -626,7 +660,11 @@ impl Machine {
             );
             return Ok(());
         }
-        let Some(ti) = self.tasks.iter().position(|t| !t.busy()) else {
+        // Programs run on the machine's own tasks, never on the REPL's.
+        let Some(ti) = self.tasks[..self.image.tasks]
+            .iter()
+            .position(|t| !t.busy())
+        else {
             return Err(format!(
                 "Program.{program}.Initiate: all {} tasks are busy",
                 self.tasks.len()
@@ -665,6 +703,10 @@ impl Machine {
         let program = self.tasks[ti].program;
         self.tasks[ti] = Task::free();
         self.set_running(program, None);
+        // A typed line is no program: its start and end are not program events.
+        if program == REPL_PROGRAM {
+            return;
+        }
         self.trace.event(
             self.tick,
             "program",
@@ -778,12 +820,17 @@ impl Machine {
         let program = c.program;
         let file = c.file.clone();
         let time = self.trace.seconds(self.tick);
+        let program_json = if program == REPL_PROGRAM {
+            serde_json::Value::Null
+        } else {
+            program.into()
+        };
         self.trace.event(
             self.tick,
             "error",
             &[
                 ("task", ti.into()),
-                ("program", program.into()),
+                ("program", program_json),
                 ("line", line.into()),
                 ("message", message.clone().into()),
             ],
@@ -809,6 +856,11 @@ impl Machine {
             return;
         };
         self.rr = (ti + 1) % n;
+        self.run_task(ti);
+    }
+
+    /// Run task `ti` for one turn: until it blocks, ends, or spends its instruction budget.
+    fn run_task(&mut self, ti: usize) {
         let budget_end = self.instructions.saturating_add(self.image.budget);
         loop {
             let Some(frame) = self.tasks[ti].frames.last().copied() else {

@@ -1,0 +1,248 @@
+//! Nothing a user types can crash the REPL: every mistake gets a message pointing into the
+//! typed line, run-time errors of typed lines leave the machine running, and a stream of
+//! mangled program lines goes through without a panic.
+
+use pacer::repl::commands;
+use pacer::repl::session::{Ran, Session};
+use pacer::syntax::Dialect;
+use std::path::PathBuf;
+
+fn labeling() -> Session {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("programs/labeling");
+    Session::open(Some(dir), None, false)
+        .expect("labeling loads")
+        .0
+}
+
+fn empty(dialect: Dialect) -> Session {
+    Session::open(None, Some(dialect), false)
+        .expect("the empty machine loads")
+        .0
+}
+
+/// Enter `text`; what it printed, and how it went.
+fn enter(s: &mut Session, text: &str) -> (Ran, String) {
+    let mut out = Vec::new();
+    let ran = s.enter(text, &mut out);
+    (ran, out.join("\n"))
+}
+
+#[test]
+fn mistakes_are_reported_in_the_typed_line() {
+    let mut s = labeling();
+    let cases = [
+        ("Queue.0.QueueOfset = 3", "did you mean `QueueOffset`?"),
+        ("Queue.9.QueueOffset = 3", "Queue.9"),
+        ("Queue.0.QueueEmpty = 3", "status"),
+        ("Wait For Queue.0.QueueOffset", "ON/OFF"),
+        ("If Bit.0 Then", "never closed"),
+        ("Endif", "without a matching"),
+        ("Goto Nowhere", "no label"),
+        ("Call Program.7", "Program.7"),
+        ("1 +", "the line ends in the middle"),
+        ("Index.0.Initiate + 1", "action"),
+        ("\"text\"", "unexpected character"),
+    ];
+    for (text, needle) in cases {
+        let (ran, said) = enter(&mut s, text);
+        assert_eq!(ran, Ran::Failed, "{text}: {said}");
+        assert!(
+            said.contains(needle),
+            "{text}: expected {needle:?} in\n{said}"
+        );
+        assert!(said.contains("typed line:1:"), "{text}: located\n{said}");
+    }
+    // Nothing of it ran: the machine has not started and the offset is the machine file's.
+    let (_, said) = enter(&mut s, "Queue.0.QueueOffset");
+    assert_eq!(said, "10");
+}
+
+#[test]
+fn run_time_errors_of_typed_lines_leave_the_machine_running() {
+    let mut s = empty(Dialect::MotionBasic);
+    let (ran, said) = enter(&mut s, "X& = 2147483647 + 1");
+    assert_eq!(ran, Ran::Failed, "{said}");
+    assert!(said.contains("in the typed line"), "{said}");
+    assert!(said.contains("verflow"), "{said}");
+    // The machine goes on, and so does the next line.
+    let mut out = Vec::new();
+    assert!(s.advance(&mut out).is_none());
+    assert_eq!(enter(&mut s, "X& = 41"), (Ran::Done, String::new()));
+    assert_eq!(enter(&mut s, "X& + 1"), (Ran::Done, "42".to_string()));
+    // RETURN with no GOSUB is a run-time error too.
+    let (ran, said) = enter(&mut s, "RETURN");
+    assert_eq!(ran, Ran::Failed, "{said}");
+    assert!(said.contains("RETURN without GOSUB"), "{said}");
+}
+
+#[test]
+fn a_session_adds_motionbasic_variables_up_to_its_spares() {
+    let mut s = empty(Dialect::MotionBasic);
+    for i in 0..pacer::repl::session::SPARE_VARIABLES {
+        let (ran, said) = enter(&mut s, &format!("V{i}& = {i}"));
+        assert_eq!(ran, Ran::Done, "{said}");
+    }
+    let (ran, said) = enter(&mut s, "ONE.TOO.MANY& = 1");
+    assert_eq!(ran, Ran::Failed);
+    assert!(said.contains("no room for the new variable"), "{said}");
+    // The ones declared keep their values and names.
+    assert_eq!(enter(&mut s, "V7& * V9&").1, "63");
+    assert!(s.vocabulary().complete("V6", 2) != pacer::repl::complete::Completion::Path);
+}
+
+#[test]
+fn commands_with_bad_arguments_say_so() {
+    let mut s = labeling();
+    let mut out = Vec::new();
+    s.watch(&["Index.0.Initiate".into()], &mut out);
+    s.watch(&["Nothing.0.Here".into()], &mut out);
+    s.watch(&["Queue..0".into()], &mut out);
+    s.set_input("Queue.0.QueueOffset", true, &mut out);
+    s.set_input("DriveInput.99", true, &mut out);
+    s.unwatch(&["Queue.0.QueueEmpty".into()], &mut out);
+    s.trace_to(&PathBuf::from("/nonexistent-dir/x/trace.jsonl"), &mut out);
+    let said = out.join("\n");
+    for needle in [
+        "cannot be watched: it is an action",
+        "unknown object `Nothing`",
+        "`Queue..0` is not a name",
+        "is not an input",
+        "DriveInput.99",
+        "was not watched",
+        "cannot create trace file",
+    ] {
+        assert!(said.contains(needle), "expected {needle:?} in\n{said}");
+    }
+    assert!(s.watched().is_empty());
+    for bad in [
+        ":",
+        ":frobnicate",
+        ":step -1",
+        ":step 1.5",
+        ":run soon",
+        ":set X",
+        ":load",
+    ] {
+        assert!(commands::parse(bad).is_err(), "{bad}");
+    }
+    assert!(Session::open(Some(PathBuf::from("no/such/folder")), None, false).is_err());
+}
+
+/// A small deterministic generator (no dependency on the clock).
+struct Lcg(u64);
+
+impl Lcg {
+    fn next(&mut self) -> u64 {
+        self.0 = self
+            .0
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        self.0 >> 33
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+}
+
+#[test]
+fn mangled_program_lines_never_crash_a_session() {
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let mut corpus: Vec<(Dialect, String)> = Vec::new();
+    for (file, dialect) in [
+        ("programs/labeling/program0.pt", Dialect::PowerTools),
+        ("programs/labeling/program1.pt", Dialect::PowerTools),
+        ("programs/labeling/program2.pt", Dialect::PowerTools),
+        (
+            "programs/web-registration/registration.mb",
+            Dialect::MotionBasic,
+        ),
+    ] {
+        let text = std::fs::read_to_string(root.join(file)).expect("program");
+        corpus.extend(
+            text.lines()
+                .filter(|l| !l.trim().is_empty())
+                .map(|l| (dialect, l.to_string())),
+        );
+    }
+    let junk = [
+        "",
+        " ",
+        "(",
+        ")",
+        "=",
+        "\"",
+        "'",
+        ":",
+        "{",
+        "}",
+        "[",
+        "]",
+        ".",
+        "@",
+        "~",
+        "&",
+        "$",
+        "\t",
+        "\u{2018}",
+        "é",
+        "999999999999999999999",
+        "1e308",
+        "Then",
+        "Loop",
+        "WEND",
+        "Next",
+    ];
+    let mut rng = Lcg(2026);
+    for dialect in [Dialect::PowerTools, Dialect::MotionBasic] {
+        let mut s = labeling();
+        s.set_dialect(dialect);
+        for _ in 0..400 {
+            let (_, base) = &corpus[rng.below(corpus.len())];
+            let mut line = base.clone();
+            for _ in 0..rng.below(3) {
+                let at = (0..=line.len())
+                    .filter(|&i| line.is_char_boundary(i))
+                    .nth(rng.below(line.chars().count() + 1))
+                    .unwrap_or(0);
+                line.insert_str(at, junk[rng.below(junk.len())]);
+            }
+            let mut out = Vec::new();
+            if s.enter(&line, &mut out) == Ran::Blocked {
+                // A line that waits is cancelled, as Ctrl-C does.
+                s.cancel_line();
+            }
+            let _ = s.advance(&mut out);
+            let _ = s.vocabulary().complete(&line, line.len());
+            let _ = s.vocabulary().hint(&line, line.len());
+        }
+    }
+}
+
+#[test]
+fn a_wait_nothing_can_end_is_given_up_not_hung() {
+    use std::io::Write as _;
+    let data = std::env::temp_dir().join(format!("pacer-repl-wait-{}", std::process::id()));
+    let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_pacer"))
+        .arg("repl")
+        .env("XDG_DATA_HOME", &data)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .spawn()
+        .expect("pacer repl starts");
+    child
+        .stdin
+        .take()
+        .expect("stdin")
+        .write_all(b"Wait For Bit.7\nBit.7 = ON\nBit.7\n")
+        .expect("script written");
+    // The end of the input is the end of the session, like Ctrl-D.
+    let out = child.wait_with_output().expect("pacer ends");
+    let said = String::from_utf8_lossy(&out.stdout);
+    assert!(out.status.success(), "{said}");
+    assert!(
+        said.contains("gave up after 3600 s simulated: the typed line was cancelled"),
+        "{said}"
+    );
+    // The REPL task is free again: the next lines run.
+    assert!(said.trim_end().ends_with("\nON"), "{said}");
+}
