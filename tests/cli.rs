@@ -1,29 +1,13 @@
 //! The `pacer` command as a user runs it: exit codes, diagnostics, traces.
 
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
 
-fn pacer(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_pacer"))
-        .args(args)
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .output()
-        .expect("pacer runs")
-}
+mod common;
 
-fn text(o: &Output) -> String {
-    format!(
-        "{}{}",
-        String::from_utf8_lossy(&o.stdout),
-        String::from_utf8_lossy(&o.stderr)
-    )
-}
+use common::{pacer, text};
 
 fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pacer-cli-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).expect("temp dir");
-    d
+    common::scratch_in("cli", name)
 }
 
 #[test]

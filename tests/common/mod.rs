@@ -109,3 +109,29 @@ pub fn load_error(name: &str, files: &[(&str, &str)]) -> pacer::diag::Diagnostic
         Err(d) => d,
     }
 }
+
+/// Run the `pacer` binary with `args` from the crate's folder.
+pub fn pacer(args: &[&str]) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_pacer"))
+        .args(args)
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .output()
+        .expect("pacer runs")
+}
+
+/// Everything a command printed, stdout then stderr.
+pub fn text(o: &std::process::Output) -> String {
+    format!(
+        "{}{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    )
+}
+
+/// An empty scratch folder of this test process, named `pacer-<group>-<pid>-<name>`.
+pub fn scratch_in(group: &str, name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("pacer-{group}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).expect("temp dir");
+    d
+}
