@@ -123,6 +123,9 @@ pub struct PickPlaceCell {
     program_ids: Vec<u32>,
     events: Vec<Event>,
     pulsed: Vec<SlotId>,
+    /// Each belt's (travel, speed) and parameters this update, kept to spare allocations.
+    belts_now: Vec<(f64, f64)>,
+    belt_params_now: Vec<BeltParams>,
 }
 
 fn find(registry: &Registry, kind: Kind, instance: u32, name: &str) -> Result<SlotId, String> {
@@ -307,6 +310,8 @@ impl PickPlaceCell {
             program_ids: vec![1_000_000; n],
             events: Vec::new(),
             pulsed: Vec::new(),
+            belts_now: Vec::with_capacity(n),
+            belt_params_now: Vec::with_capacity(n),
         })
     }
 
@@ -410,20 +415,19 @@ impl PickPlaceCell {
         }
     }
 
-    fn belt_params(&self, v: &[f64]) -> Vec<BeltParams> {
+    /// The belts' parameters into `out` (kept between updates: no allocation per update).
+    fn belt_params(slots: &[BeltSlots], v: &[f64], out: &mut Vec<BeltParams>) {
         let r = |x: SlotId| v[x as usize];
-        self.belt_slots
-            .iter()
-            .map(|b| BeltParams {
-                alr_park_pos: b.park.map(r),
-                lr_z_dist_belt: r(b.z_dist),
-                alr_conveyor_belt_origin: b.origin.map(r),
-                lr_sync_time_on_belt: r(b.sync),
-                lr_lower_sync_limit: r(b.lower),
-                lr_upper_sync_limit: r(b.upper),
-                lr_aux1_target_pos: r(b.aux),
-            })
-            .collect()
+        out.clear();
+        out.extend(slots.iter().map(|b| BeltParams {
+            alr_park_pos: b.park.map(r),
+            lr_z_dist_belt: r(b.z_dist),
+            alr_conveyor_belt_origin: b.origin.map(r),
+            lr_sync_time_on_belt: r(b.sync),
+            lr_lower_sync_limit: r(b.lower),
+            lr_upper_sync_limit: r(b.upper),
+            lr_aux1_target_pos: r(b.aux),
+        }));
     }
 
     /// One cycle of the module at this update.
@@ -476,22 +480,20 @@ impl PickPlaceCell {
                 self.module.validate(i, pos);
             }
         }
-        let belts: Vec<(f64, f64)> = self
-            .profiles
-            .iter()
-            .map(|p| (p.position(t), p.velocity(t)))
-            .collect();
+        self.belts_now.clear();
+        self.belts_now
+            .extend(self.profiles.iter().map(|p| (p.position(t), p.velocity(t))));
         let inputs = self.inputs(v);
         let params = self.params(v);
-        let belt_params = self.belt_params(v);
+        Self::belt_params(&self.belt_slots, v, &mut self.belt_params_now);
         let edges = std::mem::take(&mut self.edges);
         let out = self.module.cycle(
             t,
             &inputs,
             edges,
             &params,
-            &belt_params,
-            &belts,
+            &self.belt_params_now,
+            &self.belts_now,
             &mut self.events,
         );
         let o = &self.slots.out;
@@ -547,7 +549,7 @@ impl PickPlaceCell {
             .module
             .belts
             .iter()
-            .zip(self.belt_slots.iter().zip(&belts))
+            .zip(self.belt_slots.iter().zip(&self.belts_now))
         {
             let st = [
                 travel,
