@@ -7,6 +7,7 @@ pub mod config;
 pub mod diag;
 pub mod export;
 pub mod fixed;
+pub mod io;
 pub mod kernel;
 pub mod kinematics;
 pub mod load;

@@ -53,6 +53,53 @@ pub struct MachineFile {
     /// initial values by the manual's names, and its belts (`[pickplace.belt.N]`). Checked by
     /// the registry (members) and `load::pickplace::setup` (the rest).
     pub pickplace: Option<Spanned<TomlTable>>,
+    /// Real I/O over Modbus TCP (`[modbus]` and its `[[modbus.map]]` entries). Checked by
+    /// `io::map::validate` against the registry; the simulator ignores it.
+    pub modbus: Option<Spanned<ModbusSection>>,
+}
+
+/// `[modbus]`: a Modbus TCP remote-I/O coupler and how its points map to pacer members.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModbusSection {
+    /// Host name or IP address of the coupler (`--io modbus://HOST:PORT` overrides it).
+    pub host: Option<Spanned<String>>,
+    /// TCP port (default 502).
+    pub port: Option<Spanned<i64>>,
+    /// Modbus unit (slave) id, 0 to 255 (default 1).
+    pub unit: Option<Spanned<i64>>,
+    /// How long one request may take before it is a fault (default 100 ms).
+    pub timeout: Option<Spanned<super::values::Duration>>,
+    /// Unused addresses a read may span to merge two groups into one request (default 0:
+    /// only contiguous addresses are merged).
+    pub max_gap: Option<Spanned<i64>>,
+    /// The map: one entry per run of points.
+    #[serde(default)]
+    pub map: Vec<Spanned<ModbusMapEntry>>,
+}
+
+/// `[[modbus.map]]`: a run of Modbus points bound to pacer members.
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ModbusMapEntry {
+    /// `coil`, `discrete_input`, `holding_register` or `input_register`.
+    pub kind: Spanned<String>,
+    /// The first Modbus address (0-based protocol address).
+    pub address: Spanned<i64>,
+    /// Bits: how many consecutive points, bound to consecutive instances starting at
+    /// `member` (default 1). Registers: 1 (16-bit) or 2 (32-bit, high word first).
+    pub count: Option<Spanned<i64>>,
+    /// The pacer member: `DriveInput.1`, `DriveOutput.2`, `Var.Speed`, `Bit.Ready` ….
+    pub member: Spanned<String>,
+    /// Registers: engineering value = raw × scale + offset (default 1).
+    pub scale: Option<Spanned<f64>>,
+    /// Registers: see `scale` (default 0).
+    pub offset: Option<Spanned<f64>>,
+    /// Registers: the raw value is signed (two's complement; default false).
+    pub signed: Option<Spanned<bool>>,
+    /// Outputs (coils, holding registers): the value written in the safe state, in the
+    /// member's units (default 0 / OFF).
+    pub safe: Option<Spanned<f64>>,
 }
 
 /// The keys of `[pickplace]` that are not members of the module.

@@ -40,6 +40,8 @@ pub struct Loaded {
     pub sources: IndexMap<u32, SourceFile>,
     /// Compilation layout (for the disassembler).
     pub layout: Layout,
+    /// The validated Modbus map (`[modbus]`), if the machine file has one.
+    pub io_map: Option<crate::io::map::IoMap>,
 }
 
 struct ProgramFile {
@@ -362,6 +364,9 @@ pub fn load_with(req: &LoadRequest, options: &LoadOptions) -> Result<Loaded, Dia
         autostart.extend(programs.first().map(|p| p.number));
     }
     let pp_setup = pickplace::setup(&machine, &mut machine_problems);
+    let io_map = registry
+        .as_ref()
+        .and_then(|reg| crate::io::map::validate(&machine, reg, &mut machine_problems));
     diags.extend_file(&machine_file, machine_problems);
 
     // The scenario.
@@ -540,6 +545,7 @@ pub fn load_with(req: &LoadRequest, options: &LoadOptions) -> Result<Loaded, Dia
         warnings: diags,
         sources,
         layout,
+        io_map,
     })
 }
 

@@ -1,0 +1,668 @@
+//! The Modbus map of `machine.toml` (`[modbus]`, `[[modbus.map]]`), validated against the
+//! registry: every entry bound to a member slot, with its direction, width, scaling and safe
+//! value. Every problem is reported with the span of the key at fault, and a map with any
+//! error yields no [`IoMap`]: a bad map never opens a connection.
+
+use crate::config::machine::{MachineFile, ModbusMapEntry, ModbusSection};
+use crate::config::span_of;
+use crate::diag::{nearest, Level, Problem};
+use crate::registry::{Access, Kind, Registry, SlotId};
+use toml::Spanned;
+
+const CODE: &str = "pacer::machine::modbus";
+
+/// Default TCP port of Modbus TCP.
+pub const DEFAULT_PORT: u16 = 502;
+/// Default unit id.
+pub const DEFAULT_UNIT: u8 = 1;
+/// Default time a request may take, nanoseconds (100 ms).
+pub const DEFAULT_TIMEOUT_NS: u64 = 100_000_000;
+/// The largest `max_gap` accepted (a register read holds at most 125 registers).
+pub const MAX_GAP: u16 = 125;
+
+/// The four Modbus data tables.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum Table {
+    /// Read/write bits: pacer writes them (outputs).
+    Coil,
+    /// Read-only bits: pacer reads them (inputs).
+    DiscreteInput,
+    /// Read/write 16-bit registers: pacer writes them (outputs).
+    HoldingRegister,
+    /// Read-only 16-bit registers: pacer reads them (inputs).
+    InputRegister,
+}
+
+/// The names of the tables as written in `machine.toml`, in [`Table::ALL`] order.
+pub const TABLE_NAMES: [&str; 4] = [
+    "coil",
+    "discrete_input",
+    "holding_register",
+    "input_register",
+];
+
+impl Table {
+    /// Every table, in the order requests are issued.
+    pub const ALL: [Table; 4] = [
+        Table::Coil,
+        Table::DiscreteInput,
+        Table::HoldingRegister,
+        Table::InputRegister,
+    ];
+
+    /// The table named `name` in `machine.toml`.
+    pub fn from_name(name: &str) -> Option<Table> {
+        TABLE_NAMES
+            .iter()
+            .position(|n| n.eq_ignore_ascii_case(name))
+            .map(|i| Table::ALL[i])
+    }
+
+    /// The name as written in `machine.toml`.
+    pub fn name(self) -> &'static str {
+        TABLE_NAMES[self as usize]
+    }
+
+    /// True for coils and discrete inputs.
+    pub fn is_bit(self) -> bool {
+        matches!(self, Table::Coil | Table::DiscreteInput)
+    }
+
+    /// True for the tables pacer writes (coils, holding registers).
+    pub fn is_output(self) -> bool {
+        matches!(self, Table::Coil | Table::HoldingRegister)
+    }
+
+    /// The most points one read request may cover (Modbus application protocol 1.1b3:
+    /// functions 1/2 read 2000 bits, functions 3/4 read 125 registers).
+    pub fn max_read(self) -> u16 {
+        if self.is_bit() {
+            2000
+        } else {
+            125
+        }
+    }
+
+    /// The most points one write request may cover (function 15: 1968 coils, function 16: 123
+    /// registers); 0 for the read-only tables.
+    pub fn max_write(self) -> u16 {
+        match self {
+            Table::Coil => 1968,
+            Table::HoldingRegister => 123,
+            _ => 0,
+        }
+    }
+}
+
+/// One mapped point: a bit, or a 16- or 32-bit register value, bound to one member slot.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Point {
+    /// Its table.
+    pub table: Table,
+    /// Its (first) address.
+    pub address: u16,
+    /// Addresses it covers: 1, or 2 for a 32-bit register value (high word first).
+    pub width: u16,
+    /// The member slot it reads into or writes from.
+    pub slot: SlotId,
+    /// The member's canonical name (for fault messages and the trace).
+    pub member: String,
+    /// Engineering value = raw × scale + offset.
+    pub scale: f64,
+    /// See `scale`.
+    pub offset: f64,
+    /// The raw register value is two's complement.
+    pub signed: bool,
+    /// Outputs: the value written in the safe state (member units).
+    pub safe: f64,
+}
+
+impl Point {
+    /// One past its last address (as u32: the last point may end at 65536).
+    pub fn end(&self) -> u32 {
+        u32::from(self.address) + u32::from(self.width)
+    }
+
+    /// The member value of raw words read from the device (`words.len()` is `width`; a bit is
+    /// one word, 0 or 1).
+    pub fn decode(&self, words: &[u16]) -> f64 {
+        if self.table.is_bit() {
+            return if words.first().copied().unwrap_or(0) != 0 {
+                1.0
+            } else {
+                0.0
+            };
+        }
+        let raw: f64 = match (self.width, self.signed) {
+            (2, false) => f64::from(combine(words)),
+            (2, true) => f64::from(combine(words) as i32),
+            (_, false) => f64::from(words.first().copied().unwrap_or(0)),
+            (_, true) => f64::from(words.first().copied().unwrap_or(0) as i16),
+        };
+        raw * self.scale + self.offset
+    }
+
+    /// The raw words for a member value: (value − offset) / scale rounded to the nearest raw
+    /// value and saturated to the raw range. The flag is true when it saturated (the value
+    /// did not fit).
+    pub fn encode(&self, value: f64) -> (Vec<u16>, bool) {
+        if self.table.is_bit() {
+            return (vec![u16::from(value != 0.0)], false);
+        }
+        let raw = ((value - self.offset) / self.scale).round();
+        let (lo, hi) = match (self.width, self.signed) {
+            (2, false) => (0.0, f64::from(u32::MAX)),
+            (2, true) => (f64::from(i32::MIN), f64::from(i32::MAX)),
+            (_, false) => (0.0, f64::from(u16::MAX)),
+            (_, true) => (f64::from(i16::MIN), f64::from(i16::MAX)),
+        };
+        let saturated = raw.is_nan() || raw < lo || raw > hi;
+        let clamped = if raw.is_nan() { 0.0 } else { raw.clamp(lo, hi) };
+        let words = match (self.width, self.signed) {
+            (2, false) => split(clamped as u32),
+            (2, true) => split(clamped as i32 as u32),
+            (_, false) => vec![clamped as u16],
+            (_, true) => vec![clamped as i16 as u16],
+        };
+        (words, saturated)
+    }
+}
+
+fn combine(words: &[u16]) -> u32 {
+    let hi = u32::from(words.first().copied().unwrap_or(0));
+    let lo = u32::from(words.get(1).copied().unwrap_or(0));
+    (hi << 16) | lo
+}
+
+fn split(v: u32) -> Vec<u16> {
+    vec![(v >> 16) as u16, (v & 0xffff) as u16]
+}
+
+/// A validated Modbus set-up: where the coupler is and every mapped point.
+#[derive(Debug, Clone, PartialEq)]
+pub struct IoMap {
+    /// Host from the machine file (the command line may give one instead).
+    pub host: Option<String>,
+    /// TCP port.
+    pub port: u16,
+    /// Unit id.
+    pub unit: u8,
+    /// Time one request may take, nanoseconds.
+    pub timeout_ns: u64,
+    /// Unused addresses a read may span to merge two groups.
+    pub max_gap: u16,
+    /// The points, in the order of the map (a run of bits is one point per bit).
+    pub points: Vec<Point>,
+}
+
+/// The Modbus set-up of a machine: None when it has no `[modbus]`, or when any entry is wrong
+/// (the problems, with spans, go to `problems`).
+pub fn validate(
+    machine: &MachineFile,
+    registry: &Registry,
+    problems: &mut Vec<Problem>,
+) -> Option<IoMap> {
+    let section = machine.modbus.as_ref()?.get_ref();
+    let before = problems.iter().filter(|p| p.level == Level::Error).count();
+    let map = validate_section(section, registry, problems);
+    let after = problems.iter().filter(|p| p.level == Level::Error).count();
+    (after == before).then_some(map)
+}
+
+fn validate_section(
+    section: &ModbusSection,
+    registry: &Registry,
+    problems: &mut Vec<Problem>,
+) -> IoMap {
+    let host = section.host.as_ref().and_then(|h| {
+        let text = h.get_ref().trim();
+        if text.is_empty() || text.contains(char::is_whitespace) {
+            problems.push(
+                Problem::error(CODE, span_of(h), "not a host name", "bad host")
+                    .with_help("host = \"192.168.0.10\" or a host name"),
+            );
+            None
+        } else {
+            Some(text.to_string())
+        }
+    });
+    let port = int_in(section.port.as_ref(), 1, 65535, "port", problems)
+        .map_or(DEFAULT_PORT, |v| v as u16);
+    let unit =
+        int_in(section.unit.as_ref(), 0, 255, "unit", problems).map_or(DEFAULT_UNIT, |v| v as u8);
+    let max_gap = int_in(
+        section.max_gap.as_ref(),
+        0,
+        i64::from(MAX_GAP),
+        "max_gap",
+        problems,
+    )
+    .map_or(0, |v| v as u16);
+    let timeout_ns = match &section.timeout {
+        Some(t) if t.get_ref().0 == 0 || t.get_ref().0 > 60_000_000_000 => {
+            problems.push(Problem::error(
+                CODE,
+                span_of(t),
+                "the timeout must be above 0 and at most 60 s",
+                "out of range",
+            ));
+            DEFAULT_TIMEOUT_NS
+        }
+        Some(t) => t.get_ref().0,
+        None => DEFAULT_TIMEOUT_NS,
+    };
+    let mut points: Vec<Point> = Vec::new();
+    // Where each point came from, to name the first of two overlapping entries.
+    let mut origins: Vec<(usize, usize)> = Vec::new();
+    for (i, entry) in section.map.iter().enumerate() {
+        for point in entry_points(entry.get_ref(), registry, problems) {
+            let e = entry.get_ref();
+            if let Some(j) = points
+                .iter()
+                .position(|p| p.table == point.table && overlaps(p, &point))
+            {
+                let first = origins[j].0;
+                problems.push(
+                    Problem::error(
+                        CODE,
+                        span_of(&e.address),
+                        format!(
+                            "{} {} is already mapped (to {}, by entry {} of the map)",
+                            point.table.name(),
+                            point.address.max(points[j].address),
+                            points[j].member,
+                            first + 1
+                        ),
+                        "overlaps",
+                    )
+                    .with_help("each Modbus address is mapped once"),
+                );
+                break;
+            }
+            if !point.table.is_output() {
+                if let Some(j) = points
+                    .iter()
+                    .position(|p| !p.table.is_output() && p.slot == point.slot)
+                {
+                    problems.push(
+                        Problem::error(
+                            CODE,
+                            span_of(&e.member),
+                            format!(
+                                "{} is already driven by {} {}",
+                                point.member,
+                                points[j].table.name(),
+                                points[j].address
+                            ),
+                            "driven twice",
+                        )
+                        .with_help("a member takes its value from one device input"),
+                    );
+                    break;
+                }
+            }
+            origins.push((i, points.len()));
+            points.push(point);
+        }
+    }
+    IoMap {
+        host,
+        port,
+        unit,
+        timeout_ns,
+        max_gap,
+        points,
+    }
+}
+
+fn overlaps(a: &Point, b: &Point) -> bool {
+    u32::from(a.address) < b.end() && u32::from(b.address) < a.end()
+}
+
+/// An integer setting that must lie in `lo..=hi`.
+fn int_in(
+    v: Option<&Spanned<i64>>,
+    lo: i64,
+    hi: i64,
+    what: &str,
+    problems: &mut Vec<Problem>,
+) -> Option<i64> {
+    let v = v?;
+    let x = *v.get_ref();
+    if (lo..=hi).contains(&x) {
+        Some(x)
+    } else {
+        problems.push(Problem::error(
+            CODE,
+            span_of(v),
+            format!("{what} must be {lo} to {hi} (got {x})"),
+            "out of range",
+        ));
+        None
+    }
+}
+
+/// The points of one map entry (none when it is wrong; its problems are reported).
+fn entry_points(
+    e: &ModbusMapEntry,
+    registry: &Registry,
+    problems: &mut Vec<Problem>,
+) -> Vec<Point> {
+    let Some(table) = Table::from_name(e.kind.get_ref()) else {
+        problems.push(
+            Problem::error(
+                CODE,
+                span_of(&e.kind),
+                format!("unknown Modbus table `{}`", e.kind.get_ref()),
+                "unknown kind",
+            )
+            .with_help(match nearest(e.kind.get_ref(), TABLE_NAMES) {
+                Some(n) => format!("did you mean `{n}`?"),
+                None => format!("kind is one of {}", TABLE_NAMES.join(", ")),
+            }),
+        );
+        return Vec::new();
+    };
+    let mut ok = true;
+    let address = *e.address.get_ref();
+    if !(0..=65535).contains(&address) {
+        problems.push(Problem::error(
+            CODE,
+            span_of(&e.address),
+            format!("a Modbus address is 0 to 65535 (got {address})"),
+            "out of range",
+        ));
+        ok = false;
+    }
+    let count = e.count.as_ref().map_or(1, |c| *c.get_ref());
+    let count_ok = if table.is_bit() {
+        (1..=i64::from(table.max_read())).contains(&count)
+    } else {
+        count == 1 || count == 2
+    };
+    if let Some(c) = &e.count {
+        if !count_ok {
+            let help = if table.is_bit() {
+                "a run of bits is 1 to 2000 points"
+            } else {
+                "a register value is 1 register (16-bit) or 2 (32-bit, high word first)"
+            };
+            problems.push(
+                Problem::error(
+                    CODE,
+                    span_of(c),
+                    format!("count {count} is not valid for a {}", table.name()),
+                    "bad count",
+                )
+                .with_help(help),
+            );
+            ok = false;
+        }
+    }
+    if ok && address + if table.is_bit() { count } else { count.max(1) } > 65536 {
+        problems.push(Problem::error(
+            CODE,
+            span_of(&e.address),
+            format!("the entry runs past address 65535 ({count} points from {address})"),
+            "past the end",
+        ));
+        ok = false;
+    }
+    // Scaling belongs to registers; the safe value to outputs.
+    if table.is_bit() {
+        for (key, span) in [
+            ("scale", e.scale.as_ref().map(span_of)),
+            ("offset", e.offset.as_ref().map(span_of)),
+            ("signed", e.signed.as_ref().map(span_of)),
+        ] {
+            if let Some(span) = span {
+                problems.push(Problem::error(
+                    CODE,
+                    span,
+                    format!("{key} is for registers, not a {}", table.name()),
+                    "not for bits",
+                ));
+                ok = false;
+            }
+        }
+    }
+    let scale = e.scale.as_ref().map_or(1.0, |s| *s.get_ref());
+    if let Some(s) = &e.scale {
+        if !scale.is_finite() || scale == 0.0 {
+            problems.push(Problem::error(
+                CODE,
+                span_of(s),
+                format!("scale must be a finite number other than 0 (got {scale})"),
+                "bad scale",
+            ));
+            ok = false;
+        }
+    }
+    let offset = e.offset.as_ref().map_or(0.0, |o| *o.get_ref());
+    if let Some(o) = &e.offset {
+        if !offset.is_finite() {
+            problems.push(Problem::error(
+                CODE,
+                span_of(o),
+                "offset must be a finite number",
+                "bad offset",
+            ));
+            ok = false;
+        }
+    }
+    let safe = e.safe.as_ref().map_or(0.0, |s| *s.get_ref());
+    if let Some(s) = &e.safe {
+        if !table.is_output() {
+            problems.push(
+                Problem::error(
+                    CODE,
+                    span_of(s),
+                    format!("a {} is an input: it has no safe value", table.name()),
+                    "not an output",
+                )
+                .with_help("safe values are for coils and holding registers"),
+            );
+            ok = false;
+        } else if table.is_bit() && safe != 0.0 && safe != 1.0 {
+            problems.push(Problem::error(
+                CODE,
+                span_of(s),
+                format!("the safe value of a coil is 0 or 1 (got {safe})"),
+                "not a bit",
+            ));
+            ok = false;
+        } else if !safe.is_finite() {
+            problems.push(Problem::error(
+                CODE,
+                span_of(s),
+                "the safe value must be a finite number",
+                "bad value",
+            ));
+            ok = false;
+        }
+    }
+    let names = member_names(&e.member, if table.is_bit() { count } else { 1 }, problems);
+    let Some(names) = names else {
+        return Vec::new();
+    };
+    let width = if table.is_bit() { 1 } else { count as u16 };
+    let mut points = Vec::new();
+    for (i, name) in names.iter().enumerate() {
+        let resolved = match registry.resolve_text(name) {
+            Ok(r) => r,
+            Err(mut p) => {
+                if names.len() > 1 {
+                    // The name was made from the first one: point at what was written.
+                    p.span = span_of(&e.member);
+                    p.message = format!(
+                        "point {} of the run ({}): {}",
+                        i + 1,
+                        name.get_ref(),
+                        p.message
+                    );
+                }
+                problems.push(p);
+                ok = false;
+                break;
+            }
+        };
+        if table.is_bit() != resolved.ty.is_bit() {
+            problems.push(Problem::error(
+                CODE,
+                span_of(&e.member),
+                format!(
+                    "{} is {}, but a {} holds {}",
+                    resolved.name,
+                    resolved.ty.describe(),
+                    table.name(),
+                    if table.is_bit() { "a bit" } else { "a number" }
+                ),
+                "wrong type",
+            ));
+            ok = false;
+            break;
+        }
+        if table.is_output() {
+            if !matches!(resolved.access, Access::Read | Access::ReadWrite) {
+                problems.push(Problem::error(
+                    CODE,
+                    span_of(&e.member),
+                    format!(
+                        "{} cannot be read, so it cannot drive a {}",
+                        resolved.name,
+                        table.name()
+                    ),
+                    "not readable",
+                ));
+                ok = false;
+                break;
+            }
+        } else {
+            let input = matches!(
+                resolved.kind,
+                Kind::DriveInput | Kind::ModuleInput | Kind::DriveIO
+            ) && resolved.access == Access::Read;
+            if !input && resolved.access != Access::ReadWrite {
+                problems.push(
+                    Problem::error(
+                        CODE,
+                        span_of(&e.member),
+                        format!(
+                            "{} is kept by pacer; a {} cannot write it",
+                            resolved.name,
+                            table.name()
+                        ),
+                        "not writable from the device",
+                    )
+                    .with_help("device inputs drive DriveInput, ModuleInput, DriveIO.N.In, Var and Bit members"),
+                );
+                ok = false;
+                break;
+            }
+        }
+        points.push(Point {
+            table,
+            address: (address.clamp(0, 65535) as u16).saturating_add(i as u16),
+            width,
+            slot: resolved.slot,
+            member: resolved.name,
+            scale,
+            offset,
+            signed: e.signed.as_ref().is_some_and(|s| *s.get_ref()),
+            safe,
+        });
+    }
+    if ok {
+        points
+    } else {
+        Vec::new()
+    }
+}
+
+/// The member names of a run: `DriveInput.3` with 3 points is DriveInput.3, .4 and .5.
+fn member_names(
+    member: &Spanned<String>,
+    count: i64,
+    problems: &mut Vec<Problem>,
+) -> Option<Vec<Spanned<String>>> {
+    if count <= 1 {
+        return Some(vec![member.clone()]);
+    }
+    let text = member.get_ref();
+    let mut segs = text.split('.');
+    let ty = segs.next().unwrap_or("");
+    let first = segs.next().and_then(|n| n.parse::<u32>().ok());
+    let rest: Vec<&str> = segs.collect();
+    let Some(first) = first else {
+        problems.push(
+            Problem::error(
+                CODE,
+                span_of(member),
+                format!("a run of {count} points needs a numbered first member, not `{text}`"),
+                "not numbered",
+            )
+            .with_help("e.g. member = \"DriveInput.1\", count = 4 maps DriveInput.1 to .4"),
+        );
+        return None;
+    };
+    let tail: String = rest.iter().map(|s| format!(".{s}")).collect();
+    Some(
+        (0..count as u32)
+            .map(|i| Spanned::new(member.span(), format!("{ty}.{}{tail}", first + i)))
+            .collect(),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn reg(width: u16, signed: bool, scale: f64, offset: f64) -> Point {
+        Point {
+            table: Table::HoldingRegister,
+            address: 0,
+            width,
+            slot: 0,
+            member: "Var.X".into(),
+            scale,
+            offset,
+            signed,
+            safe: 0.0,
+        }
+    }
+
+    #[test]
+    fn registers_scale_both_ways() {
+        let p = reg(1, false, 0.1, -5.0);
+        assert_eq!(p.encode(20.0), (vec![250], false));
+        assert!((p.decode(&[250]) - 20.0).abs() < 1e-9);
+        // Below the raw range: saturated at 0, and said so.
+        assert_eq!(p.encode(-10.0), (vec![0], true));
+    }
+
+    #[test]
+    fn signed_and_32_bit_values() {
+        let p = reg(1, true, 1.0, 0.0);
+        assert_eq!(p.encode(-2.0), (vec![0xfffe], false));
+        assert_eq!(p.decode(&[0xfffe]), -2.0);
+        assert_eq!(p.encode(40000.0), (vec![0x7fff], true));
+        let p = reg(2, true, 1.0, 0.0);
+        assert_eq!(p.encode(-70000.0), (vec![0xfffe, 0xee90], false));
+        assert_eq!(p.decode(&[0xfffe, 0xee90]), -70000.0);
+        let p = reg(2, false, 1.0, 0.0);
+        assert_eq!(p.encode(65537.0), (vec![1, 1], false));
+        assert_eq!(p.decode(&[1, 1]), 65537.0);
+    }
+
+    #[test]
+    fn tables_by_name() {
+        assert_eq!(Table::from_name("Coil"), Some(Table::Coil));
+        assert_eq!(
+            Table::from_name("input_register"),
+            Some(Table::InputRegister)
+        );
+        assert_eq!(Table::from_name("register"), None);
+        assert!(Table::HoldingRegister.is_output());
+        assert!(!Table::DiscreteInput.is_output());
+    }
+}

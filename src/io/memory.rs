@@ -1,0 +1,252 @@
+//! Executing a poll plan against a [`Device`]: the part of the real backend that does not
+//! depend on the transport. [`MemoryDevice`] is a device held in memory (for tests, and the
+//! model the Modbus TCP client follows); [`PlanBackend`] runs the plan of an [`IoMap`] on any
+//! device, as an [`IoBackend`].
+
+use super::map::{IoMap, Table};
+use super::plan::{plan, Op, PollPlan, Request};
+use super::{IoBackend, IoFault};
+
+/// The Modbus requests a device answers. Bits travel as `bool`, registers as `u16`.
+pub trait Device {
+    /// The device, for fault messages.
+    fn device(&self) -> String;
+    /// (Re)open the connection. A device without one (in memory) is always connected.
+    fn connect(&mut self) -> Result<(), IoFault> {
+        Ok(())
+    }
+    /// Functions 1 and 2.
+    fn read_bits(&mut self, table: Table, start: u16, count: u16) -> Result<Vec<bool>, IoFault>;
+    /// Functions 3 and 4.
+    fn read_registers(&mut self, table: Table, start: u16, count: u16)
+        -> Result<Vec<u16>, IoFault>;
+    /// Function 15.
+    fn write_coils(&mut self, start: u16, bits: &[bool]) -> Result<(), IoFault>;
+    /// Function 16.
+    fn write_registers(&mut self, start: u16, words: &[u16]) -> Result<(), IoFault>;
+}
+
+/// A Modbus device held in memory: 65536 points per table, and a count of requests served.
+#[derive(Debug, Clone)]
+pub struct MemoryDevice {
+    /// Coils.
+    pub coils: Vec<bool>,
+    /// Discrete inputs.
+    pub discrete_inputs: Vec<bool>,
+    /// Holding registers.
+    pub holding: Vec<u16>,
+    /// Input registers.
+    pub input_registers: Vec<u16>,
+    /// Requests served since it was made.
+    pub requests: usize,
+    /// When set, every request and connection attempt fails with this fault (a device that
+    /// went away, for tests).
+    pub down: Option<IoFault>,
+    /// Every write served, in order: (table, start, words), coils as 0/1.
+    pub writes: Vec<(Table, u16, Vec<u16>)>,
+}
+
+impl Default for MemoryDevice {
+    fn default() -> Self {
+        MemoryDevice {
+            coils: vec![false; 65536],
+            discrete_inputs: vec![false; 65536],
+            holding: vec![0; 65536],
+            input_registers: vec![0; 65536],
+            requests: 0,
+            down: None,
+            writes: Vec::new(),
+        }
+    }
+}
+
+fn range(start: u16, count: usize) -> std::ops::Range<usize> {
+    usize::from(start)..usize::from(start) + count
+}
+
+impl MemoryDevice {
+    fn check(&self, start: u16, count: usize) -> Result<(), IoFault> {
+        if let Some(fault) = &self.down {
+            return Err(fault.clone());
+        }
+        if usize::from(start) + count > 65536 {
+            return Err(IoFault::Exception {
+                device: self.device(),
+                request: format!("{start}+{count}"),
+                code: 2,
+            });
+        }
+        Ok(())
+    }
+}
+
+impl Device for MemoryDevice {
+    fn device(&self) -> String {
+        "memory".into()
+    }
+
+    fn connect(&mut self) -> Result<(), IoFault> {
+        self.down.clone().map_or(Ok(()), Err)
+    }
+
+    fn read_bits(&mut self, table: Table, start: u16, count: u16) -> Result<Vec<bool>, IoFault> {
+        self.requests += 1;
+        self.check(start, count.into())?;
+        let src = if table == Table::Coil {
+            &self.coils
+        } else {
+            &self.discrete_inputs
+        };
+        Ok(src[range(start, count.into())].to_vec())
+    }
+
+    fn read_registers(
+        &mut self,
+        table: Table,
+        start: u16,
+        count: u16,
+    ) -> Result<Vec<u16>, IoFault> {
+        self.requests += 1;
+        self.check(start, count.into())?;
+        let src = if table == Table::HoldingRegister {
+            &self.holding
+        } else {
+            &self.input_registers
+        };
+        Ok(src[range(start, count.into())].to_vec())
+    }
+
+    fn write_coils(&mut self, start: u16, bits: &[bool]) -> Result<(), IoFault> {
+        self.requests += 1;
+        self.check(start, bits.len())?;
+        self.coils[range(start, bits.len())].copy_from_slice(bits);
+        self.writes.push((
+            Table::Coil,
+            start,
+            bits.iter().map(|&b| u16::from(b)).collect(),
+        ));
+        Ok(())
+    }
+
+    fn write_registers(&mut self, start: u16, words: &[u16]) -> Result<(), IoFault> {
+        self.requests += 1;
+        self.check(start, words.len())?;
+        self.holding[range(start, words.len())].copy_from_slice(words);
+        self.writes
+            .push((Table::HoldingRegister, start, words.to_vec()));
+        Ok(())
+    }
+}
+
+/// An [`IoBackend`] that runs the poll plan of a map on a device.
+#[derive(Debug, Clone)]
+pub struct PlanBackend<D> {
+    /// The map.
+    pub map: IoMap,
+    /// Its plan.
+    pub plan: PollPlan,
+    /// The device.
+    pub device: D,
+    /// Outputs whose value did not fit their register at the last write (member names).
+    pub saturated: Vec<String>,
+}
+
+impl<D: Device> PlanBackend<D> {
+    /// A backend for `map` on `device`.
+    pub fn new(map: IoMap, device: D) -> Self {
+        let plan = plan(&map);
+        PlanBackend {
+            map,
+            plan,
+            device,
+            saturated: Vec::new(),
+        }
+    }
+
+    /// The words (bits as 0/1) a write request sends, from member values given per point.
+    fn words(&mut self, r: &Request, values: &[f64]) -> Vec<u16> {
+        let mut words = vec![0u16; usize::from(r.count)];
+        for &i in &r.points {
+            let p = &self.map.points[i];
+            let (w, saturated) = p.encode(values[i]);
+            if saturated {
+                self.saturated.push(p.member.clone());
+            }
+            let at = usize::from(p.address - r.start);
+            words[at..at + w.len()].copy_from_slice(&w);
+        }
+        words
+    }
+
+    fn send(&mut self, r: &Request, words: &[u16]) -> Result<(), IoFault> {
+        if r.table.is_bit() {
+            let bits: Vec<bool> = words.iter().map(|&w| w != 0).collect();
+            self.device.write_coils(r.start, &bits)
+        } else {
+            self.device.write_registers(r.start, words)
+        }
+    }
+
+    fn write_with(&mut self, value_of: impl Fn(&IoMap, usize) -> f64) -> Result<(), IoFault> {
+        self.saturated.clear();
+        let values: Vec<f64> = (0..self.map.points.len())
+            .map(|i| value_of(&self.map, i))
+            .collect();
+        let writes = std::mem::take(&mut self.plan.writes);
+        let mut result = Ok(());
+        for r in &writes {
+            let words = self.words(r, &values);
+            result = self.send(r, &words);
+            if result.is_err() {
+                break;
+            }
+        }
+        self.plan.writes = writes;
+        result
+    }
+}
+
+impl<D: Device> IoBackend for PlanBackend<D> {
+    fn device(&self) -> String {
+        self.device.device()
+    }
+
+    fn read_inputs(&mut self, _t: f64, values: &mut [f64]) -> Result<(), IoFault> {
+        for r in &self.plan.reads {
+            debug_assert_eq!(r.op, Op::Read);
+            let words: Vec<u16> = if r.table.is_bit() {
+                self.device
+                    .read_bits(r.table, r.start, r.count)?
+                    .into_iter()
+                    .map(u16::from)
+                    .collect()
+            } else {
+                self.device.read_registers(r.table, r.start, r.count)?
+            };
+            for &i in &r.points {
+                let p = &self.map.points[i];
+                let at = usize::from(p.address - r.start);
+                let Some(w) = words.get(at..at + usize::from(p.width)) else {
+                    continue;
+                };
+                if let Some(v) = values.get_mut(p.slot as usize) {
+                    *v = p.decode(w);
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn write_outputs(&mut self, values: &[f64]) -> Result<(), IoFault> {
+        self.write_with(|map, i| {
+            values
+                .get(map.points[i].slot as usize)
+                .copied()
+                .unwrap_or(0.0)
+        })
+    }
+
+    fn safe_state(&mut self) -> Result<(), IoFault> {
+        self.write_with(|map, i| map.points[i].safe)
+    }
+}

@@ -1,0 +1,302 @@
+//! Fault handling of a real I/O link: the first failed request puts the link down (the runner
+//! stops motion and reports the fault with its device and cause); reconnection is retried with
+//! a doubling back-off; on reconnection the safe output values are written before anything
+//! else, and only then are inputs read and outputs written again.
+//!
+//! Time is passed in (nanoseconds since the start of the run), so the behaviour is a pure
+//! function of the device's answers and the clock, and is tested without sockets or sleeps.
+
+use super::memory::{Device, PlanBackend};
+use super::{IoBackend, IoFault};
+
+/// Retry delays: `initial_ns`, doubling after each failed attempt, never above `max_ns`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Backoff {
+    /// The first delay.
+    pub initial_ns: u64,
+    /// The longest delay.
+    pub max_ns: u64,
+}
+
+impl Default for Backoff {
+    /// 100 ms, doubling up to 5 s.
+    fn default() -> Self {
+        Backoff {
+            initial_ns: 100_000_000,
+            max_ns: 5_000_000_000,
+        }
+    }
+}
+
+impl Backoff {
+    /// The delay after `failed` failed attempts (0: after the fault itself).
+    pub fn delay(&self, failed: u32) -> u64 {
+        let factor = 1u64.checked_shl(failed.min(63)).unwrap_or(u64::MAX);
+        self.initial_ns.saturating_mul(factor).min(self.max_ns)
+    }
+}
+
+/// The state of the link.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Link {
+    /// Requests are served.
+    Up,
+    /// Faulted; the next connection attempt is at `retry_at_ns`.
+    Down {
+        /// Connection attempts that failed since the fault.
+        failed: u32,
+        /// When to try next.
+        retry_at_ns: u64,
+    },
+}
+
+/// What an update reports to the runner (which traces it and stops motion on a fault).
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum LinkEvent {
+    /// The link went down: the fault, with device and cause.
+    Fault(IoFault),
+    /// The link is back after `attempts` attempts; the safe values have been written.
+    Reconnected {
+        /// Attempts it took (1: the first retry).
+        attempts: u32,
+    },
+}
+
+/// A [`PlanBackend`] with fault handling.
+#[derive(Debug, Clone)]
+pub struct Supervisor<D> {
+    /// The backend.
+    pub backend: PlanBackend<D>,
+    /// The link's state.
+    pub link: Link,
+    /// Retry delays.
+    pub backoff: Backoff,
+}
+
+impl<D: Device> Supervisor<D> {
+    /// Supervise `backend`; the link is taken as up (the runner connects before the first
+    /// update and reports a refused connection as a fault at time 0).
+    pub fn new(backend: PlanBackend<D>, backoff: Backoff) -> Self {
+        Supervisor {
+            backend,
+            link: Link::Up,
+            backoff,
+        }
+    }
+
+    /// Take the link down at `now_ns` after `fault`; try once to drive the outputs safe (the
+    /// device may still answer, e.g. after an exception).
+    fn fail(&mut self, now_ns: u64, fault: IoFault) -> LinkEvent {
+        let _ = self.backend.safe_state();
+        self.link = Link::Down {
+            failed: 0,
+            retry_at_ns: now_ns.saturating_add(self.backoff.delay(0)),
+        };
+        LinkEvent::Fault(fault)
+    }
+
+    /// The input half of an update at `now_ns`: reconnect when it is time (writing the safe
+    /// values first), then read the inputs into `values`. While the link is down the inputs
+    /// keep their last values.
+    pub fn read(&mut self, now_ns: u64, values: &mut [f64]) -> Option<LinkEvent> {
+        let mut event = None;
+        if let Link::Down {
+            failed,
+            retry_at_ns,
+        } = self.link
+        {
+            if now_ns < retry_at_ns {
+                return None;
+            }
+            let attempt = self
+                .backend
+                .device
+                .connect()
+                .and_then(|()| self.backend.safe_state());
+            if attempt.is_err() {
+                self.link = Link::Down {
+                    failed: failed + 1,
+                    retry_at_ns: now_ns.saturating_add(self.backoff.delay(failed + 1)),
+                };
+                return None;
+            }
+            self.link = Link::Up;
+            event = Some(LinkEvent::Reconnected {
+                attempts: failed + 1,
+            });
+        }
+        match self.backend.read_inputs(now_ns as f64 / 1e9, values) {
+            Ok(()) => event,
+            Err(fault) => Some(self.fail(now_ns, fault)),
+        }
+    }
+
+    /// The output half of an update: write the outputs (nothing while the link is down).
+    pub fn write(&mut self, now_ns: u64, values: &[f64]) -> Option<LinkEvent> {
+        if self.link != Link::Up {
+            return None;
+        }
+        match self.backend.write_outputs(values) {
+            Ok(()) => None,
+            Err(fault) => Some(self.fail(now_ns, fault)),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::io::map::{IoMap, Point, Table};
+    use crate::io::memory::MemoryDevice;
+
+    const MS: u64 = 1_000_000;
+
+    fn point(table: Table, address: u16, slot: u32, safe: f64) -> Point {
+        Point {
+            table,
+            address,
+            width: 1,
+            slot,
+            member: format!("slot{slot}"),
+            scale: 1.0,
+            offset: 0.0,
+            signed: false,
+            safe,
+        }
+    }
+
+    /// Input 0 → slot 0; slot 1 → coil 0 (safe ON); slot 2 → holding 4 (safe 7).
+    fn supervisor() -> Supervisor<MemoryDevice> {
+        let map = IoMap {
+            host: None,
+            port: 502,
+            unit: 1,
+            timeout_ns: 20 * MS,
+            max_gap: 0,
+            points: vec![
+                point(Table::DiscreteInput, 0, 0, 0.0),
+                point(Table::Coil, 0, 1, 1.0),
+                point(Table::HoldingRegister, 4, 2, 7.0),
+            ],
+        };
+        Supervisor::new(
+            PlanBackend::new(map, MemoryDevice::default()),
+            Backoff {
+                initial_ns: 10 * MS,
+                max_ns: 40 * MS,
+            },
+        )
+    }
+
+    fn lost() -> IoFault {
+        IoFault::Disconnected {
+            device: "memory".into(),
+            cause: "connection reset by peer".into(),
+        }
+    }
+
+    #[test]
+    fn backoff_doubles_up_to_its_limit() {
+        let b = Backoff {
+            initial_ns: 10,
+            max_ns: 45,
+        };
+        let delays: Vec<u64> = (0..5).map(|n| b.delay(n)).collect();
+        assert_eq!(delays, vec![10, 20, 40, 45, 45]);
+        assert_eq!(b.delay(200), 45);
+    }
+
+    #[test]
+    fn a_lost_device_faults_retries_with_backoff_and_writes_safe_values_first_on_return() {
+        let mut s = supervisor();
+        let mut values = vec![0.0, 0.0, 3.0];
+        s.backend.device.discrete_inputs[0] = true;
+        assert_eq!(s.read(0, &mut values), None);
+        assert_eq!(values[0], 1.0);
+        assert_eq!(s.write(0, &values), None);
+        assert_eq!(s.backend.device.holding[4], 3);
+
+        // The device goes away: the next read is a fault, with its cause.
+        s.backend.device.down = Some(lost());
+        s.backend.device.discrete_inputs[0] = false;
+        assert_eq!(s.read(MS, &mut values), Some(LinkEvent::Fault(lost())));
+        assert_eq!(
+            s.link,
+            Link::Down {
+                failed: 0,
+                retry_at_ns: 11 * MS
+            }
+        );
+        // Inputs keep their last values; nothing is written while down.
+        assert_eq!(values[0], 1.0);
+        let served = s.backend.device.requests;
+        assert_eq!(s.write(2 * MS, &values), None);
+        assert_eq!(s.read(10 * MS, &mut values), None);
+        assert_eq!(
+            s.backend.device.requests, served,
+            "no request before the retry"
+        );
+
+        // Retry at 11 ms fails: the next is 20 ms later; then 40 (the limit), then 40.
+        assert_eq!(s.read(11 * MS, &mut values), None);
+        assert_eq!(
+            s.link,
+            Link::Down {
+                failed: 1,
+                retry_at_ns: 31 * MS
+            }
+        );
+        assert_eq!(s.read(31 * MS, &mut values), None);
+        assert_eq!(
+            s.link,
+            Link::Down {
+                failed: 2,
+                retry_at_ns: 71 * MS
+            }
+        );
+
+        // Back: the safe values go out before the first read, then the update goes on.
+        s.backend.device.down = None;
+        s.backend.device.writes.clear();
+        assert_eq!(
+            s.read(71 * MS, &mut values),
+            Some(LinkEvent::Reconnected { attempts: 3 })
+        );
+        assert_eq!(
+            s.backend.device.writes,
+            vec![
+                (Table::Coil, 0, vec![1]),
+                (Table::HoldingRegister, 4, vec![7])
+            ]
+        );
+        assert_eq!(
+            values[0], 0.0,
+            "inputs are read again after the safe values"
+        );
+        assert_eq!(s.link, Link::Up);
+        values[1] = 0.0;
+        assert_eq!(s.write(71 * MS, &values), None);
+        assert_eq!(s.backend.device.holding[4], 3);
+        assert!(!s.backend.device.coils[0]);
+    }
+
+    #[test]
+    fn an_exception_on_write_is_a_fault_with_its_code() {
+        let mut s = supervisor();
+        let exception = IoFault::Exception {
+            device: "memory".into(),
+            request: "write holding_register 4".into(),
+            code: 2,
+        };
+        s.backend.device.down = Some(exception.clone());
+        let values = vec![0.0; 3];
+        assert_eq!(
+            s.write(5 * MS, &values),
+            Some(LinkEvent::Fault(exception.clone()))
+        );
+        assert_eq!(
+            exception.to_string(),
+            "memory: write holding_register 4 answered exception 2 (illegal data address)"
+        );
+    }
+}
