@@ -12,6 +12,7 @@
 pub mod jitter;
 pub mod map;
 pub mod memory;
+pub mod pace;
 pub mod plan;
 pub mod supervisor;
 pub mod target;
