@@ -251,6 +251,12 @@ fn bad_entries_are_errors_at_their_text() {
             "count 3 is not valid for a input_register",
         ),
         (
+            "bit-count",
+            "kind = \"discrete_input\"\naddress = 0\ncount = 3000\nmember = \"DriveInput.1\"",
+            "3000",
+            "count 3000 is not valid for a discrete_input",
+        ),
+        (
             "run-past-instances",
             "kind = \"discrete_input\"\naddress = 0\ncount = 7\nmember = \"DriveInput.1\"",
             "\"DriveInput.1\"",

@@ -252,8 +252,8 @@ fn validate_section(
         None => DEFAULT_TIMEOUT_NS,
     };
     let mut points: Vec<Point> = Vec::new();
-    // Where each point came from, to name the first of two overlapping entries.
-    let mut origins: Vec<(usize, usize)> = Vec::new();
+    // The map entry of each point, to name the first of two overlapping entries.
+    let mut origins: Vec<usize> = Vec::new();
     for (i, entry) in section.map.iter().enumerate() {
         for point in entry_points(entry.get_ref(), registry, problems) {
             let e = entry.get_ref();
@@ -261,7 +261,7 @@ fn validate_section(
                 .iter()
                 .position(|p| p.table == point.table && overlaps(p, &point))
             {
-                let first = origins[j].0;
+                let first = origins[j];
                 problems.push(
                     Problem::error(
                         CODE,
@@ -301,7 +301,7 @@ fn validate_section(
                     break;
                 }
             }
-            origins.push((i, points.len()));
+            origins.push(i);
             points.push(point);
         }
     }
@@ -481,11 +481,17 @@ fn entry_points(
             ok = false;
         }
     }
-    let names = member_names(&e.member, if table.is_bit() { count } else { 1 }, problems);
+    // A bad count has been reported: resolve the written member alone.
+    let run = if table.is_bit() && count_ok { count } else { 1 };
+    let names = member_names(&e.member, run, problems);
     let Some(names) = names else {
         return Vec::new();
     };
-    let width = if table.is_bit() { 1 } else { count as u16 };
+    let width = if table.is_bit() || !count_ok {
+        1
+    } else {
+        count as u16
+    };
     let mut points = Vec::new();
     for (i, name) in names.iter().enumerate() {
         let resolved = match registry.resolve_text(name) {
