@@ -9,7 +9,6 @@
 use pacer::io::map::{IoMap, Point, Table};
 use pacer::io::memory::{MemoryDevice, PlanBackend};
 use pacer::io::pace::{request_realtime, run_paced};
-use pacer::io::IoBackend;
 use std::time::Duration;
 
 fn point(table: Table, address: u16, width: u16, slot: u32) -> Point {
@@ -41,6 +40,8 @@ fn labeler_map() -> IoMap {
         unit: 1,
         timeout_ns: 20_000_000,
         max_gap: 0,
+        enabled: false,
+        overrun_limit: 10,
         points,
     }
 }
@@ -61,7 +62,7 @@ fn main() {
         let mut faults = 0u64;
         let timing = run_paced(Duration::from_millis(1), seconds * 1000, |n| {
             backend.device.discrete_inputs[(n % 10) as usize] ^= true;
-            if backend.read_inputs(n as f64 / 1000.0, &mut values).is_err() {
+            if backend.read_inputs(&mut values).is_err() {
                 faults += 1;
             }
             values[10] = values[0];

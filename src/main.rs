@@ -74,6 +74,11 @@ enum Command {
         /// Print nothing but errors
         #[arg(long, short)]
         quiet: bool,
+        /// Where inputs come from and outputs go: `sim` (the simulated machine), `modbus` (the
+        /// coupler of machine.toml's [modbus]) or `modbus://HOST[:PORT][/UNIT]`; real I/O runs
+        /// in real time. Default: sim, or modbus when [modbus] says `enabled = true`
+        #[arg(long, value_name = "IO")]
+        io: Option<String>,
         #[command(flatten)]
         export: pacer::export::ExportArgs,
     },
@@ -116,8 +121,20 @@ fn main() -> ExitCode {
             duration,
             trace,
             quiet,
+            io,
             export,
-        } => run(project, scenario, duration, trace, quiet, export, color),
+        } => run(
+            project,
+            scenario,
+            RunOptions {
+                duration,
+                trace,
+                quiet,
+                io,
+                color,
+            },
+            export,
+        ),
         Command::Plot(args) => match pacer::export::plot_command(&args) {
             Ok(path) => {
                 say!("plot: {}", path.display());
@@ -182,16 +199,73 @@ fn problems(d: &pacer::diag::Diagnostics, color: bool) -> ExitCode {
     ExitCode::from(EXIT_PROBLEMS)
 }
 
-fn run(
-    project: Project,
-    scenario: Option<PathBuf>,
+/// What `pacer run` was asked for, beside the project and the exports.
+struct RunOptions {
     duration: Option<f64>,
     trace: Option<PathBuf>,
     quiet: bool,
-    export: pacer::export::ExportArgs,
+    io: Option<String>,
     color: bool,
+}
+
+/// The real I/O a run is wired to, resolved from `--io` and the machine file.
+struct RealIo {
+    map: pacer::io::map::IoMap,
+    host: String,
+    port: u16,
+    unit: u8,
+}
+
+/// `--io` against the machine file: None for the simulator, the coupler for real I/O, or the
+/// message of a setting that cannot work.
+fn resolve_io(io: Option<&str>, loaded: &pacer::load::Loaded) -> Result<Option<RealIo>, String> {
+    use pacer::io::target::IoTarget;
+    let target = match io {
+        Some(text) => IoTarget::parse(text).map_err(|e| format!("--io: {e}"))?,
+        None if loaded.io_map.as_ref().is_some_and(|m| m.enabled) => IoTarget::Modbus {
+            host: None,
+            port: None,
+            unit: None,
+        },
+        None => IoTarget::Simulator,
+    };
+    let IoTarget::Modbus { host, port, unit } = target else {
+        return Ok(None);
+    };
+    let Some(map) = loaded.io_map.clone() else {
+        return Err(
+            "--io modbus: machine.toml has no [modbus] section: map the coupler's points to pacer's members first (see README, \"Real I/O\")"
+                .into(),
+        );
+    };
+    let Some(host) = host.or_else(|| map.host.clone()) else {
+        return Err(
+            "--io modbus: no host: give one (--io modbus://HOST:PORT) or set [modbus] host in machine.toml"
+                .into(),
+        );
+    };
+    if loaded.image.orion.is_some() {
+        return Err(
+            "--io modbus: this machine has MotionBASIC DSP axes, which pacer cannot yet bring to a stop on an I/O fault; real I/O runs PowerTools and pick & place machines"
+                .into(),
+        );
+    }
+    Ok(Some(RealIo {
+        port: port.unwrap_or(map.port),
+        unit: unit.unwrap_or(map.unit),
+        host,
+        map,
+    }))
+}
+
+fn run(
+    project: Project,
+    scenario: Option<PathBuf>,
+    options: RunOptions,
+    export: pacer::export::ExportArgs,
 ) -> ExitCode {
-    let duration_ns = match duration.map(pacer::config::values::seconds_to_ns) {
+    let color = options.color;
+    let duration_ns = match options.duration.map(pacer::config::values::seconds_to_ns) {
         None => None,
         Some(Ok(ns)) => Some(ns),
         Some(Err(e)) => {
@@ -209,6 +283,63 @@ fn run(
         Err(d) => return problems(&d, color),
     };
     warn_raw!("{}", loaded.warnings.render(color));
+    let real_io = match resolve_io(options.io.as_deref(), &loaded) {
+        Ok(r) => r,
+        Err(e) => {
+            warn!("error: {e}");
+            return ExitCode::from(EXIT_PROBLEMS);
+        }
+    };
+    match real_io {
+        None => execute(loaded, duration_ns, options, export, None),
+        // The updates get a thread of their own (its priority is raised), which owns the
+        // connection from the start.
+        Some(real) => {
+            let worker = std::thread::Builder::new()
+                .name("pacer-update".into())
+                .spawn(move || execute(loaded, duration_ns, options, export, Some(real)));
+            match worker.map(|w| w.join()) {
+                Ok(Ok(code)) => code,
+                Ok(Err(_)) => {
+                    warn!("error: the update thread stopped unexpectedly");
+                    ExitCode::from(EXIT_RUNTIME)
+                }
+                Err(e) => {
+                    warn!("error: cannot start the update thread: {e}");
+                    ExitCode::from(EXIT_RUNTIME)
+                }
+            }
+        }
+    }
+}
+
+/// Connect to the coupler, writing the safe values first; the supervisor that runs it.
+fn connect(
+    real: RealIo,
+) -> Result<pacer::io::supervisor::Supervisor<pacer::io::modbus::ModbusTcp>, pacer::io::IoFault> {
+    use pacer::io::memory::PlanBackend;
+    use pacer::io::supervisor::{Backoff, Supervisor};
+    let device =
+        pacer::io::modbus::ModbusTcp::new(&real.host, real.port, real.unit, real.map.timeout_ns);
+    let mut supervisor = Supervisor::new(PlanBackend::new(real.map, device), Backoff::default());
+    supervisor.open()?;
+    Ok(supervisor)
+}
+
+/// Run the loaded machine (on the simulator, or in real time on `real`) and report.
+fn execute(
+    loaded: pacer::load::Loaded,
+    duration_ns: Option<u64>,
+    options: RunOptions,
+    export: pacer::export::ExportArgs,
+    real: Option<RealIo>,
+) -> ExitCode {
+    let RunOptions {
+        trace,
+        quiet,
+        color: _,
+        ..
+    } = options;
     let sink: Option<Box<dyn std::io::Write>> = match &trace {
         None => None,
         Some(p) => match std::fs::File::create(p) {
@@ -230,8 +361,49 @@ fn run(
     let tick_ns = loaded.image.tick_ns;
     let name = loaded.image.name.clone();
     let mut machine = Machine::new(loaded.image, Trace::new(sink, tick_ns));
+    let mut realtime = None;
+    if let Some(real) = real {
+        let overrun_limit = real.map.overrun_limit;
+        let supervisor = match connect(real) {
+            Ok(s) => s,
+            Err(e) => {
+                warn!("error: {e}");
+                return ExitCode::from(EXIT_IO);
+            }
+        };
+        let dropped = machine.attach_io(Box::new(supervisor));
+        if dropped > 0 && !quiet {
+            warn!("note: {dropped} scenario input edge(s) dropped: the device drives those inputs");
+        }
+        let interrupt = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        if let Err(e) = signal_hook::flag::register(signal_hook::consts::SIGINT, interrupt.clone())
+        {
+            warn!("warning: Ctrl-C cannot be caught ({e}): it will end pacer without driving the outputs safe");
+        }
+        if !quiet {
+            say!(
+                "pacer: {}: real time on {}; Ctrl-C stops",
+                name,
+                machine.io_device()
+            );
+        }
+        let options = pacer::vm::realtime::RealTimeOptions {
+            overrun_limit,
+            interrupt: &interrupt,
+        };
+        realtime = Some(if export.is_active() {
+            export.start(&machine);
+            pacer::vm::realtime::run_real_time(&mut machine, duration_ns, options, &mut |m| {
+                export.observe(m)
+            })
+        } else {
+            pacer::vm::realtime::run_real_time(&mut machine, duration_ns, options, &mut |_| {})
+        });
+    }
     // Observed only when something is exported: otherwise the run is exactly what it was.
-    let summary = if export.is_active() {
+    let summary = if let Some(r) = &realtime {
+        r.summary.clone()
+    } else if export.is_active() {
         export.start(&machine);
         machine.run_observed(duration_ns, &mut |m| export.observe(m))
     } else {
@@ -270,11 +442,58 @@ fn run(
             say!("{kind}: {}", p.display());
         }
     }
+    if let Some(r) = &realtime {
+        report_real_time(r, &machine.io_device(), quiet);
+    }
     match summary.error {
         Some(e) => {
             warn!("error: {e}");
             ExitCode::from(EXIT_RUNTIME)
         }
-        None => ExitCode::SUCCESS,
+        None => match realtime.and_then(|r| r.overrun_fault) {
+            Some(fault) => {
+                warn!("error: {fault}");
+                ExitCode::from(EXIT_RUNTIME)
+            }
+            None => ExitCode::SUCCESS,
+        },
+    }
+}
+
+/// The real-time part of the end-of-run summary: the I/O link, the timing, and what the
+/// system refused.
+fn report_real_time(r: &pacer::vm::realtime::RealTimeReport, device: &str, quiet: bool) {
+    for w in &r.realtime.warnings {
+        warn!("warning: {w}");
+    }
+    if let Some(e) = &r.close_error {
+        warn!("warning: the outputs could not be driven to their safe values at the end: {e}");
+    }
+    if quiet {
+        return;
+    }
+    let io = r.io;
+    say!(
+        "io: {device}: {} requests in {} updates ({:.2} per update); {} fault(s), {} reconnection(s)",
+        io.requests,
+        io.updates,
+        if io.updates > 0 { io.requests as f64 / io.updates as f64 } else { 0.0 },
+        io.faults,
+        io.reconnections
+    );
+    if let Some(t) = &r.timing {
+        say!(
+            "timing: {t}; {}, memory {}",
+            if r.realtime.fifo {
+                format!("SCHED_FIFO {}", pacer::vm::realtime::PRIORITY)
+            } else {
+                "normal scheduling".into()
+            },
+            if r.realtime.locked {
+                "locked"
+            } else {
+                "not locked"
+            }
+        );
     }
 }

@@ -5,7 +5,6 @@
 use pacer::io::map::Table;
 use pacer::io::memory::{MemoryDevice, PlanBackend};
 use pacer::io::plan::plan;
-use pacer::io::IoBackend;
 use pacer::load::{load, LoadRequest, Loaded};
 
 /// The labeler's wiring on a 16-in / 8-out coupler with one analog card.
@@ -167,7 +166,7 @@ fn the_plan_runs_on_a_device_inputs_in_outputs_out_safe_values_on_demand() {
     device.input_registers[0] = 1234;
     let mut backend = PlanBackend::new(map, device);
     let mut values = vec![0.0; loaded.image.registry.slot_count()];
-    backend.read_inputs(0.001, &mut values).expect("read");
+    backend.read_inputs(&mut values).expect("read");
     assert_eq!((values[di4], values[mi2]), (1.0, 1.0));
     assert!((values[speed] - 123.4).abs() < 1e-9);
     assert_eq!(backend.device.requests, 2);

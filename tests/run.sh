@@ -15,6 +15,13 @@ if ! PYTHONPATH="$PACER_PYTOOLS" python3 -c \
     python3 -m pip install --quiet --disable-pip-version-check --root-user-action=ignore \
         --upgrade --target "$PACER_PYTOOLS" pyvcd==0.5.1
 fi
+# pymodbus, the independent Modbus TCP server the test peer tests/peers/modbus_server.py runs:
+# pinned, installed beside pyvcd.
+if ! PYTHONPATH="$PACER_PYTOOLS" python3 -c \
+    'import importlib.metadata as m, sys; sys.exit(m.version("pymodbus") != "3.16.1")' 2>/dev/null; then
+    python3 -m pip install --quiet --disable-pip-version-check --root-user-action=ignore \
+        --upgrade --target "$PACER_PYTOOLS" pymodbus==3.16.1
+fi
 
 cargo fmt --all -- --check
 cargo clippy --all-targets --locked -- -D warnings

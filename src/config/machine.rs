@@ -73,6 +73,11 @@ pub struct ModbusSection {
     /// Unused addresses a read may span to merge two groups into one request (default 0:
     /// only contiguous addresses are merged).
     pub max_gap: Option<Spanned<i64>>,
+    /// Run on the coupler by default (`--io sim` still simulates); default false: the
+    /// simulator unless `--io modbus…` is given.
+    pub enabled: Option<Spanned<bool>>,
+    /// Consecutive late updates that make a real-time fault (default 10; 0: never).
+    pub overrun_limit: Option<Spanned<i64>>,
     /// The map: one entry per run of points.
     #[serde(default)]
     pub map: Vec<Spanned<ModbusMapEntry>>,

@@ -1,19 +1,38 @@
 //! Timing statistics of a paced run: how late each update started against its absolute
-//! deadline (jitter), how long updates took, and how many overran their period.
+//! deadline (jitter), how long updates took, and how many overran their period. Lateness goes
+//! into a histogram (3 significant figures), so a run of any length keeps constant memory.
+
+use hdrhistogram::Histogram;
 
 /// Collected per-update timings, nanoseconds.
-#[derive(Debug, Clone, Default)]
+#[derive(Debug, Clone)]
 pub struct Timing {
-    lateness: Vec<u64>,
-    work: Vec<u64>,
+    lateness: Histogram<u64>,
+    worst_update_ns: u64,
     overruns: u64,
+    streak: u64,
+    longest_streak: u64,
+}
+
+impl Default for Timing {
+    fn default() -> Self {
+        Timing {
+            // 1 ns to 1 hour at 3 significant figures; larger values saturate at the top.
+            lateness: Histogram::new_with_bounds(1, 3_600_000_000_000, 3)
+                .expect("constant histogram bounds are valid"),
+            worst_update_ns: 0,
+            overruns: 0,
+            streak: 0,
+            longest_streak: 0,
+        }
+    }
 }
 
 /// The end-of-run summary of [`Timing`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct TimingSummary {
     /// Updates measured.
-    pub updates: usize,
+    pub updates: u64,
     /// Median start lateness, ns.
     pub p50_ns: u64,
     /// 99th percentile start lateness, ns.
@@ -24,17 +43,25 @@ pub struct TimingSummary {
     pub worst_update_ns: u64,
     /// Updates whose work did not finish before the next deadline.
     pub overruns: u64,
+    /// The longest run of consecutive overruns.
+    pub longest_streak: u64,
 }
 
 impl Timing {
     /// Record one update: it started `lateness_ns` after its deadline and took `work_ns`;
-    /// `period_ns` is the update period (an update longer than that is an overrun).
-    pub fn record(&mut self, lateness_ns: u64, work_ns: u64, period_ns: u64) {
-        self.lateness.push(lateness_ns);
-        self.work.push(work_ns);
+    /// `period_ns` is the update period (an update that ends after the next deadline is an
+    /// overrun). Returns the overruns in a row so far, this one included (0: on time).
+    pub fn record(&mut self, lateness_ns: u64, work_ns: u64, period_ns: u64) -> u64 {
+        self.lateness.saturating_record(lateness_ns);
+        self.worst_update_ns = self.worst_update_ns.max(work_ns);
         if lateness_ns.saturating_add(work_ns) > period_ns {
             self.overruns += 1;
+            self.streak += 1;
+            self.longest_streak = self.longest_streak.max(self.streak);
+        } else {
+            self.streak = 0;
         }
+        self.streak
     }
 
     /// The summary; None before any update.
@@ -42,23 +69,34 @@ impl Timing {
         if self.lateness.is_empty() {
             return None;
         }
-        let mut sorted = self.lateness.clone();
-        sorted.sort_unstable();
+        let h = &self.lateness;
         Some(TimingSummary {
-            updates: sorted.len(),
-            p50_ns: percentile(&sorted, 50),
-            p99_ns: percentile(&sorted, 99),
-            max_ns: sorted[sorted.len() - 1],
-            worst_update_ns: self.work.iter().copied().max().unwrap_or(0),
+            updates: h.len(),
+            p50_ns: h.value_at_quantile(0.50),
+            p99_ns: h.value_at_quantile(0.99),
+            max_ns: h.max(),
+            worst_update_ns: self.worst_update_ns,
             overruns: self.overruns,
+            longest_streak: self.longest_streak,
         })
     }
 }
 
-/// The nearest-rank percentile `p` (1–100) of sorted, non-empty data.
-fn percentile(sorted: &[u64], p: usize) -> u64 {
-    let rank = (p * sorted.len()).div_ceil(100).max(1);
-    sorted[rank.min(sorted.len()) - 1]
+impl std::fmt::Display for TimingSummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let us = |ns: u64| ns as f64 / 1e3;
+        write!(
+            f,
+            "{} updates; start jitter p50 {:.1} µs, p99 {:.1} µs, max {:.1} µs; worst update {:.1} µs; {} overrun(s) (longest run {})",
+            self.updates,
+            us(self.p50_ns),
+            us(self.p99_ns),
+            us(self.max_ns),
+            us(self.worst_update_ns),
+            self.overruns,
+            self.longest_streak
+        )
+    }
 }
 
 #[cfg(test)]
@@ -66,21 +104,36 @@ mod tests {
     use super::*;
 
     #[test]
-    fn percentiles_by_nearest_rank_and_overruns() {
+    fn percentiles_overruns_and_streaks() {
         let mut t = Timing::default();
         assert_eq!(t.summary(), None);
-        // Lateness 1..=200 µs in reverse order; update 3 takes longer than the 1 ms period.
+        // Lateness 1..=200 µs in reverse order; updates 3 and 2 take longer than the 1 ms
+        // period (two in a row), update 50 too.
+        let mut streaks = Vec::new();
         for i in (1..=200u64).rev() {
-            let work = if i == 3 { 1_000_000 } else { 100_000 };
-            t.record(i * 1000, work, 1_000_000);
+            let work = if matches!(i, 2 | 3 | 50) {
+                1_000_000
+            } else {
+                100_000
+            };
+            streaks.push(t.record(i * 1000, work, 1_000_000));
         }
         let s = t.summary().expect("updates");
         assert_eq!(s.updates, 200);
-        assert_eq!(s.p50_ns, 100_000);
-        assert_eq!(s.p99_ns, 198_000);
-        assert_eq!(s.max_ns, 200_000);
+        // Three significant figures: within 0.1 %.
+        assert!((s.p50_ns as f64 - 100_000.0).abs() <= 100.0, "{s:?}");
+        assert!((s.p99_ns as f64 - 198_000.0).abs() <= 198.0, "{s:?}");
+        assert!((s.max_ns as f64 - 200_000.0).abs() <= 200.0, "{s:?}");
         assert_eq!(s.worst_update_ns, 1_000_000);
-        assert_eq!(s.overruns, 1);
+        assert_eq!(s.overruns, 3);
+        assert_eq!(s.longest_streak, 2);
+        assert_eq!(streaks[200 - 50], 1);
+        assert_eq!(streaks[200 - 2], 2);
+        assert_eq!(streaks[200 - 1], 0);
+        assert!(
+            s.to_string().contains("3 overrun(s) (longest run 2)"),
+            "{s}"
+        );
     }
 
     #[test]
@@ -89,5 +142,14 @@ mod tests {
         t.record(7, 8, 1000);
         let s = t.summary().expect("one");
         assert_eq!((s.p50_ns, s.p99_ns, s.max_ns, s.overruns), (7, 7, 7, 0));
+    }
+
+    #[test]
+    fn memory_does_not_grow_with_the_run() {
+        let mut t = Timing::default();
+        for i in 0..1_000_000u64 {
+            t.record(i % 5000, 10, 1_000_000);
+        }
+        assert_eq!(t.summary().map(|s| s.updates), Some(1_000_000));
     }
 }

@@ -19,6 +19,8 @@ pub const DEFAULT_UNIT: u8 = 1;
 pub const DEFAULT_TIMEOUT_NS: u64 = 100_000_000;
 /// The largest `max_gap` accepted (a register read holds at most 125 registers).
 pub const MAX_GAP: u16 = 125;
+/// Consecutive overruns that make a real-time fault unless the machine file says otherwise.
+pub const DEFAULT_OVERRUN_LIMIT: u64 = 10;
 
 /// The four Modbus data tables.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -191,6 +193,10 @@ pub struct IoMap {
     pub timeout_ns: u64,
     /// Unused addresses a read may span to merge two groups.
     pub max_gap: u16,
+    /// Run on the coupler unless `--io sim` is given.
+    pub enabled: bool,
+    /// Consecutive overruns that make a real-time fault (0: never).
+    pub overrun_limit: u64,
     /// The points, in the order of the map (a run of bits is one point per bit).
     pub points: Vec<Point>,
 }
@@ -238,6 +244,15 @@ fn validate_section(
         problems,
     )
     .map_or(0, |v| v as u16);
+    let overrun_limit = int_in(
+        section.overrun_limit.as_ref(),
+        0,
+        1_000_000,
+        "overrun_limit",
+        problems,
+    )
+    .map_or(DEFAULT_OVERRUN_LIMIT, |v| v as u64);
+    let enabled = section.enabled.as_ref().is_some_and(|e| *e.get_ref());
     let timeout_ns = match &section.timeout {
         Some(t) if t.get_ref().0 == 0 || t.get_ref().0 > 60_000_000_000 => {
             problems.push(Problem::error(
@@ -311,6 +326,8 @@ fn validate_section(
         unit,
         timeout_ns,
         max_gap,
+        enabled,
+        overrun_limit,
         points,
     }
 }

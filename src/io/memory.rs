@@ -1,11 +1,11 @@
 //! Executing a poll plan against a [`Device`]: the part of the real backend that does not
 //! depend on the transport. [`MemoryDevice`] is a device held in memory (for tests, and the
 //! model the Modbus TCP client follows); [`PlanBackend`] runs the plan of an [`IoMap`] on any
-//! device, as an [`IoBackend`].
+//! device.
 
 use super::map::{IoMap, Table};
 use super::plan::{plan, Op, PollPlan, Request};
-use super::{IoBackend, IoFault};
+use super::IoFault;
 
 /// The Modbus requests a device answers. Bits travel as `bool`, registers as `u16`.
 pub trait Device {
@@ -138,7 +138,8 @@ impl Device for MemoryDevice {
     }
 }
 
-/// An [`IoBackend`] that runs the poll plan of a map on a device.
+/// The poll plan of a map, run on a device: one update's reads into the machine's values,
+/// its writes from them.
 #[derive(Debug, Clone)]
 pub struct PlanBackend<D> {
     /// The map.
@@ -149,6 +150,8 @@ pub struct PlanBackend<D> {
     pub device: D,
     /// Outputs whose value did not fit their register at the last write (member names).
     pub saturated: Vec<String>,
+    /// Requests sent (answered or not) since the backend was made.
+    pub requests: u64,
 }
 
 impl<D: Device> PlanBackend<D> {
@@ -160,6 +163,7 @@ impl<D: Device> PlanBackend<D> {
             plan,
             device,
             saturated: Vec::new(),
+            requests: 0,
         }
     }
 
@@ -179,6 +183,7 @@ impl<D: Device> PlanBackend<D> {
     }
 
     fn send(&mut self, r: &Request, words: &[u16]) -> Result<(), IoFault> {
+        self.requests += 1;
         if r.table.is_bit() {
             let bits: Vec<bool> = words.iter().map(|&w| w != 0).collect();
             self.device.write_coils(r.start, &bits)
@@ -206,14 +211,17 @@ impl<D: Device> PlanBackend<D> {
     }
 }
 
-impl<D: Device> IoBackend for PlanBackend<D> {
-    fn device(&self) -> String {
+impl<D: Device> PlanBackend<D> {
+    /// The device, for messages.
+    pub fn device_name(&self) -> String {
         self.device.device()
     }
 
-    fn read_inputs(&mut self, _t: f64, values: &mut [f64]) -> Result<(), IoFault> {
+    /// Read every input of the map into `values` (indexed by slot), scaled.
+    pub fn read_inputs(&mut self, values: &mut [f64]) -> Result<(), IoFault> {
         for r in &self.plan.reads {
             debug_assert_eq!(r.op, Op::Read);
+            self.requests += 1;
             let words: Vec<u16> = if r.table.is_bit() {
                 self.device
                     .read_bits(r.table, r.start, r.count)?
@@ -237,7 +245,8 @@ impl<D: Device> IoBackend for PlanBackend<D> {
         Ok(())
     }
 
-    fn write_outputs(&mut self, values: &[f64]) -> Result<(), IoFault> {
+    /// Write every output of the map from `values` (indexed by slot), scaled.
+    pub fn write_outputs(&mut self, values: &[f64]) -> Result<(), IoFault> {
         self.write_with(|map, i| {
             values
                 .get(map.points[i].slot as usize)
@@ -246,7 +255,8 @@ impl<D: Device> IoBackend for PlanBackend<D> {
         })
     }
 
-    fn safe_state(&mut self) -> Result<(), IoFault> {
+    /// Write every output's configured safe value.
+    pub fn safe_state(&mut self) -> Result<(), IoFault> {
         self.write_with(|map, i| map.points[i].safe)
     }
 }

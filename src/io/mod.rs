@@ -1,21 +1,24 @@
 //! I/O backends: where a machine's inputs come from and its outputs go.
 //!
 //! The kernel talks to one [`IoBackend`] per run. The simulated world (scenario edges, the
-//! master profile) is the default backend and today is still called directly by
-//! `vm::Machine::step`; the real backend (Modbus TCP against a remote-I/O coupler) is described
+//! master profile) is the default backend, [`Simulator`]; the real backend (Modbus TCP against a remote-I/O coupler) is described
 //! by [`map`] (what is wired where, validated from `machine.toml`) and [`plan`] (the requests
 //! one update costs). [`memory`] executes a plan against an in-memory device, the model the
 //! Modbus TCP client follows; [`supervisor`] adds the fault handling (safe state, reconnection
-//! with back-off, safe values first). [`target`] parses `--io`; [`jitter`] keeps the timing statistics
+//! with back-off, safe values first); [`modbus`] is the Modbus TCP client. [`target`] parses `--io`; [`jitter`] keeps the timing statistics
 //! of a run paced by the wall clock.
 
 pub mod jitter;
 pub mod map;
 pub mod memory;
+pub mod modbus;
 pub mod pace;
 pub mod plan;
 pub mod supervisor;
 pub mod target;
+
+use crate::registry::SlotId;
+use crate::world::{InputActivity, World};
 
 /// Why an I/O update failed: the device and the cause, for the fault report.
 #[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
@@ -66,20 +69,121 @@ pub fn exception_name(code: u8) -> &'static str {
     }
 }
 
-/// What the kernel needs of an I/O backend, once per update.
-///
-/// An update calls [`IoBackend::read_inputs`] before the assignments and tasks run and
-/// [`IoBackend::write_outputs`] after the kernel has updated the outputs; both work on the
-/// machine's value table (indexed by slot). On a fault the runner calls
-/// [`IoBackend::safe_state`], stops motion and reports the fault; the backend reconnects on
-/// later updates and writes the safe values first.
+impl IoFault {
+    /// The device the fault is about.
+    pub fn device(&self) -> &str {
+        match self {
+            IoFault::Disconnected { device, .. }
+            | IoFault::Timeout { device, .. }
+            | IoFault::Exception { device, .. } => device,
+        }
+    }
+
+    /// The cause, without the device (for the trace's `cause` field).
+    pub fn cause(&self) -> String {
+        match self {
+            IoFault::Disconnected { cause, .. } => format!("not connected ({cause})"),
+            IoFault::Timeout {
+                request,
+                timeout_ms,
+                ..
+            } => format!("{request} timed out after {timeout_ms} ms"),
+            IoFault::Exception { request, code, .. } => format!(
+                "{request} answered exception {code} ({})",
+                exception_name(*code)
+            ),
+        }
+    }
+}
+
+/// Requests, faults and reconnections of a run, for the end-of-run summary.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct IoStats {
+    /// Requests sent to the device.
+    pub requests: u64,
+    /// Updates whose I/O was exchanged with the device (link up).
+    pub updates: u64,
+    /// Faults (the link went down).
+    pub faults: u64,
+    /// Reconnections (the link came back).
+    pub reconnections: u64,
+}
+
+/// Where a machine's inputs come from and its outputs go: what `vm::Machine::step` talks to,
+/// once per update. [`Simulator`] is the scenario's world; [`supervisor::Supervisor`] a real
+/// device (over the simulated world, which still gives the master axis and every input the
+/// device does not drive).
 pub trait IoBackend {
     /// The device, for messages (`simulator`, `modbus://10.0.0.5:502 unit 1`).
     fn device(&self) -> String;
-    /// Bring the inputs of the update ending at `t` seconds into `values`.
-    fn read_inputs(&mut self, t: f64, values: &mut [f64]) -> Result<(), IoFault>;
-    /// Send the outputs in `values` to the device.
-    fn write_outputs(&mut self, values: &[f64]) -> Result<(), IoFault>;
-    /// Drive every output to its configured safe value.
-    fn safe_state(&mut self) -> Result<(), IoFault>;
+    /// Whether updates must be paced by the wall clock (a real device is).
+    fn real_time(&self) -> bool;
+    /// The input half of the update ending at `t` seconds (`now_ns` nanoseconds): advance the
+    /// world and bring the inputs into `values`. A link going down or coming back is reported.
+    fn read_inputs(
+        &mut self,
+        t: f64,
+        now_ns: u64,
+        world: &mut World,
+        values: &mut [f64],
+        activity: &mut Vec<InputActivity>,
+    ) -> Option<supervisor::LinkEvent>;
+    /// The output half: send the outputs in `values` (nothing while the link is down).
+    fn write_outputs(&mut self, now_ns: u64, values: &[f64]) -> Option<supervisor::LinkEvent>;
+    /// The outputs' slots and safe values: the machine takes them on a fault, so its image
+    /// and the trace show what the device was sent.
+    fn safe_outputs(&self) -> Vec<(SlotId, f64)>;
+    /// The slots the device drives (scenario edges on them are dropped).
+    fn driven_inputs(&self) -> Vec<SlotId>;
+    /// End of the run: drive the outputs to their safe values.
+    fn close(&mut self) -> Result<(), IoFault>;
+    /// What the link did so far.
+    fn stats(&self) -> IoStats;
+}
+
+/// The simulated world as the I/O backend: inputs are the scenario's edges, outputs go nowhere
+/// (the trace shows them).
+#[derive(Debug, Clone, Copy, Default)]
+pub struct Simulator;
+
+impl IoBackend for Simulator {
+    fn device(&self) -> String {
+        "simulator".into()
+    }
+
+    fn real_time(&self) -> bool {
+        false
+    }
+
+    fn read_inputs(
+        &mut self,
+        t: f64,
+        _now_ns: u64,
+        world: &mut World,
+        values: &mut [f64],
+        activity: &mut Vec<InputActivity>,
+    ) -> Option<supervisor::LinkEvent> {
+        world.advance(t, values, activity);
+        None
+    }
+
+    fn write_outputs(&mut self, _now_ns: u64, _values: &[f64]) -> Option<supervisor::LinkEvent> {
+        None
+    }
+
+    fn safe_outputs(&self) -> Vec<(SlotId, f64)> {
+        Vec::new()
+    }
+
+    fn driven_inputs(&self) -> Vec<SlotId> {
+        Vec::new()
+    }
+
+    fn close(&mut self) -> Result<(), IoFault> {
+        Ok(())
+    }
+
+    fn stats(&self) -> IoStats {
+        IoStats::default()
+    }
 }

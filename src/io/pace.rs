@@ -4,7 +4,7 @@
 //! warning when the system refuses.
 
 use super::jitter::Timing;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 /// What the pacing thread obtained from the operating system.
 #[derive(Debug, Clone, Default, PartialEq, Eq)]
@@ -57,37 +57,130 @@ pub fn request_realtime(priority: i32) -> Realtime {
     rt
 }
 
+/// The monotonic clock, nanoseconds from an arbitrary origin.
+#[cfg(target_os = "linux")]
+fn mono_ns() -> u64 {
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec; CLOCK_MONOTONIC always exists on Linux.
+    unsafe { libc::clock_gettime(libc::CLOCK_MONOTONIC, &mut ts) };
+    (ts.tv_sec as u64)
+        .saturating_mul(1_000_000_000)
+        .saturating_add(ts.tv_nsec as u64)
+}
+
+#[cfg(not(target_os = "linux"))]
+fn mono_ns() -> u64 {
+    use std::sync::OnceLock;
+    static ORIGIN: OnceLock<std::time::Instant> = OnceLock::new();
+    let origin = *ORIGIN.get_or_init(std::time::Instant::now);
+    u64::try_from(origin.elapsed().as_nanos()).unwrap_or(u64::MAX)
+}
+
+/// Sleep until the monotonic clock reads `deadline_ns`: an absolute sleep, so the time spent
+/// computing the sleep cannot add to it.
+#[cfg(target_os = "linux")]
+fn sleep_until(deadline_ns: u64) {
+    let ts = libc::timespec {
+        tv_sec: (deadline_ns / 1_000_000_000) as libc::time_t,
+        tv_nsec: (deadline_ns % 1_000_000_000) as libc::c_long,
+    };
+    // Interrupted by a signal (EINTR): sleep again until the deadline.
+    // SAFETY: `ts` is a valid timespec; the remainder pointer may be null with TIMER_ABSTIME.
+    while unsafe {
+        libc::clock_nanosleep(
+            libc::CLOCK_MONOTONIC,
+            libc::TIMER_ABSTIME,
+            &ts,
+            std::ptr::null_mut(),
+        )
+    } == libc::EINTR
+    {}
+}
+
+#[cfg(not(target_os = "linux"))]
+fn sleep_until(deadline_ns: u64) {
+    let now = mono_ns();
+    if deadline_ns > now {
+        std::thread::sleep(Duration::from_nanos(deadline_ns - now));
+    }
+}
+
+/// Paces updates by absolute deadlines: update `n` is due at start + n × period, whatever the
+/// updates before it took, and each one's lateness and work go into a [`Timing`].
+#[derive(Debug, Clone)]
+pub struct Pacer {
+    period_ns: u64,
+    start_ns: u64,
+    n: u64,
+    began_ns: u64,
+    lateness_ns: u64,
+    timing: Timing,
+}
+
+impl Pacer {
+    /// Start pacing: update 0 is due now.
+    pub fn start(period: Duration) -> Pacer {
+        let now = mono_ns();
+        Pacer {
+            period_ns: u64::try_from(period.as_nanos()).unwrap_or(u64::MAX).max(1),
+            start_ns: now,
+            n: 0,
+            began_ns: now,
+            lateness_ns: 0,
+            timing: Timing::default(),
+        }
+    }
+
+    /// The current update has done its work: record it. Returns the overruns in a row so far
+    /// (0: this update ended before the next one is due).
+    pub fn end_update(&mut self) -> u64 {
+        let work = mono_ns().saturating_sub(self.began_ns);
+        self.timing.record(self.lateness_ns, work, self.period_ns)
+    }
+
+    /// Wait for the next update's deadline (at once when it has passed) and start it.
+    pub fn wait_next(&mut self) {
+        self.n += 1;
+        let due = self
+            .start_ns
+            .saturating_add(self.n.saturating_mul(self.period_ns));
+        if mono_ns() < due {
+            sleep_until(due);
+        }
+        self.began_ns = mono_ns();
+        self.lateness_ns = self.began_ns.saturating_sub(due);
+    }
+
+    /// The timings so far.
+    pub fn timing(&self) -> &Timing {
+        &self.timing
+    }
+}
+
 /// Run `updates` updates of `period`, update `n` due at start + n × period; `update(n)` does
 /// the work and returns false to stop early. Returns the timing of every update run.
 pub fn run_paced(period: Duration, updates: u64, mut update: impl FnMut(u64) -> bool) -> Timing {
-    let mut timing = Timing::default();
-    let period_ns = u64::try_from(period.as_nanos()).unwrap_or(u64::MAX);
-    let start = Instant::now();
+    let mut pacer = Pacer::start(period);
     for n in 0..updates {
-        let due = start + period.saturating_mul(u32::try_from(n).unwrap_or(u32::MAX));
-        let now = Instant::now();
-        if let Some(wait) = due.checked_duration_since(now) {
-            std::thread::sleep(wait);
+        if n > 0 {
+            pacer.wait_next();
         }
-        let began = Instant::now();
-        let lateness = began.saturating_duration_since(due);
         let go_on = update(n);
-        let work = began.elapsed();
-        timing.record(
-            u64::try_from(lateness.as_nanos()).unwrap_or(u64::MAX),
-            u64::try_from(work.as_nanos()).unwrap_or(u64::MAX),
-            period_ns,
-        );
+        pacer.end_update();
         if !go_on {
             break;
         }
     }
-    timing
+    pacer.timing
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
+    use std::time::Instant;
 
     #[test]
     fn updates_follow_absolute_deadlines_and_a_slow_one_is_an_overrun() {

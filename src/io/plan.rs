@@ -143,6 +143,8 @@ mod tests {
             unit: 1,
             timeout_ns: 100_000_000,
             max_gap,
+            enabled: false,
+            overrun_limit: 10,
             points,
         }
     }

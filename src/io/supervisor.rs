@@ -7,7 +7,9 @@
 //! function of the device's answers and the clock, and is tested without sockets or sleeps.
 
 use super::memory::{Device, PlanBackend};
-use super::{IoBackend, IoFault};
+use super::{IoBackend, IoFault, IoStats};
+use crate::registry::SlotId;
+use crate::world::{InputActivity, World};
 
 /// Retry delays: `initial_ns`, doubling after each failed attempt, never above `max_ns`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -71,6 +73,12 @@ pub struct Supervisor<D> {
     pub link: Link,
     /// Retry delays.
     pub backoff: Backoff,
+    /// Faults and reconnections so far.
+    pub faults: u64,
+    /// Reconnections so far.
+    pub reconnections: u64,
+    /// Updates whose I/O went to the device.
+    pub updates: u64,
 }
 
 impl<D: Device> Supervisor<D> {
@@ -81,13 +89,24 @@ impl<D: Device> Supervisor<D> {
             backend,
             link: Link::Up,
             backoff,
+            faults: 0,
+            reconnections: 0,
+            updates: 0,
         }
+    }
+
+    /// Open the link before the run: connect, then drive every output to its safe value, so
+    /// the outputs are defined before any program runs.
+    pub fn open(&mut self) -> Result<(), IoFault> {
+        self.backend.device.connect()?;
+        self.backend.safe_state()
     }
 
     /// Take the link down at `now_ns` after `fault`; try once to drive the outputs safe (the
     /// device may still answer, e.g. after an exception).
     fn fail(&mut self, now_ns: u64, fault: IoFault) -> LinkEvent {
         let _ = self.backend.safe_state();
+        self.faults += 1;
         self.link = Link::Down {
             failed: 0,
             retry_at_ns: now_ns.saturating_add(self.backoff.delay(0)),
@@ -121,11 +140,13 @@ impl<D: Device> Supervisor<D> {
                 return None;
             }
             self.link = Link::Up;
+            self.reconnections += 1;
             event = Some(LinkEvent::Reconnected {
                 attempts: failed + 1,
             });
         }
-        match self.backend.read_inputs(now_ns as f64 / 1e9, values) {
+        self.updates += 1;
+        match self.backend.read_inputs(values) {
             Ok(()) => event,
             Err(fault) => Some(self.fail(now_ns, fault)),
         }
@@ -139,6 +160,70 @@ impl<D: Device> Supervisor<D> {
         match self.backend.write_outputs(values) {
             Ok(()) => None,
             Err(fault) => Some(self.fail(now_ns, fault)),
+        }
+    }
+}
+
+impl<D: Device> IoBackend for Supervisor<D> {
+    fn device(&self) -> String {
+        self.backend.device_name()
+    }
+
+    fn real_time(&self) -> bool {
+        true
+    }
+
+    fn read_inputs(
+        &mut self,
+        t: f64,
+        now_ns: u64,
+        world: &mut World,
+        values: &mut [f64],
+        activity: &mut Vec<InputActivity>,
+    ) -> Option<LinkEvent> {
+        // The world still gives the master axis and the inputs the device does not drive.
+        world.advance(t, values, activity);
+        self.read(now_ns, values)
+    }
+
+    fn write_outputs(&mut self, now_ns: u64, values: &[f64]) -> Option<LinkEvent> {
+        self.write(now_ns, values)
+    }
+
+    fn safe_outputs(&self) -> Vec<(SlotId, f64)> {
+        self.backend
+            .map
+            .points
+            .iter()
+            .filter(|p| p.table.is_output())
+            .map(|p| (p.slot, p.safe))
+            .collect()
+    }
+
+    fn driven_inputs(&self) -> Vec<SlotId> {
+        self.backend
+            .map
+            .points
+            .iter()
+            .filter(|p| !p.table.is_output())
+            .map(|p| p.slot)
+            .collect()
+    }
+
+    fn close(&mut self) -> Result<(), IoFault> {
+        if self.link != Link::Up {
+            // Written when the link went down; nothing answers now.
+            return Ok(());
+        }
+        self.backend.safe_state()
+    }
+
+    fn stats(&self) -> IoStats {
+        IoStats {
+            requests: self.backend.requests,
+            updates: self.updates,
+            faults: self.faults,
+            reconnections: self.reconnections,
         }
     }
 }
@@ -173,6 +258,8 @@ mod tests {
             unit: 1,
             timeout_ns: 20 * MS,
             max_gap: 0,
+            enabled: false,
+            overrun_limit: 10,
             points: vec![
                 point(Table::DiscreteInput, 0, 0, 0.0),
                 point(Table::Coil, 0, 1, 1.0),

@@ -1,4 +1,5 @@
-//! Which I/O a run uses: `--io sim` (the default) or `--io modbus://HOST[:PORT][/UNIT]`.
+//! Which I/O a run uses: `--io sim` (the default), `--io modbus` (the coupler the machine
+//! file names) or `--io modbus://HOST[:PORT][/UNIT]`.
 
 use super::map::{DEFAULT_PORT, DEFAULT_UNIT};
 
@@ -9,8 +10,8 @@ pub enum IoTarget {
     Simulator,
     /// A Modbus TCP device.
     Modbus {
-        /// Host name or address (IPv6 in brackets: `[::1]`).
-        host: String,
+        /// Host name or address (IPv6 in brackets: `[::1]`); None: the machine file's.
+        host: Option<String>,
         /// TCP port; None: the machine file's, else 502.
         port: Option<u16>,
         /// Unit id; None: the machine file's, else 1.
@@ -25,9 +26,16 @@ impl IoTarget {
         if t.eq_ignore_ascii_case("sim") || t.eq_ignore_ascii_case("simulator") {
             return Ok(IoTarget::Simulator);
         }
+        if t.eq_ignore_ascii_case("modbus") {
+            return Ok(IoTarget::Modbus {
+                host: None,
+                port: None,
+                unit: None,
+            });
+        }
         let Some(rest) = t.strip_prefix("modbus://") else {
             return Err(format!(
-                "`{text}` is not an I/O: use `sim` or `modbus://HOST:PORT` (e.g. modbus://192.168.0.10:502)"
+                "`{text}` is not an I/O: use `sim`, `modbus` (the machine file's [modbus] host) or `modbus://HOST:PORT` (e.g. modbus://192.168.0.10:502)"
             ));
         };
         let (authority, unit) = match rest.split_once('/') {
@@ -63,7 +71,7 @@ impl IoTarget {
             },
         };
         Ok(IoTarget::Modbus {
-            host: host.to_string(),
+            host: Some(host.to_string()),
             port,
             unit,
         })
@@ -74,10 +82,10 @@ impl IoTarget {
         match self {
             IoTarget::Simulator => "simulator".into(),
             IoTarget::Modbus { host, port, unit } => {
-                let host = if host.contains(':') {
-                    format!("[{host}]")
-                } else {
-                    host.clone()
+                let host = match host {
+                    None => "(the machine file's host)".to_string(),
+                    Some(h) if h.contains(':') => format!("[{h}]"),
+                    Some(h) => h.clone(),
                 };
                 format!(
                     "modbus://{host}:{} unit {}",
@@ -95,7 +103,7 @@ mod tests {
 
     fn modbus(host: &str, port: Option<u16>, unit: Option<u8>) -> IoTarget {
         IoTarget::Modbus {
-            host: host.into(),
+            host: Some(host.into()),
             port,
             unit,
         }
@@ -104,6 +112,14 @@ mod tests {
     #[test]
     fn targets() {
         assert_eq!(IoTarget::parse("sim"), Ok(IoTarget::Simulator));
+        assert_eq!(
+            IoTarget::parse("modbus"),
+            Ok(IoTarget::Modbus {
+                host: None,
+                port: None,
+                unit: None
+            })
+        );
         assert_eq!(
             IoTarget::parse("modbus://127.0.0.1:5020"),
             Ok(modbus("127.0.0.1", Some(5020), None))

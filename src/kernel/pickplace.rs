@@ -126,6 +126,8 @@ pub struct PickPlaceCell {
     /// Each belt's (travel, speed) and parameters this update, kept to spare allocations.
     belts_now: Vec<(f64, f64)>,
     belt_params_now: Vec<BeltParams>,
+    /// Every axis brakes as on xStopALL while this is set (the I/O link is down).
+    pub external_stop: bool,
 }
 
 fn find(registry: &Registry, kind: Kind, instance: u32, name: &str) -> Result<SlotId, String> {
@@ -312,6 +314,7 @@ impl PickPlaceCell {
             pulsed: Vec::new(),
             belts_now: Vec::with_capacity(n),
             belt_params_now: Vec::with_capacity(n),
+            external_stop: false,
         })
     }
 
@@ -364,7 +367,7 @@ impl PickPlaceCell {
             x_regulator_on_all: b(s.regulator),
             x_path_stop: b(s.stop),
             x_path_halt: b(s.halt),
-            x_stop_all: b(s.stop_all),
+            x_stop_all: b(s.stop_all) || self.external_stop,
             x_path_interrupt: b(s.interrupt),
             x_jog_pos: b(s.jog_pos),
             x_jog_neg: b(s.jog_neg),

@@ -11,9 +11,12 @@
 
 pub mod exec;
 pub mod live;
+pub mod realtime;
 pub mod task;
 
 use crate::compile::Chunk;
+use crate::io::supervisor::LinkEvent;
+use crate::io::{IoBackend, IoFault, IoStats, Simulator};
 use crate::kernel::{Kernel, Now};
 use crate::registry::{Access, Hook, Registry, Resolved, SlotId};
 use crate::trace::{value_json, Trace};
@@ -155,6 +158,12 @@ pub struct Machine {
     stepped: bool,
     /// The REPL's own task, after the machine's tasks, once a typed line has run.
     repl_task: Option<usize>,
+    /// Where inputs come from and outputs go: the simulated world unless a real device is
+    /// attached.
+    io: Box<dyn IoBackend>,
+    /// The I/O link is down: motion was stopped, outputs are at their safe values and the
+    /// programs are held until it comes back.
+    io_down: bool,
 }
 
 /// Trace every registry slot whose value differs from the snapshot, in slot order.
@@ -242,6 +251,8 @@ impl Machine {
             begun: false,
             stepped: false,
             repl_task: None,
+            io: Box::new(Simulator),
+            io_down: false,
             image,
         };
         m.kernel.start(&mut m.values);
@@ -293,6 +304,20 @@ impl Machine {
         duration_ns: Option<u64>,
         observe: &mut dyn FnMut(&Machine),
     ) -> RunSummary {
+        self.run_controlled(duration_ns, &mut |m| {
+            observe(m);
+            None
+        })
+    }
+
+    /// Like [`Machine::run_observed`], but `control` may end the run after any update by
+    /// returning the reason (the real-time runner does on Ctrl-C or too many overruns; it
+    /// also paces the run by waiting in it).
+    pub fn run_controlled(
+        &mut self,
+        duration_ns: Option<u64>,
+        control: &mut dyn FnMut(&Machine) -> Option<String>,
+    ) -> RunSummary {
         let tick_ns = self.image.tick_ns;
         let limit_ns = duration_ns.or(self.image.duration_ns);
         let last_tick = limit_ns.map(|d| d / tick_ns);
@@ -300,12 +325,17 @@ impl Machine {
         self.begin();
         let stop_reason;
         loop {
+            let mut stop = None;
             if self.error.is_none() {
                 self.step();
-                observe(self);
+                stop = control(self);
             }
             if self.error.is_some() {
                 stop_reason = "run-time error".to_string();
+                break;
+            }
+            if let Some(reason) = stop {
+                stop_reason = reason;
                 break;
             }
             if let Some(last) = last_tick {
@@ -320,7 +350,8 @@ impl Machine {
                     stop_reason = "all programs ended".to_string();
                     break;
                 }
-                if self.tick >= max_tick {
+                // A machine on real I/O runs until it is stopped (Ctrl-C, its duration).
+                if self.tick >= max_tick && !self.io.real_time() {
                     stop_reason = format!("stopped after {DEFAULT_MAX_SECONDS} s simulated (no duration set and programs still running)");
                     self.trace
                         .machine_message(self.tick, "warning", stop_reason.clone());
@@ -400,15 +431,101 @@ impl Machine {
         (self.tick as f64 * self.image.tick_ns as f64) / 1e9
     }
 
+    /// Wire the machine to a real device instead of the simulator, before the run. The
+    /// scenario's edges on inputs the device drives are dropped; returns how many.
+    pub fn attach_io(&mut self, io: Box<dyn IoBackend>) -> usize {
+        let dropped = self.world.drop_inputs(&io.driven_inputs());
+        self.io = io;
+        dropped
+    }
+
+    /// The I/O backend's device (`simulator` unless one is attached).
+    pub fn io_device(&self) -> String {
+        self.io.device()
+    }
+
+    /// Whether the attached I/O must be paced by the wall clock.
+    pub fn io_real_time(&self) -> bool {
+        self.io.real_time()
+    }
+
+    /// What the I/O link did so far.
+    pub fn io_stats(&self) -> IoStats {
+        self.io.stats()
+    }
+
+    /// The I/O link is down (the machine is in its safe state).
+    pub fn io_down(&self) -> bool {
+        self.io_down
+    }
+
+    /// End of a run on real I/O: drive every output to its safe value.
+    pub fn close_io(&mut self) -> Result<(), IoFault> {
+        self.io.close()
+    }
+
+    /// A link going down puts the machine in its safe state: the fault is traced with its
+    /// device and cause, the outputs take their safe values, every motion stops with its stop
+    /// deceleration and the programs are held. Its return is traced and releases them.
+    fn link_event(&mut self, event: Option<LinkEvent>) {
+        match event {
+            None => {}
+            Some(LinkEvent::Fault(fault)) => {
+                self.trace.event(
+                    self.tick,
+                    "io_fault",
+                    &[
+                        ("device", fault.device().into()),
+                        ("cause", fault.cause().into()),
+                    ],
+                );
+                self.io_down = true;
+                for (slot, safe) in self.io.safe_outputs() {
+                    if let Some(v) = self.values.get_mut(slot as usize) {
+                        *v = safe;
+                    }
+                }
+                let now = Now::at(
+                    self.tick,
+                    self.image.tick_ns,
+                    self.master_now,
+                    &mut self.trace,
+                );
+                self.kernel.stop_all(&mut self.values, &now);
+                if let Some(pp) = self.kernel.pickplace.as_mut() {
+                    pp.external_stop = true;
+                }
+            }
+            Some(LinkEvent::Reconnected { attempts }) => {
+                self.trace.event(
+                    self.tick,
+                    "io_reconnect",
+                    &[
+                        ("device", self.io.device().into()),
+                        ("attempts", attempts.into()),
+                    ],
+                );
+                self.io_down = false;
+                if let Some(pp) = self.kernel.pickplace.as_mut() {
+                    pp.external_stop = false;
+                }
+            }
+        }
+    }
+
     /// Compute one update.
     pub fn step(&mut self) {
         let t = self.seconds();
+        let now_ns = self.tick.saturating_mul(self.image.tick_ns);
         let mut activity = std::mem::take(&mut self.activity);
-        self.world.advance(t, &mut self.values, &mut activity);
+        let event =
+            self.io
+                .read_inputs(t, now_ns, &mut self.world, &mut self.values, &mut activity);
         self.activity = activity;
         self.master_now = self.world.master.position(t);
         self.values[self.master_slots.0 as usize] = self.master_now;
         self.values[self.master_slots.1 as usize] = self.world.master.speed(t);
+        self.link_event(event);
         self.assignments();
         if self.error.is_some() {
             return;
@@ -463,10 +580,15 @@ impl Machine {
             let made = std::mem::take(&mut self.kernel.pending_edges);
             self.world.inject(made);
         }
-        self.unblock();
-        if self.error.is_none() {
-            self.run_one_task();
+        // While the I/O link is down the programs are held: their inputs are stale.
+        if !self.io_down {
+            self.unblock();
+            if self.error.is_none() {
+                self.run_one_task();
+            }
         }
+        let event = self.io.write_outputs(now_ns, &self.values);
+        self.link_event(event);
         if self.trace.enabled() {
             trace_changes(
                 &self.image.registry,

@@ -72,6 +72,15 @@ impl World {
         self.pending.extend(edges);
     }
 
+    /// Drop the scenario's edges on `slots` (inputs a real device drives); returns how many
+    /// were dropped. Called before the run starts.
+    pub fn drop_inputs(&mut self, slots: &[SlotId]) -> usize {
+        let before = self.edges.len();
+        self.edges.retain(|e| !slots.contains(&e.slot));
+        self.next = self.next.min(self.edges.len());
+        before - self.edges.len()
+    }
+
     /// Time of the last edge, if any (seconds).
     pub fn last_edge(&self) -> Option<f64> {
         self.edges.last().map(|e| e.at)
