@@ -22,6 +22,7 @@ fn point(table: Table, address: u16, width: u16, slot: u32) -> Point {
         offset: 0.0,
         signed: false,
         safe: 0.0,
+        io_point: false,
     }
 }
 

@@ -474,10 +474,10 @@ fn report_real_time(r: &pacer::vm::realtime::RealTimeReport, device: &str, quiet
     }
     let io = r.io;
     say!(
-        "io: {device}: {} requests in {} updates ({:.2} per update); {} fault(s), {} reconnection(s)",
+        "io: {device}: {} requests per update; {} requests in {} updates; {} fault(s), {} reconnection(s)",
+        io.per_update,
         io.requests,
         io.updates,
-        if io.updates > 0 { io.requests as f64 / io.updates as f64 } else { 0.0 },
         io.faults,
         io.reconnections
     );

@@ -12,6 +12,7 @@ pub struct Timing {
     overruns: u64,
     streak: u64,
     longest_streak: u64,
+    skipped: u64,
 }
 
 impl Default for Timing {
@@ -24,6 +25,7 @@ impl Default for Timing {
             overruns: 0,
             streak: 0,
             longest_streak: 0,
+            skipped: 0,
         }
     }
 }
@@ -45,6 +47,8 @@ pub struct TimingSummary {
     pub overruns: u64,
     /// The longest run of consecutive overruns.
     pub longest_streak: u64,
+    /// Deadlines dropped because the schedule had fallen a whole period or more behind.
+    pub skipped: u64,
 }
 
 impl Timing {
@@ -64,6 +68,11 @@ impl Timing {
         self.streak
     }
 
+    /// `n` deadlines were dropped (the schedule fell behind by that many periods).
+    pub fn skip(&mut self, n: u64) {
+        self.skipped = self.skipped.saturating_add(n);
+    }
+
     /// The summary; None before any update.
     pub fn summary(&self) -> Option<TimingSummary> {
         if self.lateness.is_empty() {
@@ -78,6 +87,7 @@ impl Timing {
             worst_update_ns: self.worst_update_ns,
             overruns: self.overruns,
             longest_streak: self.longest_streak,
+            skipped: self.skipped,
         })
     }
 }
@@ -87,14 +97,15 @@ impl std::fmt::Display for TimingSummary {
         let us = |ns: u64| ns as f64 / 1e3;
         write!(
             f,
-            "{} updates; start jitter p50 {:.1} µs, p99 {:.1} µs, max {:.1} µs; worst update {:.1} µs; {} overrun(s) (longest run {})",
+            "{} updates; start jitter p50 {:.1} µs, p99 {:.1} µs, max {:.1} µs; worst update {:.1} µs; {} overrun(s) (longest run {}), {} deadline(s) dropped",
             self.updates,
             us(self.p50_ns),
             us(self.p99_ns),
             us(self.max_ns),
             us(self.worst_update_ns),
             self.overruns,
-            self.longest_streak
+            self.longest_streak,
+            self.skipped
         )
     }
 }

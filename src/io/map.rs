@@ -117,6 +117,10 @@ pub struct Point {
     pub signed: bool,
     /// Outputs: the value written in the safe state (member units).
     pub safe: f64,
+    /// The member is a digital I/O point (`DriveIO.N.Out` …), not a program's variable: on a
+    /// fault the machine's own value takes the safe value too, so the trace shows the output
+    /// as the device has it. A variable fed to a register keeps its value (the program's data).
+    pub io_point: bool,
 }
 
 impl Point {
@@ -593,6 +597,10 @@ fn entry_points(
             offset,
             signed: e.signed.as_ref().is_some_and(|s| *s.get_ref()),
             safe,
+            io_point: matches!(
+                resolved.kind,
+                Kind::DriveInput | Kind::ModuleInput | Kind::DriveIO
+            ),
         });
     }
     if ok {
@@ -651,6 +659,7 @@ mod tests {
             offset,
             signed,
             safe: 0.0,
+            io_point: false,
         }
     }
 

@@ -44,6 +44,9 @@ pub struct MemoryDevice {
     pub down: Option<IoFault>,
     /// Every write served, in order: (table, start, words), coils as 0/1.
     pub writes: Vec<(Table, u16, Vec<u16>)>,
+    /// When set, reads (only) fail with this fault: a device that is there but refuses one
+    /// request every time.
+    pub refuse_reads: Option<IoFault>,
 }
 
 impl Default for MemoryDevice {
@@ -56,6 +59,7 @@ impl Default for MemoryDevice {
             requests: 0,
             down: None,
             writes: Vec::new(),
+            refuse_reads: None,
         }
     }
 }
@@ -92,6 +96,9 @@ impl Device for MemoryDevice {
     fn read_bits(&mut self, table: Table, start: u16, count: u16) -> Result<Vec<bool>, IoFault> {
         self.requests += 1;
         self.check(start, count.into())?;
+        if let Some(fault) = &self.refuse_reads {
+            return Err(fault.clone());
+        }
         let src = if table == Table::Coil {
             &self.coils
         } else {
@@ -108,6 +115,9 @@ impl Device for MemoryDevice {
     ) -> Result<Vec<u16>, IoFault> {
         self.requests += 1;
         self.check(start, count.into())?;
+        if let Some(fault) = &self.refuse_reads {
+            return Err(fault.clone());
+        }
         let src = if table == Table::HoldingRegister {
             &self.holding
         } else {

@@ -99,7 +99,9 @@ impl IoFault {
 /// Requests, faults and reconnections of a run, for the end-of-run summary.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct IoStats {
-    /// Requests sent to the device.
+    /// Requests one update costs (the poll plan's reads and writes).
+    pub per_update: u64,
+    /// Requests sent to the device (updates, safe values and reconnections).
     pub requests: u64,
     /// Updates whose I/O was exchanged with the device (link up).
     pub updates: u64,
@@ -127,11 +129,12 @@ pub trait IoBackend {
         world: &mut World,
         values: &mut [f64],
         activity: &mut Vec<InputActivity>,
-    ) -> Option<supervisor::LinkEvent>;
+    ) -> Vec<supervisor::LinkEvent>;
     /// The output half: send the outputs in `values` (nothing while the link is down).
     fn write_outputs(&mut self, now_ns: u64, values: &[f64]) -> Option<supervisor::LinkEvent>;
-    /// The outputs' slots and safe values: the machine takes them on a fault, so its image
-    /// and the trace show what the device was sent.
+    /// The digital outputs' slots and safe values: the machine takes them on a fault, so its
+    /// image and the trace show what the device was sent (variables fed to registers keep
+    /// theirs: they are the programs' data).
     fn safe_outputs(&self) -> Vec<(SlotId, f64)>;
     /// The slots the device drives (scenario edges on them are dropped).
     fn driven_inputs(&self) -> Vec<SlotId>;
@@ -162,9 +165,9 @@ impl IoBackend for Simulator {
         world: &mut World,
         values: &mut [f64],
         activity: &mut Vec<InputActivity>,
-    ) -> Option<supervisor::LinkEvent> {
+    ) -> Vec<supervisor::LinkEvent> {
         world.advance(t, values, activity);
-        None
+        Vec::new()
     }
 
     fn write_outputs(&mut self, _now_ns: u64, _values: &[f64]) -> Option<supervisor::LinkEvent> {

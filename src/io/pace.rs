@@ -134,20 +134,31 @@ impl Pacer {
         }
     }
 
-    /// The current update has done its work: record it. Returns the overruns in a row so far
-    /// (0: this update ended before the next one is due).
-    pub fn end_update(&mut self) -> u64 {
+    /// The current update has done its work: record it. Returns whether it overran (ended
+    /// after the next update was due).
+    pub fn end_update(&mut self) -> bool {
         let work = mono_ns().saturating_sub(self.began_ns);
-        self.timing.record(self.lateness_ns, work, self.period_ns)
+        self.timing.record(self.lateness_ns, work, self.period_ns) > 0
     }
 
-    /// Wait for the next update's deadline (at once when it has passed) and start it.
+    /// Wait for the next update's deadline (at once when it has passed) and start it. When
+    /// the schedule is a whole period or more behind (an update blocked on a device's
+    /// timeout), the deadlines passed are dropped rather than run back to back.
     pub fn wait_next(&mut self) {
         self.n += 1;
-        let due = self
+        let mut due = self
             .start_ns
             .saturating_add(self.n.saturating_mul(self.period_ns));
-        if mono_ns() < due {
+        let now = mono_ns();
+        if now >= due.saturating_add(self.period_ns) {
+            let behind = (now - due) / self.period_ns;
+            self.n += behind;
+            self.timing.skip(behind);
+            due = self
+                .start_ns
+                .saturating_add(self.n.saturating_mul(self.period_ns));
+        }
+        if now < due {
             sleep_until(due);
         }
         self.began_ns = mono_ns();

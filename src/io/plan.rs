@@ -133,6 +133,7 @@ mod tests {
             offset: 0.0,
             signed: false,
             safe: 0.0,
+            io_point: false,
         }
     }
 

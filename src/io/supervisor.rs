@@ -79,6 +79,8 @@ pub struct Supervisor<D> {
     pub reconnections: u64,
     /// Updates whose I/O went to the device.
     pub updates: u64,
+    /// Faults since the last update that completed.
+    relapses: u32,
 }
 
 impl<D: Device> Supervisor<D> {
@@ -92,6 +94,7 @@ impl<D: Device> Supervisor<D> {
             faults: 0,
             reconnections: 0,
             updates: 0,
+            relapses: 0,
         }
     }
 
@@ -107,9 +110,13 @@ impl<D: Device> Supervisor<D> {
     fn fail(&mut self, now_ns: u64, fault: IoFault) -> LinkEvent {
         let _ = self.backend.safe_state();
         self.faults += 1;
+        // A link that fails again before completing an update (a device that refuses a
+        // request every time) keeps backing off instead of cycling at the first delay.
+        let level = self.relapses;
+        self.relapses = self.relapses.saturating_add(1);
         self.link = Link::Down {
             failed: 0,
-            retry_at_ns: now_ns.saturating_add(self.backoff.delay(0)),
+            retry_at_ns: now_ns.saturating_add(self.backoff.delay(level)),
         };
         LinkEvent::Fault(fault)
     }
@@ -117,15 +124,17 @@ impl<D: Device> Supervisor<D> {
     /// The input half of an update at `now_ns`: reconnect when it is time (writing the safe
     /// values first), then read the inputs into `values`. While the link is down the inputs
     /// keep their last values.
-    pub fn read(&mut self, now_ns: u64, values: &mut [f64]) -> Option<LinkEvent> {
-        let mut event = None;
+    ///
+    /// A return followed at once by a failing read reports both events, in order.
+    pub fn read(&mut self, now_ns: u64, values: &mut [f64]) -> Vec<LinkEvent> {
+        let mut events = Vec::new();
         if let Link::Down {
             failed,
             retry_at_ns,
         } = self.link
         {
             if now_ns < retry_at_ns {
-                return None;
+                return events;
             }
             let attempt = self
                 .backend
@@ -135,21 +144,22 @@ impl<D: Device> Supervisor<D> {
             if attempt.is_err() {
                 self.link = Link::Down {
                     failed: failed + 1,
-                    retry_at_ns: now_ns.saturating_add(self.backoff.delay(failed + 1)),
+                    retry_at_ns: now_ns
+                        .saturating_add(self.backoff.delay(self.relapses.saturating_add(failed))),
                 };
-                return None;
+                return events;
             }
             self.link = Link::Up;
             self.reconnections += 1;
-            event = Some(LinkEvent::Reconnected {
+            events.push(LinkEvent::Reconnected {
                 attempts: failed + 1,
             });
         }
         self.updates += 1;
-        match self.backend.read_inputs(values) {
-            Ok(()) => event,
-            Err(fault) => Some(self.fail(now_ns, fault)),
+        if let Err(fault) = self.backend.read_inputs(values) {
+            events.push(self.fail(now_ns, fault));
         }
+        events
     }
 
     /// The output half of an update: write the outputs (nothing while the link is down).
@@ -158,7 +168,10 @@ impl<D: Device> Supervisor<D> {
             return None;
         }
         match self.backend.write_outputs(values) {
-            Ok(()) => None,
+            Ok(()) => {
+                self.relapses = 0;
+                None
+            }
             Err(fault) => Some(self.fail(now_ns, fault)),
         }
     }
@@ -180,7 +193,7 @@ impl<D: Device> IoBackend for Supervisor<D> {
         world: &mut World,
         values: &mut [f64],
         activity: &mut Vec<InputActivity>,
-    ) -> Option<LinkEvent> {
+    ) -> Vec<LinkEvent> {
         // The world still gives the master axis and the inputs the device does not drive.
         world.advance(t, values, activity);
         self.read(now_ns, values)
@@ -195,7 +208,7 @@ impl<D: Device> IoBackend for Supervisor<D> {
             .map
             .points
             .iter()
-            .filter(|p| p.table.is_output())
+            .filter(|p| p.table.is_output() && p.io_point)
             .map(|p| (p.slot, p.safe))
             .collect()
     }
@@ -220,6 +233,7 @@ impl<D: Device> IoBackend for Supervisor<D> {
 
     fn stats(&self) -> IoStats {
         IoStats {
+            per_update: self.backend.plan.requests_per_update() as u64,
             requests: self.backend.requests,
             updates: self.updates,
             faults: self.faults,
@@ -247,6 +261,7 @@ mod tests {
             offset: 0.0,
             signed: false,
             safe,
+            io_point: false,
         }
     }
 
@@ -298,7 +313,7 @@ mod tests {
         let mut s = supervisor();
         let mut values = vec![0.0, 0.0, 3.0];
         s.backend.device.discrete_inputs[0] = true;
-        assert_eq!(s.read(0, &mut values), None);
+        assert_eq!(s.read(0, &mut values), vec![]);
         assert_eq!(values[0], 1.0);
         assert_eq!(s.write(0, &values), None);
         assert_eq!(s.backend.device.holding[4], 3);
@@ -306,7 +321,7 @@ mod tests {
         // The device goes away: the next read is a fault, with its cause.
         s.backend.device.down = Some(lost());
         s.backend.device.discrete_inputs[0] = false;
-        assert_eq!(s.read(MS, &mut values), Some(LinkEvent::Fault(lost())));
+        assert_eq!(s.read(MS, &mut values), vec![LinkEvent::Fault(lost())]);
         assert_eq!(
             s.link,
             Link::Down {
@@ -318,14 +333,14 @@ mod tests {
         assert_eq!(values[0], 1.0);
         let served = s.backend.device.requests;
         assert_eq!(s.write(2 * MS, &values), None);
-        assert_eq!(s.read(10 * MS, &mut values), None);
+        assert_eq!(s.read(10 * MS, &mut values), vec![]);
         assert_eq!(
             s.backend.device.requests, served,
             "no request before the retry"
         );
 
         // Retry at 11 ms fails: the next is 20 ms later; then 40 (the limit), then 40.
-        assert_eq!(s.read(11 * MS, &mut values), None);
+        assert_eq!(s.read(11 * MS, &mut values), vec![]);
         assert_eq!(
             s.link,
             Link::Down {
@@ -333,7 +348,7 @@ mod tests {
                 retry_at_ns: 31 * MS
             }
         );
-        assert_eq!(s.read(31 * MS, &mut values), None);
+        assert_eq!(s.read(31 * MS, &mut values), vec![]);
         assert_eq!(
             s.link,
             Link::Down {
@@ -347,7 +362,7 @@ mod tests {
         s.backend.device.writes.clear();
         assert_eq!(
             s.read(71 * MS, &mut values),
-            Some(LinkEvent::Reconnected { attempts: 3 })
+            vec![LinkEvent::Reconnected { attempts: 3 }]
         );
         assert_eq!(
             s.backend.device.writes,
@@ -365,6 +380,49 @@ mod tests {
         assert_eq!(s.write(71 * MS, &values), None);
         assert_eq!(s.backend.device.holding[4], 3);
         assert!(!s.backend.device.coils[0]);
+    }
+
+    #[test]
+    fn a_device_that_refuses_every_time_keeps_backing_off() {
+        let mut s = supervisor();
+        let refused = IoFault::Exception {
+            device: "memory".into(),
+            request: "read discrete_input 0..1".into(),
+            code: 2,
+        };
+        s.backend.device.refuse_reads = Some(refused.clone());
+        let mut values = vec![0.0; 3];
+        let mut faults = Vec::new();
+        let mut reconnects = Vec::new();
+        for ms in 0..200 {
+            for event in s.read(ms * MS, &mut values) {
+                match event {
+                    LinkEvent::Fault(f) => {
+                        assert_eq!(f, refused);
+                        faults.push(ms);
+                    }
+                    LinkEvent::Reconnected { attempts } => {
+                        assert_eq!(attempts, 1);
+                        reconnects.push(ms);
+                    }
+                }
+            }
+            assert_eq!(s.write(ms * MS, &values), None);
+        }
+        // Each return fails at once: 10, 20, 40, 40 ms apart, not every 10 ms.
+        assert_eq!(faults, vec![0, 10, 30, 70, 110, 150, 190]);
+        assert_eq!(reconnects, vec![10, 30, 70, 110, 150, 190]);
+        // An update that completes ends the relapse: the next fault starts at 10 ms again.
+        s.backend.device.refuse_reads = None;
+        s.link = Link::Up;
+        assert_eq!(s.read(300 * MS, &mut values), vec![]);
+        assert_eq!(s.write(300 * MS, &values), None);
+        s.backend.device.refuse_reads = Some(refused);
+        assert!(matches!(
+            s.read(301 * MS, &mut values).as_slice(),
+            [LinkEvent::Fault(_)]
+        ));
+        assert!(matches!(s.link, Link::Down { retry_at_ns, .. } if retry_at_ns == 311 * MS));
     }
 
     #[test]

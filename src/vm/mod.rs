@@ -467,10 +467,9 @@ impl Machine {
     /// A link going down puts the machine in its safe state: the fault is traced with its
     /// device and cause, the outputs take their safe values, every motion stops with its stop
     /// deceleration and the programs are held. Its return is traced and releases them.
-    fn link_event(&mut self, event: Option<LinkEvent>) {
+    fn link_event(&mut self, event: LinkEvent) {
         match event {
-            None => {}
-            Some(LinkEvent::Fault(fault)) => {
+            LinkEvent::Fault(fault) => {
                 self.trace.event(
                     self.tick,
                     "io_fault",
@@ -496,7 +495,7 @@ impl Machine {
                     pp.external_stop = true;
                 }
             }
-            Some(LinkEvent::Reconnected { attempts }) => {
+            LinkEvent::Reconnected { attempts } => {
                 self.trace.event(
                     self.tick,
                     "io_reconnect",
@@ -518,14 +517,16 @@ impl Machine {
         let t = self.seconds();
         let now_ns = self.tick.saturating_mul(self.image.tick_ns);
         let mut activity = std::mem::take(&mut self.activity);
-        let event =
+        let events =
             self.io
                 .read_inputs(t, now_ns, &mut self.world, &mut self.values, &mut activity);
         self.activity = activity;
         self.master_now = self.world.master.position(t);
         self.values[self.master_slots.0 as usize] = self.master_now;
         self.values[self.master_slots.1 as usize] = self.world.master.speed(t);
-        self.link_event(event);
+        for event in events {
+            self.link_event(event);
+        }
         self.assignments();
         if self.error.is_some() {
             return;
@@ -587,8 +588,9 @@ impl Machine {
                 self.run_one_task();
             }
         }
-        let event = self.io.write_outputs(now_ns, &self.values);
-        self.link_event(event);
+        if let Some(event) = self.io.write_outputs(now_ns, &self.values) {
+            self.link_event(event);
+        }
         if self.trace.enabled() {
             trace_changes(
                 &self.image.registry,

@@ -1,0 +1,304 @@
+//! The safe state, deterministically: a machine wired to an in-memory Modbus device (through
+//! the same supervisor the Modbus TCP client runs under) loses the device in the middle of a
+//! move. Motion stops with StopDeceleration, the digital outputs take their safe values in the
+//! machine and on the device, the programs are held, the fault is traced with its device and
+//! cause; the device's return is traced, gets the safe values before anything else, and
+//! releases the programs. Time is the machine's, so every figure is exact.
+
+mod common;
+
+use pacer::io::map::Table;
+use pacer::io::memory::{Device, MemoryDevice, PlanBackend};
+use pacer::io::supervisor::{Backoff, Supervisor};
+use pacer::io::IoFault;
+use pacer::load::{load, LoadRequest};
+use pacer::trace::Trace;
+use pacer::vm::Machine;
+use serde_json::Value;
+use std::sync::{Arc, Mutex, MutexGuard};
+
+/// A memory device the test keeps a handle on while the machine owns the supervisor.
+#[derive(Clone, Default)]
+struct Shared(Arc<Mutex<MemoryDevice>>);
+
+impl Shared {
+    fn lock(&self) -> MutexGuard<'_, MemoryDevice> {
+        self.0.lock().expect("device lock")
+    }
+}
+
+impl Device for Shared {
+    fn device(&self) -> String {
+        "memory".into()
+    }
+    fn connect(&mut self) -> Result<(), IoFault> {
+        self.lock().connect()
+    }
+    fn read_bits(&mut self, table: Table, start: u16, count: u16) -> Result<Vec<bool>, IoFault> {
+        self.lock().read_bits(table, start, count)
+    }
+    fn read_registers(
+        &mut self,
+        table: Table,
+        start: u16,
+        count: u16,
+    ) -> Result<Vec<u16>, IoFault> {
+        self.lock().read_registers(table, start, count)
+    }
+    fn write_coils(&mut self, start: u16, bits: &[bool]) -> Result<(), IoFault> {
+        self.lock().write_coils(start, bits)
+    }
+    fn write_registers(&mut self, start: u16, words: &[u16]) -> Result<(), IoFault> {
+        self.lock().write_registers(start, words)
+    }
+}
+
+const MACHINE: &str = r#"
+[machine]
+name = "fault"
+update = "1ms"
+
+[[program]]
+number = 0
+file = "program0.pt"
+
+[io]
+DriveInput = 2
+DriveIO = 2
+
+[variables.N]
+
+# A long move at 10 u/s, reached in 0.1 s.
+[index.0]
+distance = 1000.0
+velocity = 10.0
+acceleration = 100.0
+deceleration = 100.0
+
+[modbus]
+host = "memory"
+
+[[modbus.map]]
+kind = "discrete_input"
+address = 0
+member = "DriveInput.1"
+
+# DriveIO.1.Out: a valve, closed when safe; DriveIO.2.Out: a brake, applied (ON) when safe.
+[[modbus.map]]
+kind = "coil"
+address = 0
+member = "DriveIO.1.Out"
+
+[[modbus.map]]
+kind = "coil"
+address = 1
+member = "DriveIO.2.Out"
+safe = 1
+
+[[modbus.map]]
+kind = "holding_register"
+address = 0
+member = "Var.N"
+"#;
+
+const PROGRAM: &str = "StopDeceleration = 50
+Wait For DriveInput.1=ON
+DriveIO.1.Out=ON
+Index.0.Initiate
+Do While TRUE
+Var.N=Var.N + 1
+Wait For Time 0.01
+Loop
+";
+
+struct Outcome {
+    events: Vec<Value>,
+    /// PosnCommand and VelCommand after every update.
+    motion: Vec<(f64, f64)>,
+    /// The device's writes from the update it came back.
+    writes_on_return: Vec<(Table, u16, Vec<u16>)>,
+    /// The device's writes while it was down (there must be none it served).
+    served_while_down: usize,
+}
+
+/// Run 2.5 s: the input comes on at 0.1 s, the device is lost from 1.1 s to 1.5 s.
+fn run() -> Outcome {
+    let dir = common::project(
+        "io-fault",
+        &[("program0.pt", PROGRAM), ("machine.toml", MACHINE)],
+    );
+    let loaded = load(&LoadRequest {
+        paths: vec![dir.clone()],
+        ..Default::default()
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let loaded = loaded.unwrap_or_else(|d| panic!("{}", d.render_plain()));
+    let map = loaded.io_map.clone().expect("the [modbus] map");
+    let device = Shared::default();
+    let mut supervisor = Supervisor::new(PlanBackend::new(map, device.clone()), Backoff::default());
+    supervisor.open().expect("the memory device is there");
+    let sink = common::Sink::default();
+    let tick = loaded.image.tick_ns;
+    let mut machine = Machine::new(loaded.image, Trace::new(Some(Box::new(sink.clone())), tick));
+    assert_eq!(machine.attach_io(Box::new(supervisor)), 0);
+    let mut motion = Vec::new();
+    let mut writes_on_return = Vec::new();
+    let mut served_while_down = 0;
+    let lost = IoFault::Disconnected {
+        device: "memory".into(),
+        cause: "connection reset by peer".into(),
+    };
+    machine.run_observed(Some(2_500_000_000), &mut |m| {
+        motion.push((
+            m.value_of("PosnCommand").expect("PosnCommand"),
+            m.value_of("VelCommand").expect("VelCommand"),
+        ));
+        // Set for the next update (this one is done).
+        let next = (m.time() * 1000.0).round() as u64 + 1;
+        let mut d = device.lock();
+        match next {
+            100 => d.discrete_inputs[0] = true,
+            1100 => {
+                d.down = Some(lost.clone());
+                d.writes.clear();
+            }
+            1500 => {
+                served_while_down = d.writes.len();
+                d.down = None;
+                d.writes.clear();
+            }
+            _ => {}
+        }
+        if writes_on_return.is_empty() && d.down.is_none() && next > 1500 && !d.writes.is_empty() {
+            writes_on_return = d.writes.clone();
+        }
+    });
+    machine.finish().expect("in-memory trace");
+    let events = sink
+        .text()
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("JSON"))
+        .collect();
+    Outcome {
+        events,
+        motion,
+        writes_on_return,
+        served_while_down,
+    }
+}
+
+fn at(events: &[Value], kind: &str) -> Vec<u64> {
+    events
+        .iter()
+        .filter(|e| e["kind"] == kind)
+        .map(|e| e["tick"].as_u64().expect("tick"))
+        .collect()
+}
+
+fn change_ticks(events: &[Value], name: &str) -> Vec<(u64, Value)> {
+    events
+        .iter()
+        .filter(|e| e["kind"] == "change" && e["name"] == name)
+        .map(|e| (e["tick"].as_u64().expect("tick"), e["value"].clone()))
+        .collect()
+}
+
+#[test]
+fn a_lost_device_stops_motion_drives_outputs_safe_and_holds_the_programs() {
+    let o = run();
+    // The fault: at the first update whose read fails, with the device and the cause.
+    let faults: Vec<&Value> = o
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "io_fault")
+        .collect();
+    assert_eq!(faults.len(), 1);
+    assert_eq!(faults[0]["tick"], 1100);
+    assert_eq!(faults[0]["device"], "memory");
+    assert_eq!(
+        faults[0]["cause"],
+        "not connected (connection reset by peer)"
+    );
+
+    // Motion: cruising at 10 u/s up to the fault's update (1.1 s: 0.5 u of ramp from 0.1 s,
+    // then 9 u), from there down at StopDeceleration = 50 u/s²: 10 / 50 = 0.2 s and
+    // 10² / (2 × 50) = 1 u.
+    let (p_before, v_before) = o.motion[1099];
+    assert_eq!(v_before, 10.0);
+    assert!((p_before - 9.49).abs() < 1e-9, "{p_before}");
+    let stopped_at = (1100..o.motion.len())
+        .find(|&i| o.motion[i].1.abs() < 1e-9)
+        .expect("the axis stops");
+    assert_eq!(stopped_at, 1300, "{:?}", &o.motion[1298..1302]);
+    let (p_end, _) = o.motion[o.motion.len() - 1];
+    assert!((p_end - 10.5).abs() < 1e-9, "{p_before} → {p_end}");
+    // Every update of the ramp decelerates by 50 u/s² × 1 ms at most, and nothing moves after.
+    for w in o.motion[1099..=stopped_at].windows(2) {
+        let dv = w[0].1 - w[1].1;
+        assert!((-1e-9..=0.05 + 1e-9).contains(&dv), "{dv}");
+    }
+    assert!(o.motion[stopped_at..]
+        .iter()
+        .all(|&(p, v)| v.abs() < 1e-9 && (p - p_end).abs() < 1e-12));
+
+    // The outputs take their safe values at the fault's update: valve closed, brake on.
+    assert_eq!(
+        change_ticks(&o.events, "DriveIO.1.Out"),
+        vec![(100, true.into()), (1100, false.into())]
+    );
+    assert_eq!(
+        change_ticks(&o.events, "DriveIO.2.Out"),
+        vec![(1100, true.into())]
+    );
+
+    // The program is held from the fault to the return: Var.N does not count there.
+    let reconnect = at(&o.events, "io_reconnect");
+    assert_eq!(reconnect.len(), 1);
+    let back = reconnect[0];
+    // Down at 1.1 s; retries at +100 ms (1.2, down), +200 ms (1.4, down), +400 ms (1.8, up).
+    assert_eq!(back, 1800);
+    let counts = change_ticks(&o.events, "Var.N");
+    assert!(counts.iter().any(|(t, _)| *t < 1100));
+    assert!(
+        counts.iter().all(|(t, _)| *t < 1100 || *t >= back),
+        "{counts:?}"
+    );
+    assert!(
+        counts.iter().any(|(t, _)| *t > back),
+        "released after the return"
+    );
+    let attempts = o
+        .events
+        .iter()
+        .find(|e| e["kind"] == "io_reconnect")
+        .map(|e| e["attempts"].clone());
+    assert_eq!(attempts, Some(3.into()));
+
+    // Nothing reached the device while it was down; on its return the safe values came first
+    // (coils 0, 1 = OFF, ON; register 0 = 0), then the update's own writes.
+    assert_eq!(o.served_while_down, 0);
+    assert!(o.writes_on_return.len() >= 4, "{:?}", o.writes_on_return);
+    assert_eq!(o.writes_on_return[0], (Table::Coil, 0, vec![0, 1]));
+    assert_eq!(o.writes_on_return[1], (Table::HoldingRegister, 0, vec![0]));
+    assert_eq!(o.writes_on_return[2].0, Table::Coil);
+    assert_eq!(o.writes_on_return[3].0, Table::HoldingRegister);
+    // The count the program kept (its data) is written again, not the safe 0.
+    assert!(o.writes_on_return[3].2[0] > 0, "{:?}", o.writes_on_return);
+
+    // The trace is whole: it ends at 2.5 s.
+    assert_eq!(
+        o.events.last().map(|e| e["kind"].clone()),
+        Some("end".into())
+    );
+    assert_eq!(
+        o.events.last().map(|e| e["tick"].clone()),
+        Some(2500.into())
+    );
+}
+
+#[test]
+fn the_same_fault_gives_the_same_trace() {
+    let a = run().events;
+    let b = run().events;
+    assert_eq!(a, b);
+}
