@@ -313,6 +313,17 @@ fn run(
     }
 }
 
+/// Ctrl-C and SIGTERM end a real-time run after the current update (outputs safe, trace
+/// closed); a second Ctrl-C while that is under way ends pacer at once.
+fn catch_stop_signals(flag: &std::sync::Arc<std::sync::atomic::AtomicBool>) -> std::io::Result<()> {
+    use signal_hook::consts::{SIGINT, SIGTERM};
+    // Registered first, so it sees the flag as the first signal left it.
+    signal_hook::flag::register_conditional_shutdown(SIGINT, 130, flag.clone())?;
+    signal_hook::flag::register(SIGINT, flag.clone())?;
+    signal_hook::flag::register(SIGTERM, flag.clone())?;
+    Ok(())
+}
+
 /// Connect to the coupler, writing the safe values first; the supervisor that runs it.
 fn connect(
     real: RealIo,
@@ -376,8 +387,7 @@ fn execute(
             warn!("note: {dropped} scenario input edge(s) dropped: the device drives those inputs");
         }
         let interrupt = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-        if let Err(e) = signal_hook::flag::register(signal_hook::consts::SIGINT, interrupt.clone())
-        {
+        if let Err(e) = catch_stop_signals(&interrupt) {
             warn!("warning: Ctrl-C cannot be caught ({e}): it will end pacer without driving the outputs safe");
         }
         if !quiet {

@@ -142,6 +142,31 @@ fn the_labeler_map_loads_and_costs_four_requests_per_update() {
 }
 
 #[test]
+fn the_labelers_own_machine_file_costs_three_requests_per_update() {
+    let loaded = load(&LoadRequest {
+        paths: vec![std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/labeling")],
+        ..Default::default()
+    })
+    .unwrap_or_else(|d| panic!("{}", d.render_plain()));
+    let map = loaded.io_map.expect("programs/labeling has a [modbus] map");
+    assert!(
+        !map.enabled,
+        "the labeler runs on the simulator unless --io says otherwise"
+    );
+    let p = plan(&map);
+    // 10 discrete inputs in one read; 3 coils in one write; the label position and the 32-bit
+    // servo position in one write of 3 holding registers.
+    let reqs: Vec<(u8, u16, u16)> = p
+        .reads
+        .iter()
+        .chain(&p.writes)
+        .map(|r| (r.function(), r.start, r.count))
+        .collect();
+    assert_eq!(reqs, vec![(2, 0, 10), (15, 0, 3), (16, 0, 3)]);
+    assert_eq!(p.requests_per_update(), 3);
+}
+
+#[test]
 fn the_plan_runs_on_a_device_inputs_in_outputs_out_safe_values_on_demand() {
     let (_p, result) = load_machine("device", LABELER_MAP);
     let loaded = result.unwrap_or_else(|d| panic!("{d:?}"));

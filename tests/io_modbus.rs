@@ -493,7 +493,14 @@ fn io_options_that_cannot_work_are_errors() {
         "{}",
         common::text(&o)
     );
-    let o = common::pacer(&["run", "programs/labeling", "--io", "modbus", "--for", "1"]);
+    let o = common::pacer(&[
+        "run",
+        "programs/operator-offset",
+        "--io",
+        "modbus",
+        "--for",
+        "1",
+    ]);
     assert_eq!(o.status.code(), Some(1));
     assert!(
         common::text(&o).contains("machine.toml has no [modbus] section"),
