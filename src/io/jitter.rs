@@ -8,6 +8,7 @@ use hdrhistogram::Histogram;
 #[derive(Debug, Clone)]
 pub struct Timing {
     lateness: Histogram<u64>,
+    work: Histogram<u64>,
     worst_update_ns: u64,
     overruns: u64,
     streak: u64,
@@ -20,6 +21,8 @@ impl Default for Timing {
         Timing {
             // 1 ns to 1 hour at 3 significant figures; larger values saturate at the top.
             lateness: Histogram::new_with_bounds(1, 3_600_000_000_000, 3)
+                .expect("constant histogram bounds are valid"),
+            work: Histogram::new_with_bounds(1, 3_600_000_000_000, 3)
                 .expect("constant histogram bounds are valid"),
             worst_update_ns: 0,
             overruns: 0,
@@ -41,6 +44,10 @@ pub struct TimingSummary {
     pub p99_ns: u64,
     /// Worst start lateness, ns.
     pub max_ns: u64,
+    /// Median update time (I/O and computation), ns.
+    pub update_p50_ns: u64,
+    /// 99th percentile update time, ns.
+    pub update_p99_ns: u64,
     /// Worst update time (I/O and computation), ns.
     pub worst_update_ns: u64,
     /// Updates whose work did not finish before the next deadline.
@@ -57,6 +64,7 @@ impl Timing {
     /// overrun). Returns the overruns in a row so far, this one included (0: on time).
     pub fn record(&mut self, lateness_ns: u64, work_ns: u64, period_ns: u64) -> u64 {
         self.lateness.saturating_record(lateness_ns);
+        self.work.saturating_record(work_ns);
         self.worst_update_ns = self.worst_update_ns.max(work_ns);
         if lateness_ns.saturating_add(work_ns) > period_ns {
             self.overruns += 1;
@@ -84,6 +92,8 @@ impl Timing {
             p50_ns: h.value_at_quantile(0.50),
             p99_ns: h.value_at_quantile(0.99),
             max_ns: h.max(),
+            update_p50_ns: self.work.value_at_quantile(0.50),
+            update_p99_ns: self.work.value_at_quantile(0.99),
             worst_update_ns: self.worst_update_ns,
             overruns: self.overruns,
             longest_streak: self.longest_streak,
@@ -97,11 +107,13 @@ impl std::fmt::Display for TimingSummary {
         let us = |ns: u64| ns as f64 / 1e3;
         write!(
             f,
-            "{} updates; start jitter p50 {:.1} µs, p99 {:.1} µs, max {:.1} µs; worst update {:.1} µs; {} overrun(s) (longest run {}), {} deadline(s) dropped",
+            "{} updates; start jitter p50 {:.1} µs, p99 {:.1} µs, max {:.1} µs; update time p50 {:.1} µs, p99 {:.1} µs, worst {:.1} µs; {} overrun(s) (longest run {}), {} deadline(s) dropped",
             self.updates,
             us(self.p50_ns),
             us(self.p99_ns),
             us(self.max_ns),
+            us(self.update_p50_ns),
+            us(self.update_p99_ns),
             us(self.worst_update_ns),
             self.overruns,
             self.longest_streak,
