@@ -540,6 +540,36 @@ fn io_options_that_cannot_work_are_errors() {
         "{}",
         common::text(&o)
     );
+    // `[modbus] enabled = true` makes the coupler the default (here nothing listens: the run
+    // stops before it starts); `--io sim` still simulates.
+    let closed = std::net::TcpListener::bind("127.0.0.1:0")
+        .and_then(|l| l.local_addr())
+        .expect("a free port")
+        .port();
+    let folder = common::scratch_in("io-modbus", "enabled");
+    for f in ["program0.pt", "scenario.toml"] {
+        std::fs::copy(checkweigher().join(f), folder.join(f)).expect("copy");
+    }
+    let machine = std::fs::read_to_string(checkweigher().join("machine.toml"))
+        .expect("machine.toml")
+        .replace(
+            "port = 5020\n",
+            &format!("port = {closed}\nenabled = true\n"),
+        );
+    assert!(machine.contains("enabled = true"));
+    std::fs::write(folder.join("machine.toml"), machine).expect("write");
+    let dir = folder.to_str().expect("utf-8 path");
+    let o = common::pacer(&["run", dir, "--for", "1"]);
+    assert_eq!(o.status.code(), Some(3), "{}", common::text(&o));
+    assert!(
+        common::text(&o).contains(&format!(
+            "modbus://127.0.0.1:{closed} unit 1: not connected"
+        )),
+        "{}",
+        common::text(&o)
+    );
+    let o = common::pacer(&["run", dir, "--io", "sim", "--for", "1", "--quiet"]);
+    assert!(o.status.success(), "{}", common::text(&o));
     // The simulator is still the default, and `--io sim` names it.
     let o = common::pacer(&["run", "programs/checkweigher", "--io", "sim", "--quiet"]);
     assert!(o.status.success(), "{}", common::text(&o));

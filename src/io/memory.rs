@@ -158,8 +158,9 @@ pub struct PlanBackend<D> {
     pub plan: PollPlan,
     /// The device.
     pub device: D,
-    /// Outputs whose value did not fit their register at the last write (member names).
-    pub saturated: Vec<String>,
+    /// Outputs whose value did not fit their register at the last write: (point index into
+    /// the map, the value).
+    pub saturated: Vec<(usize, f64)>,
     /// Requests sent (answered or not) since the backend was made.
     pub requests: u64,
 }
@@ -184,7 +185,7 @@ impl<D: Device> PlanBackend<D> {
             let p = &self.map.points[i];
             let (w, saturated) = p.encode(values[i]);
             if saturated {
-                self.saturated.push(p.member.clone());
+                self.saturated.push((i, values[i]));
             }
             let at = usize::from(p.address - r.start);
             words[at..at + w.len()].copy_from_slice(&w);

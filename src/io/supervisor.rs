@@ -62,6 +62,9 @@ pub enum LinkEvent {
         /// Attempts it took (1: the first retry).
         attempts: u32,
     },
+    /// Something the operator should know that is not a fault (an output saturated in its
+    /// register); said once per output.
+    Warning(String),
 }
 
 /// A [`PlanBackend`] with fault handling.
@@ -81,6 +84,8 @@ pub struct Supervisor<D> {
     pub updates: u64,
     /// Faults since the last update that completed.
     relapses: u32,
+    /// Outputs already reported as saturated (point indices).
+    warned: Vec<usize>,
 }
 
 impl<D: Device> Supervisor<D> {
@@ -95,6 +100,7 @@ impl<D: Device> Supervisor<D> {
             reconnections: 0,
             updates: 0,
             relapses: 0,
+            warned: Vec::new(),
         }
     }
 
@@ -170,10 +176,33 @@ impl<D: Device> Supervisor<D> {
         match self.backend.write_outputs(values) {
             Ok(()) => {
                 self.relapses = 0;
-                None
+                self.saturation_warning()
             }
             Err(fault) => Some(self.fail(now_ns, fault)),
         }
+    }
+}
+
+impl<D: Device> Supervisor<D> {
+    /// The first output of the last write that saturated and was not reported yet.
+    fn saturation_warning(&mut self) -> Option<LinkEvent> {
+        let &(i, value) = self
+            .backend
+            .saturated
+            .iter()
+            .find(|(i, _)| !self.warned.contains(i))?;
+        self.warned.push(i);
+        let p = &self.backend.map.points[i];
+        Some(LinkEvent::Warning(format!(
+            "{} = {value} does not fit {} {} ({}-bit{}, scale {}, offset {}): written as the nearest value it holds (said once)",
+            p.member,
+            p.table.name(),
+            p.address,
+            16 * p.width,
+            if p.signed { " signed" } else { "" },
+            p.scale,
+            p.offset
+        )))
     }
 }
 
@@ -405,6 +434,7 @@ mod tests {
                         assert_eq!(attempts, 1);
                         reconnects.push(ms);
                     }
+                    LinkEvent::Warning(w) => panic!("{w}"),
                 }
             }
             assert_eq!(s.write(ms * MS, &values), None);
@@ -423,6 +453,25 @@ mod tests {
             [LinkEvent::Fault(_)]
         ));
         assert!(matches!(s.link, Link::Down { retry_at_ns, .. } if retry_at_ns == 311 * MS));
+    }
+
+    #[test]
+    fn an_output_that_does_not_fit_its_register_is_said_once_and_saturated() {
+        let mut s = supervisor();
+        let mut values = vec![0.0, 0.0, 70_000.0];
+        let warning = s.write(0, &values);
+        assert_eq!(
+            warning,
+            Some(LinkEvent::Warning(
+                "slot2 = 70000 does not fit holding_register 4 (16-bit, scale 1, offset 0): written as the nearest value it holds (said once)".into()
+            ))
+        );
+        assert_eq!(s.backend.device.holding[4], 65535);
+        assert_eq!(s.write(MS, &values), None, "said once");
+        values[2] = -3.0;
+        assert_eq!(s.write(2 * MS, &values), None);
+        assert_eq!(s.backend.device.holding[4], 0);
+        assert_eq!(s.link, Link::Up, "not a fault");
     }
 
     #[test]

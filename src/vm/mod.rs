@@ -495,6 +495,9 @@ impl Machine {
                     pp.external_stop = true;
                 }
             }
+            LinkEvent::Warning(message) => {
+                self.trace.machine_message(self.tick, "warning", message);
+            }
             LinkEvent::Reconnected { attempts } => {
                 self.trace.event(
                     self.tick,
