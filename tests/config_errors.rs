@@ -1,6 +1,8 @@
 //! Every problem a user can make in `machine.toml` or `scenario.toml` is reported with its code,
 //! at the exact text it is about; the whole set of a file is reported together.
 
+mod common;
+
 use pacer::load::{load, LoadRequest};
 
 struct Case {
@@ -28,22 +30,7 @@ fn problems(case: Case) -> Vec<(String, String, String)> {
         ..Default::default()
     });
     let _ = std::fs::remove_dir_all(&dir);
-    match result {
-        Ok(_) => Vec::new(),
-        Err(d) => d
-            .items
-            .iter()
-            .map(|l| {
-                let text = l
-                    .file
-                    .text
-                    .get(l.problem.span.start..l.problem.span.end)
-                    .unwrap_or("")
-                    .to_string();
-                (l.problem.code.to_string(), text, l.problem.message.clone())
-            })
-            .collect(),
-    }
+    common::problem_triples(&result)
 }
 
 fn hash(s: &str) -> u64 {

@@ -2,6 +2,8 @@
 //! every bad entry is an error at the text it is about, and a bad map yields no map at all
 //! (so no connection is ever opened for it); the plan runs on an in-memory device.
 
+mod common;
+
 use pacer::io::map::Table;
 use pacer::io::memory::{MemoryDevice, PlanBackend};
 use pacer::io::plan::plan;
@@ -89,22 +91,16 @@ fn load_machine(tag: &str, machine: &str) -> (Project, Result<Loaded, pacer::dia
 /// (code, text under the span, message) of every problem.
 fn problems(tag: &str, machine: &str) -> Vec<(String, String, String)> {
     let (_p, result) = load_machine(tag, machine);
-    match result {
-        Ok(_) => Vec::new(),
-        Err(d) => d
-            .items
-            .iter()
-            .map(|l| {
-                let text = l
-                    .file
-                    .text
-                    .get(l.problem.span.start..l.problem.span.end)
-                    .unwrap_or("")
-                    .to_string();
-                (l.problem.code.to_string(), text, l.problem.message.clone())
-            })
-            .collect(),
-    }
+    common::problem_triples(&result)
+}
+
+/// (function code, start, count) of each request of an update, in order.
+fn requests(p: &pacer::io::plan::PollPlan) -> Vec<(u8, u16, u16)> {
+    p.reads
+        .iter()
+        .chain(&p.writes)
+        .map(|r| (r.function(), r.start, r.count))
+        .collect()
 }
 
 fn entry(body: &str) -> String {
@@ -131,12 +127,7 @@ fn the_labeler_map_loads_and_costs_four_requests_per_update() {
     let p = plan(&map);
     // One read of 10 discrete inputs, one of 1 input register, one write of 3 coils, one of 2
     // holding registers.
-    let reqs: Vec<(u8, u16, u16)> = p
-        .reads
-        .iter()
-        .chain(&p.writes)
-        .map(|r| (r.function(), r.start, r.count))
-        .collect();
+    let reqs = requests(&p);
     assert_eq!(reqs, vec![(2, 0, 10), (4, 0, 1), (15, 0, 3), (16, 10, 2)]);
     assert_eq!(p.requests_per_update(), 4);
 }
@@ -156,12 +147,7 @@ fn the_labelers_own_machine_file_costs_three_requests_per_update() {
     let p = plan(&map);
     // 10 discrete inputs in one read; 3 coils in one write; the label position and the 32-bit
     // servo position in one write of 3 holding registers.
-    let reqs: Vec<(u8, u16, u16)> = p
-        .reads
-        .iter()
-        .chain(&p.writes)
-        .map(|r| (r.function(), r.start, r.count))
-        .collect();
+    let reqs = requests(&p);
     assert_eq!(reqs, vec![(2, 0, 10), (15, 0, 3), (16, 0, 3)]);
     assert_eq!(p.requests_per_update(), 3);
 }

@@ -194,6 +194,36 @@ fn checkweigher() -> PathBuf {
     root().join("programs/checkweigher")
 }
 
+/// A copy of the machine folder `from` (its programs and scenario) in a scratch folder named
+/// `name`, with `from`'s machine.toml text replaced: `old` → `new` (which must be there).
+fn variant(name: &str, from: &Path, old: &str, new: &str) -> PathBuf {
+    let folder = common::scratch_in("io-modbus", name);
+    for entry in std::fs::read_dir(from).expect("the machine folder") {
+        let path = entry.expect("an entry").path();
+        if let Some(file) = path.file_name() {
+            std::fs::copy(&path, folder.join(file)).expect("copy");
+        }
+    }
+    let machine = std::fs::read_to_string(from.join("machine.toml")).expect("machine.toml");
+    assert!(
+        machine.contains(old),
+        "{old:?} is not in {}",
+        from.display()
+    );
+    std::fs::write(folder.join("machine.toml"), machine.replace(old, new)).expect("write");
+    folder
+}
+
+/// `pacer run ARGS…` must end with exit `code`, saying `says`.
+fn refused(args: &[&str], code: i32, says: &str) {
+    let mut all = vec!["run"];
+    all.extend_from_slice(args);
+    let o = common::pacer(&all);
+    let printed = common::text(&o);
+    assert_eq!(o.status.code(), Some(code), "{printed}");
+    assert!(printed.contains(says), "{printed}");
+}
+
 /// The checkweigher's safe state as the server sees it: both lanes closed, count and
 /// deviation registers 0.
 fn safe_writes(log: &[Value]) -> bool {
@@ -384,18 +414,12 @@ fn a_stalled_server_is_a_timeout_fault_and_a_missing_address_an_exception() {
 
     // A map naming an address the coupler does not have: the first read is answered with
     // exception 2, which is the fault, with the request in it.
-    let folder = common::scratch_in("io-modbus", "exception");
-    for f in ["program0.pt", "scenario.toml"] {
-        std::fs::copy(checkweigher().join(f), folder.join(f)).expect("copy");
-    }
-    let machine = std::fs::read_to_string(checkweigher().join("machine.toml"))
-        .expect("machine.toml")
-        .replace(
-            "kind = \"input_register\"\naddress = 0\n",
-            "kind = \"input_register\"\naddress = 150\n",
-        );
-    assert!(machine.contains("address = 150"));
-    std::fs::write(folder.join("machine.toml"), machine).expect("write");
+    let folder = variant(
+        "exception",
+        &checkweigher(),
+        "kind = \"input_register\"\naddress = 0\n",
+        "kind = \"input_register\"\naddress = 150\n",
+    );
     let mut server = Peer::start(0, 100);
     let run = Run::start(&folder, server.port, folder.join("t.jsonl"), &[]);
     wait_until("the failing read", || {
@@ -445,16 +469,12 @@ fn a_bad_map_never_opens_a_connection() {
     let listener = std::net::TcpListener::bind("127.0.0.1:0").expect("listen");
     listener.set_nonblocking(true).expect("non-blocking");
     let port = listener.local_addr().expect("address").port();
-    let folder = common::scratch_in("io-modbus", "bad-map");
-    std::fs::copy(
-        checkweigher().join("program0.pt"),
-        folder.join("program0.pt"),
-    )
-    .expect("copy");
-    let machine = std::fs::read_to_string(checkweigher().join("machine.toml"))
-        .expect("machine.toml")
-        .replace("kind = \"coil\"", "kind = \"coils\"");
-    std::fs::write(folder.join("machine.toml"), machine).expect("write");
+    let folder = variant(
+        "bad-map",
+        &checkweigher(),
+        "kind = \"coil\"",
+        "kind = \"coils\"",
+    );
     let out = common::pacer(&[
         "run",
         folder.to_str().expect("utf-8 path"),
@@ -479,96 +499,46 @@ fn a_bad_map_never_opens_a_connection() {
 
 #[test]
 fn io_options_that_cannot_work_are_errors() {
-    let o = common::pacer(&[
-        "run",
-        "programs/labeling",
-        "--io",
-        "modbus://h:0",
-        "--for",
-        "1",
-    ]);
-    assert_eq!(o.status.code(), Some(1));
-    assert!(
-        common::text(&o).contains("--io: `0` is not a TCP port"),
-        "{}",
-        common::text(&o)
+    let labeling = ["programs/labeling", "--for", "1", "--io"];
+    refused(
+        &[&labeling[..], &["modbus://h:0"]].concat(),
+        1,
+        "--io: `0` is not a TCP port",
     );
-    let o = common::pacer(&[
-        "run",
-        "programs/operator-offset",
-        "--io",
-        "modbus",
-        "--for",
-        "1",
-    ]);
-    assert_eq!(o.status.code(), Some(1));
-    assert!(
-        common::text(&o).contains("machine.toml has no [modbus] section"),
-        "{}",
-        common::text(&o)
-    );
-    let o = common::pacer(&["run", "programs/labeling", "--io", "serial", "--for", "1"]);
-    assert_eq!(o.status.code(), Some(1));
-    assert!(
-        common::text(&o).contains("is not an I/O"),
-        "{}",
-        common::text(&o)
+    refused(&[&labeling[..], &["serial"]].concat(), 1, "is not an I/O");
+    refused(
+        &["programs/operator-offset", "--io", "modbus"],
+        1,
+        "machine.toml has no [modbus] section",
     );
     // A MotionBASIC machine with DSP axes is refused (an I/O fault could not stop them).
-    let folder = common::scratch_in("io-modbus", "dsp");
-    for f in ["regist.mb", "scenario.toml"] {
-        std::fs::copy(root().join("programs/regist/case1").join(f), folder.join(f)).expect("copy");
-    }
-    let machine = std::fs::read_to_string(root().join("programs/regist/case1/machine.toml"))
-        .expect("machine.toml");
-    std::fs::write(
-        folder.join("machine.toml"),
-        format!("{machine}\n[modbus]\nhost = \"127.0.0.1\"\n"),
-    )
-    .expect("write");
-    let o = common::pacer(&[
-        "run",
-        folder.to_str().expect("utf-8 path"),
-        "--io",
-        "modbus",
-        "--for",
-        "1",
-    ]);
-    assert_eq!(o.status.code(), Some(1), "{}", common::text(&o));
-    assert!(
-        common::text(&o).contains("MotionBASIC DSP axes"),
-        "{}",
-        common::text(&o)
+    let dsp = variant(
+        "dsp",
+        &root().join("programs/regist/case1"),
+        "[machine]",
+        "[modbus]\nhost = \"127.0.0.1\"\n\n[machine]",
     );
+    let dsp = dsp.to_str().expect("utf-8 path");
+    refused(&[dsp, "--io", "modbus"], 1, "MotionBASIC DSP axes");
     // `[modbus] enabled = true` makes the coupler the default (here nothing listens: the run
     // stops before it starts); `--io sim` still simulates.
     let closed = std::net::TcpListener::bind("127.0.0.1:0")
         .and_then(|l| l.local_addr())
         .expect("a free port")
         .port();
-    let folder = common::scratch_in("io-modbus", "enabled");
-    for f in ["program0.pt", "scenario.toml"] {
-        std::fs::copy(checkweigher().join(f), folder.join(f)).expect("copy");
-    }
-    let machine = std::fs::read_to_string(checkweigher().join("machine.toml"))
-        .expect("machine.toml")
-        .replace(
-            "port = 5020\n",
-            &format!("port = {closed}\nenabled = true\n"),
-        );
-    assert!(machine.contains("enabled = true"));
-    std::fs::write(folder.join("machine.toml"), machine).expect("write");
-    let dir = folder.to_str().expect("utf-8 path");
-    let o = common::pacer(&["run", dir, "--for", "1"]);
-    assert_eq!(o.status.code(), Some(3), "{}", common::text(&o));
-    assert!(
-        common::text(&o).contains(&format!(
-            "modbus://127.0.0.1:{closed} unit 1: not connected"
-        )),
-        "{}",
-        common::text(&o)
+    let enabled = variant(
+        "enabled",
+        &checkweigher(),
+        "port = 5020\n",
+        &format!("port = {closed}\nenabled = true\n"),
     );
-    let o = common::pacer(&["run", dir, "--io", "sim", "--for", "1", "--quiet"]);
+    let enabled = enabled.to_str().expect("utf-8 path");
+    refused(
+        &[enabled, "--for", "1"],
+        3,
+        &format!("modbus://127.0.0.1:{closed} unit 1: not connected"),
+    );
+    let o = common::pacer(&["run", enabled, "--io", "sim", "--for", "1", "--quiet"]);
     assert!(o.status.success(), "{}", common::text(&o));
     // The simulator is still the default, and `--io sim` names it.
     let o = common::pacer(&["run", "programs/checkweigher", "--io", "sim", "--quiet"]);

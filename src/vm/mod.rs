@@ -464,6 +464,17 @@ impl Machine {
         self.io.close()
     }
 
+    /// Every motion comes to rest at StopDeceleration (at once when it is 0).
+    fn stop_all_motion(&mut self) {
+        let now = Now::at(
+            self.tick,
+            self.image.tick_ns,
+            self.master_now,
+            &mut self.trace,
+        );
+        self.kernel.stop_all(&mut self.values, &now);
+    }
+
     /// A link going down puts the machine in its safe state: the fault is traced with its
     /// device and cause, the outputs take their safe values, every motion stops with its stop
     /// deceleration and the programs are held. Its return is traced and releases them.
@@ -484,13 +495,7 @@ impl Machine {
                         *v = safe;
                     }
                 }
-                let now = Now::at(
-                    self.tick,
-                    self.image.tick_ns,
-                    self.master_now,
-                    &mut self.trace,
-                );
-                self.kernel.stop_all(&mut self.values, &now);
+                self.stop_all_motion();
                 if let Some(pp) = self.kernel.pickplace.as_mut() {
                     pp.external_stop = true;
                 }
@@ -738,13 +743,7 @@ impl Machine {
             }
             Hook::StopAll => {
                 self.stop_all();
-                let now = Now::at(
-                    self.tick,
-                    self.image.tick_ns,
-                    self.master_now,
-                    &mut self.trace,
-                );
-                self.kernel.stop_all(&mut self.values, &now);
+                self.stop_all_motion();
                 Ok(())
             }
             _ => {

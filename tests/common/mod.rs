@@ -110,6 +110,28 @@ pub fn load_error(name: &str, files: &[(&str, &str)]) -> pacer::diag::Diagnostic
     }
 }
 
+/// (code, text under the span, message) of every problem of a load; none when it loaded.
+pub fn problem_triples<T>(
+    result: &Result<T, pacer::diag::Diagnostics>,
+) -> Vec<(String, String, String)> {
+    match result {
+        Ok(_) => Vec::new(),
+        Err(d) => d
+            .items
+            .iter()
+            .map(|l| {
+                let text = l
+                    .file
+                    .text
+                    .get(l.problem.span.start..l.problem.span.end)
+                    .unwrap_or("")
+                    .to_string();
+                (l.problem.code.to_string(), text, l.problem.message.clone())
+            })
+            .collect(),
+    }
+}
+
 /// Run the `pacer` binary with `args` from the crate's folder.
 pub fn pacer(args: &[&str]) -> std::process::Output {
     std::process::Command::new(env!("CARGO_BIN_EXE_pacer"))
