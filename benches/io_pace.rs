@@ -23,6 +23,11 @@ fn point(table: Table, address: u16, width: u16, slot: u32) -> Point {
         signed: false,
         safe: 0.0,
         io_point: false,
+        ty: if table.is_bit() {
+            pacer::registry::ValueType::Bit
+        } else {
+            pacer::registry::ValueType::Real
+        },
     }
 }
 

@@ -13,16 +13,21 @@ use pacer::io::supervisor::{Backoff, Supervisor};
 use pacer::io::IoFault;
 use pacer::load::{load, LoadRequest};
 use pacer::trace::Trace;
+use pacer::vm::realtime::{run_real_time, RealTimeOptions};
 use pacer::vm::Machine;
 use serde_json::Value;
+use std::sync::atomic::AtomicBool;
 use std::sync::{Arc, Mutex, MutexGuard};
+use std::time::Duration;
 
-/// A memory device the test keeps a handle on while the machine owns the supervisor.
+/// A memory device the test keeps a handle on while the machine owns the supervisor; each
+/// request takes `delay` of wall time (none by default).
 #[derive(Clone, Default)]
-struct Shared(Arc<Mutex<MemoryDevice>>);
+struct Shared(Arc<Mutex<MemoryDevice>>, Duration);
 
 impl Shared {
     fn lock(&self) -> MutexGuard<'_, MemoryDevice> {
+        std::thread::sleep(self.1);
         self.0.lock().expect("device lock")
     }
 }
@@ -121,10 +126,13 @@ struct Outcome {
     served_while_down: usize,
 }
 
-/// Run 2.5 s: the input comes on at 0.1 s, the device is lost from 1.1 s to 1.5 s.
-fn run() -> Outcome {
+/// The machine above on `device`, connected (safe values written), tracing to `sink`.
+fn machine_on(device: &Shared, sink: &common::Sink) -> Machine {
+    // A folder per call: the tests run in parallel.
+    static CALLS: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let n = CALLS.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
     let dir = common::project(
-        "io-fault",
+        &format!("io-fault-{n}"),
         &[("program0.pt", PROGRAM), ("machine.toml", MACHINE)],
     );
     let loaded = load(&LoadRequest {
@@ -134,13 +142,19 @@ fn run() -> Outcome {
     let _ = std::fs::remove_dir_all(&dir);
     let loaded = loaded.unwrap_or_else(|d| panic!("{}", d.render_plain()));
     let map = loaded.io_map.clone().expect("the [modbus] map");
-    let device = Shared::default();
     let mut supervisor = Supervisor::new(PlanBackend::new(map, device.clone()), Backoff::default());
     supervisor.open().expect("the memory device is there");
-    let sink = common::Sink::default();
     let tick = loaded.image.tick_ns;
     let mut machine = Machine::new(loaded.image, Trace::new(Some(Box::new(sink.clone())), tick));
     assert_eq!(machine.attach_io(Box::new(supervisor)), 0);
+    machine
+}
+
+/// Run 2.5 s: the input comes on at 0.1 s, the device is lost from 1.1 s to 1.5 s.
+fn run() -> Outcome {
+    let device = Shared::default();
+    let sink = common::Sink::default();
+    let mut machine = machine_on(&device, &sink);
     let mut motion = Vec::new();
     let mut writes_on_return = Vec::new();
     let mut served_while_down = 0;
@@ -301,4 +315,79 @@ fn the_same_fault_gives_the_same_trace() {
     let a = run().events;
     let b = run().events;
     assert_eq!(a, b);
+}
+
+#[test]
+fn late_updates_in_a_row_are_a_real_time_fault_that_ends_the_run_safely() {
+    // Every request takes 3 ms: each 1 ms update (3 requests) ends long after the next is due.
+    let device = Shared(Arc::default(), Duration::from_millis(3));
+    let sink = common::Sink::default();
+    let mut machine = machine_on(&device, &sink);
+    let interrupt = AtomicBool::new(false);
+    let report = run_real_time(
+        &mut machine,
+        Some(10_000_000_000),
+        RealTimeOptions {
+            overrun_limit: 5,
+            interrupt: &interrupt,
+        },
+        &mut |_| {},
+    );
+    let fault = "real-time fault: 5 updates in a row finished after the next one was due (overrun_limit = 5)";
+    assert_eq!(report.overrun_fault.as_deref(), Some(fault));
+    assert_eq!(report.summary.stop_reason, fault);
+    assert_eq!(report.summary.ticks, 5);
+    let timing = report.timing.expect("timed updates");
+    assert_eq!(
+        (timing.updates, timing.overruns, timing.longest_streak),
+        (5, 5, 5)
+    );
+    assert!(timing.worst_update_ns >= 9_000_000, "{timing:?}");
+    assert_eq!(report.io.per_update, 3);
+    assert_eq!(report.io.faults, 0);
+    assert!(report.close_error.is_none());
+    // The end drove the outputs safe: valve closed, brake on, the count register 0.
+    let d = device.0.lock().expect("device lock");
+    let last: Vec<_> = d.writes.iter().rev().take(2).rev().cloned().collect();
+    assert_eq!(
+        last,
+        vec![
+            (Table::Coil, 0, vec![0, 1]),
+            (Table::HoldingRegister, 0, vec![0])
+        ]
+    );
+    drop(d);
+    machine.finish().expect("in-memory trace");
+    let text = sink.text();
+    let end = text.lines().last().expect("an end line");
+    assert!(
+        end.contains("\"kind\":\"end\"") && end.contains(fault),
+        "{end}"
+    );
+}
+
+#[test]
+fn ctrl_c_ends_a_real_time_run_after_the_update_with_the_outputs_safe() {
+    let device = Shared::default();
+    let sink = common::Sink::default();
+    let mut machine = machine_on(&device, &sink);
+    let interrupt = AtomicBool::new(false);
+    let report = run_real_time(
+        &mut machine,
+        None,
+        RealTimeOptions {
+            overrun_limit: 0,
+            interrupt: &interrupt,
+        },
+        &mut |m| {
+            if m.time() >= 0.049 {
+                interrupt.store(true, std::sync::atomic::Ordering::SeqCst);
+            }
+        },
+    );
+    assert_eq!(report.summary.stop_reason, "interrupted (Ctrl-C)");
+    assert_eq!(report.summary.ticks, 50);
+    assert!(report.overrun_fault.is_none());
+    let d = device.0.lock().expect("device lock");
+    assert_eq!(d.coils[..2], [false, true]);
 }

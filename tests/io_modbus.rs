@@ -111,15 +111,6 @@ impl Drop for Peer {
     }
 }
 
-/// Poll until `ok` holds; panic naming `what` after [`PATIENCE`].
-fn wait_until(what: &str, mut ok: impl FnMut() -> bool) {
-    let start = Instant::now();
-    while !ok() {
-        assert!(start.elapsed() < PATIENCE, "waited {PATIENCE:?} for {what}");
-        std::thread::sleep(Duration::from_millis(5));
-    }
-}
-
 /// `pacer run FOLDER --io modbus://127.0.0.1:PORT --trace TRACE …`, running.
 struct Run {
     child: Child,
@@ -127,20 +118,58 @@ struct Run {
 }
 
 impl Run {
-    fn start(folder: &Path, port: u16, trace: PathBuf, extra: &[&str]) -> Run {
+    fn start(folder: &Path, port: u16, trace: PathBuf) -> Run {
         let child = Command::new(env!("CARGO_BIN_EXE_pacer"))
             .arg("run")
             .arg(folder)
             .args(["--io", &format!("modbus://127.0.0.1:{port}")])
             .arg("--trace")
             .arg(&trace)
-            .args(extra)
+            // Longer than any test: each one ends its run with Ctrl-C (the checkweigher's
+            // scenario would end it after 1 s, which a loaded machine can take to start a
+            // Python server).
+            .args(["--for", "600"])
             .current_dir(root())
             .stdout(Stdio::piped())
             .stderr(Stdio::piped())
             .spawn()
             .expect("pacer runs");
         Run { child, trace }
+    }
+
+    /// Poll until `ok` holds. When it does not within [`PATIENCE`], or pacer has ended, stop
+    /// pacer and fail with what it printed and the end of its trace.
+    fn wait_until(&mut self, what: &str, mut ok: impl FnMut() -> bool) {
+        let start = Instant::now();
+        while !ok() {
+            let ended = matches!(self.child.try_wait(), Ok(Some(_)));
+            if ended || start.elapsed() >= PATIENCE {
+                // SAFETY: kill only sends a signal to our own child process.
+                unsafe { libc::kill(self.child.id() as libc::pid_t, libc::SIGINT) };
+                let _ = self.child.wait();
+                let mut out = String::new();
+                if let Some(mut o) = self.child.stdout.take() {
+                    let _ = std::io::Read::read_to_string(&mut o, &mut out);
+                }
+                if let Some(mut e) = self.child.stderr.take() {
+                    let _ = std::io::Read::read_to_string(&mut e, &mut out);
+                }
+                let trace = std::fs::read_to_string(&self.trace).unwrap_or_default();
+                let tail: Vec<&str> = trace
+                    .lines()
+                    .filter(|l| !l.contains("\"kind\":\"change\""))
+                    .rev()
+                    .take(20)
+                    .collect();
+                panic!(
+                    "waited {:?} for {what} (pacer {}):\n{out}\nlast trace events, newest first:\n{}",
+                    start.elapsed(),
+                    if ended { "had ended" } else { "still running" },
+                    tail.join("\n")
+                );
+            }
+            std::thread::sleep(Duration::from_millis(5));
+        }
     }
 
     /// Ctrl-C, then the run's output.
@@ -190,8 +219,16 @@ fn assert_whole(events: &[Value]) {
     assert_eq!(events.last().map(|e| e["kind"].clone()), Some("end".into()));
 }
 
-fn checkweigher() -> PathBuf {
-    root().join("programs/checkweigher")
+/// `programs/checkweigher` as it is but for `overrun_limit = 0`, in a scratch folder `name`: the
+/// real-time fault is not what these tests are about, and a loaded test machine with a Python
+/// server can make ten late updates in a row (`tests/io_fault.rs` tests that fault).
+fn checkweigher(name: &str) -> PathBuf {
+    variant(
+        name,
+        &root().join("programs/checkweigher"),
+        "timeout = \"50ms\"\n",
+        "timeout = \"50ms\"\noverrun_limit = 0\n",
+    )
 }
 
 /// A copy of the machine folder `from` (its programs and scenario) in a scratch folder named
@@ -243,11 +280,15 @@ fn a_program_reads_inputs_computes_and_writes_coils_and_registers() {
     let dir = common::scratch_in("io-modbus", "weigh");
     let mut server = Peer::start(0, 100);
     server.set("ir", 0, &[2475]); // 247.5 g on the scale
-    let run = Run::start(&checkweigher(), server.port, dir.join("t.jsonl"), &[]);
+    let mut run = Run::start(
+        &checkweigher("weigh-machine"),
+        server.port,
+        dir.join("t.jsonl"),
+    );
 
     // Connected: the safe values went out before anything else, then the update's requests.
     let mut log = Vec::new();
-    wait_until("pacer's first requests", || {
+    run.wait_until("pacer's first requests", || {
         log.extend(server.log());
         log.len() >= 6
     });
@@ -268,22 +309,22 @@ fn a_program_reads_inputs_computes_and_writes_coils_and_registers() {
 
     // A product within tolerance (−2.5 g): counted, accept lane, deviation −250 (0.01 g).
     server.set("di", 0, &[1]);
-    wait_until("the accept lane", || server.get("co", 0, 2) == [1, 0]);
+    run.wait_until("the accept lane", || server.get("co", 0, 2) == [1, 0]);
     assert_eq!(server.get("hr", 0, 3), [1, 0xFFFF, 0x10000 - 250]);
     server.set("di", 0, &[0]);
-    wait_until("the lanes to close", || server.get("co", 0, 2) == [0, 0]);
+    run.wait_until("the lanes to close", || server.get("co", 0, 2) == [0, 0]);
 
     // 253.0 g: +3.0 g is out of tolerance: the reject lane.
     server.set("ir", 0, &[2530]);
     server.set("di", 0, &[1]);
-    wait_until("the reject lane", || server.get("co", 0, 2) == [0, 1]);
+    run.wait_until("the reject lane", || server.get("co", 0, 2) == [0, 1]);
     assert_eq!(server.get("hr", 0, 3), [2, 0, 300]);
     server.set("di", 0, &[0]);
-    wait_until("the lanes to close", || server.get("co", 0, 2) == [0, 0]);
+    run.wait_until("the lanes to close", || server.get("co", 0, 2) == [0, 0]);
 
     // The reset button clears the count.
     server.set("di", 1, &[1]);
-    wait_until("the count to clear", || server.get("hr", 0, 1) == [0]);
+    run.wait_until("the count to clear", || server.get("hr", 0, 1) == [0]);
     server.set("di", 1, &[0]);
 
     let (out, events) = run.interrupt();
@@ -320,9 +361,9 @@ fn a_killed_server_puts_the_machine_in_its_safe_state_and_its_return_gets_the_sa
     let mut server = Peer::start(0, 100);
     let port = server.port;
     server.set("ir", 0, &[2475]);
-    let run = Run::start(&checkweigher(), port, dir.join("t.jsonl"), &[]);
+    let mut run = Run::start(&checkweigher("kill-machine"), port, dir.join("t.jsonl"));
     server.set("di", 0, &[1]);
-    wait_until("the accept lane", || server.get("co", 0, 2) == [1, 0]);
+    run.wait_until("the accept lane", || server.get("co", 0, 2) == [1, 0]);
 
     // The coupler loses power with the accept lane open.
     server.kill();
@@ -330,14 +371,14 @@ fn a_killed_server_puts_the_machine_in_its_safe_state_and_its_return_gets_the_sa
     // It comes back (fresh: every point 0, as after a power cycle).
     let mut server = Peer::start(port, 100);
     let mut log = Vec::new();
-    wait_until("pacer to reconnect", || {
+    run.wait_until("pacer to reconnect", || {
         log.extend(server.log());
         log.len() >= 4
     });
     assert!(safe_writes(&log), "the safe values come first: {log:#?}");
     // Then the inputs are read; the program, released, sees the product gone and closes the
     // lane; the count it kept is written again.
-    wait_until("the count written again", || server.get("hr", 0, 1) == [1]);
+    run.wait_until("the count written again", || server.get("hr", 0, 1) == [1]);
     assert_eq!(server.get("co", 0, 2), [0, 0]);
 
     let (out, events) = run.interrupt();
@@ -378,8 +419,12 @@ fn a_killed_server_puts_the_machine_in_its_safe_state_and_its_return_gets_the_sa
 fn a_stalled_server_is_a_timeout_fault_and_a_missing_address_an_exception() {
     let dir = common::scratch_in("io-modbus", "stall");
     let mut server = Peer::start(0, 100);
-    let run = Run::start(&checkweigher(), server.port, dir.join("t.jsonl"), &[]);
-    wait_until("pacer's first requests", || {
+    let mut run = Run::start(
+        &checkweigher("stall-machine"),
+        server.port,
+        dir.join("t.jsonl"),
+    );
+    run.wait_until("pacer's first requests", || {
         server.cmd("requests")["requests"].as_u64() > Some(4)
     });
     // Longer than the machine's 50 ms timeout.
@@ -387,7 +432,7 @@ fn a_stalled_server_is_a_timeout_fault_and_a_missing_address_an_exception() {
     std::thread::sleep(Duration::from_millis(400));
     server.cmd("stall 0");
     let mut log = Vec::new();
-    wait_until("pacer to reconnect", || {
+    run.wait_until("pacer to reconnect", || {
         log.extend(server.log());
         log.windows(2).any(safe_writes)
     });
@@ -416,13 +461,13 @@ fn a_stalled_server_is_a_timeout_fault_and_a_missing_address_an_exception() {
     // exception 2, which is the fault, with the request in it.
     let folder = variant(
         "exception",
-        &checkweigher(),
+        &checkweigher("exception-base"),
         "kind = \"input_register\"\naddress = 0\n",
         "kind = \"input_register\"\naddress = 150\n",
     );
     let mut server = Peer::start(0, 100);
-    let run = Run::start(&folder, server.port, folder.join("t.jsonl"), &[]);
-    wait_until("the failing read", || {
+    let mut run = Run::start(&folder, server.port, folder.join("t.jsonl"));
+    run.wait_until("the failing read", || {
         server.log().iter().any(|e| e["exception"] == 2)
     });
     let (out, events) = run.interrupt();
@@ -471,7 +516,7 @@ fn a_bad_map_never_opens_a_connection() {
     let port = listener.local_addr().expect("address").port();
     let folder = variant(
         "bad-map",
-        &checkweigher(),
+        &checkweigher("bad-map-base"),
         "kind = \"coil\"",
         "kind = \"coils\"",
     );
@@ -528,7 +573,7 @@ fn io_options_that_cannot_work_are_errors() {
         .port();
     let enabled = variant(
         "enabled",
-        &checkweigher(),
+        &checkweigher("enabled-base"),
         "port = 5020\n",
         &format!("port = {closed}\nenabled = true\n"),
     );

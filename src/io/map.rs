@@ -6,7 +6,7 @@
 use crate::config::machine::{MachineFile, ModbusMapEntry, ModbusSection};
 use crate::config::span_of;
 use crate::diag::{nearest, Level, Problem};
-use crate::registry::{Access, Kind, Registry, SlotId};
+use crate::registry::{Access, Kind, Registry, SlotId, ValueType};
 use toml::Spanned;
 
 const CODE: &str = "pacer::machine::modbus";
@@ -121,9 +121,32 @@ pub struct Point {
     /// fault the machine's own value takes the safe value too, so the trace shows the output
     /// as the device has it. A variable fed to a register keeps its value (the program's data).
     pub io_point: bool,
+    /// The member's value type: a value read from the device is stored as the member holds
+    /// it (rounded to its decimal places, within its 32-bit range).
+    pub ty: ValueType,
 }
 
 impl Point {
+    /// A value read from the device as the member stores it, and whether it fitted: bits are
+    /// 0/1; integers and fixed-point values are rounded to their places and, when outside
+    /// their 32-bit range, held at its nearest end.
+    pub fn store(&self, x: f64) -> (f64, bool) {
+        let decimals = match self.ty {
+            ValueType::Bit => return (f64::from(x != 0.0), true),
+            ValueType::Real => return (x, true),
+            ValueType::Integer => 0,
+            ValueType::Fixed(d) => d,
+        };
+        match crate::fixed::to_fixed(x, decimals) {
+            Some(v) => (v, true),
+            None => {
+                let scale = crate::fixed::POW10[usize::from(decimals.min(9))];
+                let end = if x < 0.0 { i32::MIN } else { i32::MAX };
+                (f64::from(end) / scale, false)
+            }
+        }
+    }
+
     /// One past its last address (as u32: the last point may end at 65536).
     pub fn end(&self) -> u32 {
         u32::from(self.address) + u32::from(self.width)
@@ -601,6 +624,7 @@ fn entry_points(
                 resolved.kind,
                 Kind::DriveInput | Kind::ModuleInput | Kind::DriveIO
             ),
+            ty: resolved.ty,
         });
     }
     if ok {
@@ -660,7 +684,30 @@ mod tests {
             signed,
             safe: 0.0,
             io_point: false,
+            ty: ValueType::Real,
         }
+    }
+
+    #[test]
+    fn values_read_are_stored_as_their_member_holds_them() {
+        let mut p = reg(2, false, 0.1, 0.0);
+        p.ty = ValueType::Fixed(1);
+        // 2475 × 0.1 is 247.50000000000003 in binary: stored as the variable's 247.5.
+        assert_eq!(p.store(p.decode(&[0, 2475])), (247.5, true));
+        p.ty = ValueType::Integer;
+        p.scale = 1.0;
+        // An unsigned 32-bit count past the signed range is held at its end, and said.
+        assert_eq!(
+            p.store(p.decode(&[0xFFFF, 0xFFFF])),
+            (f64::from(i32::MAX), false)
+        );
+        assert_eq!(p.store(-3e9), (f64::from(i32::MIN), false));
+        p.ty = ValueType::Fixed(3);
+        assert_eq!(p.store(3e6), (f64::from(i32::MAX) / 1000.0, false));
+        p.ty = ValueType::Bit;
+        assert_eq!(p.store(5.0), (1.0, true));
+        p.ty = ValueType::Real;
+        assert_eq!(p.store(4294967295.0), (4294967295.0, true));
     }
 
     #[test]

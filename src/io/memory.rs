@@ -163,6 +163,9 @@ pub struct PlanBackend<D> {
     pub saturated: Vec<(usize, f64)>,
     /// Requests sent (answered or not) since the backend was made.
     pub requests: u64,
+    /// Inputs whose value did not fit their member at the last read: (point index into the
+    /// map, the value read).
+    pub clamped: Vec<(usize, f64)>,
 }
 
 impl<D: Device> PlanBackend<D> {
@@ -175,6 +178,7 @@ impl<D: Device> PlanBackend<D> {
             device,
             saturated: Vec::new(),
             requests: 0,
+            clamped: Vec::new(),
         }
     }
 
@@ -230,6 +234,7 @@ impl<D: Device> PlanBackend<D> {
 
     /// Read every input of the map into `values` (indexed by slot), scaled.
     pub fn read_inputs(&mut self, values: &mut [f64]) -> Result<(), IoFault> {
+        self.clamped.clear();
         for r in &self.plan.reads {
             debug_assert_eq!(r.op, Op::Read);
             self.requests += 1;
@@ -248,8 +253,12 @@ impl<D: Device> PlanBackend<D> {
                 let Some(w) = words.get(at..at + usize::from(p.width)) else {
                     continue;
                 };
+                let (x, fits) = p.store(p.decode(w));
+                if !fits {
+                    self.clamped.push((i, p.decode(w)));
+                }
                 if let Some(v) = values.get_mut(p.slot as usize) {
-                    *v = p.decode(w);
+                    *v = x;
                 }
             }
         }

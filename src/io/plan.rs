@@ -134,6 +134,11 @@ mod tests {
             signed: false,
             safe: 0.0,
             io_point: false,
+            ty: if table.is_bit() {
+                crate::registry::ValueType::Bit
+            } else {
+                crate::registry::ValueType::Real
+            },
         }
     }
 

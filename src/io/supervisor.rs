@@ -162,8 +162,9 @@ impl<D: Device> Supervisor<D> {
             });
         }
         self.updates += 1;
-        if let Err(fault) = self.backend.read_inputs(values) {
-            events.push(self.fail(now_ns, fault));
+        match self.backend.read_inputs(values) {
+            Ok(()) => events.extend(self.clamp_warning()),
+            Err(fault) => events.push(self.fail(now_ns, fault)),
         }
         events
     }
@@ -184,6 +185,28 @@ impl<D: Device> Supervisor<D> {
 }
 
 impl<D: Device> Supervisor<D> {
+    /// The first input of the last read that did not fit its member and was not reported yet.
+    fn clamp_warning(&mut self) -> Option<LinkEvent> {
+        let &(i, value) = self
+            .backend
+            .clamped
+            .iter()
+            .find(|(i, _)| !self.warned.contains(i))?;
+        self.warned.push(i);
+        let p = &self.backend.map.points[i];
+        let decimals = match p.ty {
+            crate::registry::ValueType::Fixed(d) => d,
+            _ => 0,
+        };
+        Some(LinkEvent::Warning(format!(
+            "{} {} read {value}, which {} cannot hold (32-bit with {decimals} decimal places: {}): held at the nearest end (said once)",
+            p.table.name(),
+            p.address,
+            p.member,
+            crate::fixed::range_text(decimals)
+        )))
+    }
+
     /// The first output of the last write that saturated and was not reported yet.
     fn saturation_warning(&mut self) -> Option<LinkEvent> {
         let &(i, value) = self
@@ -291,6 +314,11 @@ mod tests {
             signed: false,
             safe,
             io_point: false,
+            ty: if table.is_bit() {
+                crate::registry::ValueType::Bit
+            } else {
+                crate::registry::ValueType::Real
+            },
         }
     }
 
@@ -472,6 +500,42 @@ mod tests {
         assert_eq!(s.write(2 * MS, &values), None);
         assert_eq!(s.backend.device.holding[4], 0);
         assert_eq!(s.link, Link::Up, "not a fault");
+    }
+
+    #[test]
+    fn an_input_that_does_not_fit_its_member_is_said_once_and_held_at_the_end() {
+        let mut count = point(Table::InputRegister, 0, 0, 0.0);
+        count.width = 2;
+        count.member = "Var.Count".into();
+        count.ty = crate::registry::ValueType::Integer;
+        let map = IoMap {
+            host: None,
+            port: 502,
+            unit: 1,
+            timeout_ns: 20 * MS,
+            max_gap: 0,
+            enabled: false,
+            overrun_limit: 10,
+            points: vec![count],
+        };
+        let mut s = Supervisor::new(
+            PlanBackend::new(map, MemoryDevice::default()),
+            Backoff::default(),
+        );
+        s.backend.device.input_registers[0] = 0xFFFF;
+        s.backend.device.input_registers[1] = 0xFFFF;
+        let mut values = vec![0.0];
+        assert_eq!(
+            s.read(0, &mut values),
+            vec![LinkEvent::Warning(
+                "input_register 0 read 4294967295, which Var.Count cannot hold (32-bit with 0 decimal places: -2147483648 to 2147483647): held at the nearest end (said once)".into()
+            )]
+        );
+        assert_eq!(values[0], f64::from(i32::MAX));
+        assert_eq!(s.read(MS, &mut values), vec![], "said once");
+        s.backend.device.input_registers[0] = 0;
+        assert_eq!(s.read(2 * MS, &mut values), vec![]);
+        assert_eq!(values[0], 65535.0);
     }
 
     #[test]
