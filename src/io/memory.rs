@@ -3,8 +3,8 @@
 //! model the Modbus TCP client follows); [`PlanBackend`] runs the plan of an [`IoMap`] on any
 //! device.
 
-use super::map::{IoMap, Table};
-use super::plan::{plan, Op, PollPlan, Request};
+use super::map::{IoMap, Point, Table};
+use super::plan::{plan, Op, PollPlan};
 use super::IoFault;
 
 /// The Modbus requests a device answers. Bits travel as `bool`, registers as `u16`.
@@ -182,47 +182,30 @@ impl<D: Device> PlanBackend<D> {
         }
     }
 
-    /// The words (bits as 0/1) a write request sends, from member values given per point.
-    fn words(&mut self, r: &Request, values: &[f64]) -> Vec<u16> {
-        let mut words = vec![0u16; usize::from(r.count)];
-        for &i in &r.points {
-            let p = &self.map.points[i];
-            let (w, saturated) = p.encode(values[i]);
-            if saturated {
-                self.saturated.push((i, values[i]));
-            }
-            let at = usize::from(p.address - r.start);
-            words[at..at + w.len()].copy_from_slice(&w);
-        }
-        words
-    }
-
-    fn send(&mut self, r: &Request, words: &[u16]) -> Result<(), IoFault> {
-        self.requests += 1;
-        if r.table.is_bit() {
-            let bits: Vec<bool> = words.iter().map(|&w| w != 0).collect();
-            self.device.write_coils(r.start, &bits)
-        } else {
-            self.device.write_registers(r.start, words)
-        }
-    }
-
-    fn write_with(&mut self, value_of: impl Fn(&IoMap, usize) -> f64) -> Result<(), IoFault> {
+    /// Every write request of the plan, each point's value given by `value_of` (bits as 0/1).
+    fn write_with(&mut self, value_of: impl Fn(&Point) -> f64) -> Result<(), IoFault> {
         self.saturated.clear();
-        let values: Vec<f64> = (0..self.map.points.len())
-            .map(|i| value_of(&self.map, i))
-            .collect();
-        let writes = std::mem::take(&mut self.plan.writes);
-        let mut result = Ok(());
-        for r in &writes {
-            let words = self.words(r, &values);
-            result = self.send(r, &words);
-            if result.is_err() {
-                break;
+        for r in &self.plan.writes {
+            let mut words = vec![0u16; usize::from(r.count)];
+            for &i in &r.points {
+                let p = &self.map.points[i];
+                let value = value_of(p);
+                let (w, saturated) = p.encode(value);
+                if saturated {
+                    self.saturated.push((i, value));
+                }
+                let at = usize::from(p.address - r.start);
+                words[at..at + w.len()].copy_from_slice(&w);
+            }
+            self.requests += 1;
+            if r.table.is_bit() {
+                let bits: Vec<bool> = words.iter().map(|&w| w != 0).collect();
+                self.device.write_coils(r.start, &bits)?;
+            } else {
+                self.device.write_registers(r.start, &words)?;
             }
         }
-        self.plan.writes = writes;
-        result
+        Ok(())
     }
 }
 
@@ -253,9 +236,10 @@ impl<D: Device> PlanBackend<D> {
                 let Some(w) = words.get(at..at + usize::from(p.width)) else {
                     continue;
                 };
-                let (x, fits) = p.store(p.decode(w));
+                let read = p.decode(w);
+                let (x, fits) = p.store(read);
                 if !fits {
-                    self.clamped.push((i, p.decode(w)));
+                    self.clamped.push((i, read));
                 }
                 if let Some(v) = values.get_mut(p.slot as usize) {
                     *v = x;
@@ -267,16 +251,11 @@ impl<D: Device> PlanBackend<D> {
 
     /// Write every output of the map from `values` (indexed by slot), scaled.
     pub fn write_outputs(&mut self, values: &[f64]) -> Result<(), IoFault> {
-        self.write_with(|map, i| {
-            values
-                .get(map.points[i].slot as usize)
-                .copied()
-                .unwrap_or(0.0)
-        })
+        self.write_with(|p| values.get(p.slot as usize).copied().unwrap_or(0.0))
     }
 
     /// Write every output's configured safe value.
     pub fn safe_state(&mut self) -> Result<(), IoFault> {
-        self.write_with(|map, i| map.points[i].safe)
+        self.write_with(|p| p.safe)
     }
 }

@@ -9,6 +9,7 @@
 
 use super::map::Table;
 use super::memory::Device;
+use super::target::{host_for_port, modbus_device};
 use super::IoFault;
 use std::net::{SocketAddr, ToSocketAddrs};
 use std::time::Duration;
@@ -46,11 +47,7 @@ impl ModbusTcp {
     }
 
     fn address(&self) -> Result<SocketAddr, IoFault> {
-        let text = if self.host.contains(':') {
-            format!("[{}]:{}", self.host, self.port)
-        } else {
-            format!("{}:{}", self.host, self.port)
-        };
+        let text = format!("{}:{}", host_for_port(&self.host), self.port);
         let mut addrs = text.to_socket_addrs().map_err(|e| IoFault::Disconnected {
             device: self.device(),
             cause: format!("cannot resolve {}: {e}", self.host),
@@ -119,12 +116,7 @@ fn describe(op: &str, table: Table, start: u16, count: usize) -> String {
 
 impl Device for ModbusTcp {
     fn device(&self) -> String {
-        let host = if self.host.contains(':') {
-            format!("[{}]", self.host)
-        } else {
-            self.host.clone()
-        };
-        format!("modbus://{host}:{} unit {}", self.port, self.unit)
+        modbus_device(&self.host, self.port, self.unit)
     }
 
     fn connect(&mut self) -> Result<(), IoFault> {

@@ -187,12 +187,7 @@ impl<D: Device> Supervisor<D> {
 impl<D: Device> Supervisor<D> {
     /// The first input of the last read that did not fit its member and was not reported yet.
     fn clamp_warning(&mut self) -> Option<LinkEvent> {
-        let &(i, value) = self
-            .backend
-            .clamped
-            .iter()
-            .find(|(i, _)| !self.warned.contains(i))?;
-        self.warned.push(i);
+        let (i, value) = first_unreported(&self.backend.clamped, &mut self.warned)?;
         let p = &self.backend.map.points[i];
         let decimals = match p.ty {
             crate::registry::ValueType::Fixed(d) => d,
@@ -209,12 +204,7 @@ impl<D: Device> Supervisor<D> {
 
     /// The first output of the last write that saturated and was not reported yet.
     fn saturation_warning(&mut self) -> Option<LinkEvent> {
-        let &(i, value) = self
-            .backend
-            .saturated
-            .iter()
-            .find(|(i, _)| !self.warned.contains(i))?;
-        self.warned.push(i);
+        let (i, value) = first_unreported(&self.backend.saturated, &mut self.warned)?;
         let p = &self.backend.map.points[i];
         Some(LinkEvent::Warning(format!(
             "{} = {value} does not fit {} {} ({}-bit{}, scale {}, offset {}): written as the nearest value it holds (said once)",
@@ -227,6 +217,13 @@ impl<D: Device> Supervisor<D> {
             p.offset
         )))
     }
+}
+
+/// The first (point, value) of `found` not in `warned`, now marked as warned.
+fn first_unreported(found: &[(usize, f64)], warned: &mut Vec<usize>) -> Option<(usize, f64)> {
+    let &(i, value) = found.iter().find(|(i, _)| !warned.contains(i))?;
+    warned.push(i);
+    Some((i, value))
 }
 
 impl<D: Device> IoBackend for Supervisor<D> {
@@ -323,8 +320,8 @@ mod tests {
     }
 
     /// Input 0 → slot 0; slot 1 → coil 0 (safe ON); slot 2 → holding 4 (safe 7).
-    fn supervisor() -> Supervisor<MemoryDevice> {
-        let map = IoMap {
+    fn map(points: Vec<Point>) -> IoMap {
+        IoMap {
             host: None,
             port: 502,
             unit: 1,
@@ -332,12 +329,16 @@ mod tests {
             max_gap: 0,
             enabled: false,
             overrun_limit: 10,
-            points: vec![
-                point(Table::DiscreteInput, 0, 0, 0.0),
-                point(Table::Coil, 0, 1, 1.0),
-                point(Table::HoldingRegister, 4, 2, 7.0),
-            ],
-        };
+            points,
+        }
+    }
+
+    fn supervisor() -> Supervisor<MemoryDevice> {
+        let map = map(vec![
+            point(Table::DiscreteInput, 0, 0, 0.0),
+            point(Table::Coil, 0, 1, 1.0),
+            point(Table::HoldingRegister, 4, 2, 7.0),
+        ]);
         Supervisor::new(
             PlanBackend::new(map, MemoryDevice::default()),
             Backoff {
@@ -508,18 +509,8 @@ mod tests {
         count.width = 2;
         count.member = "Var.Count".into();
         count.ty = crate::registry::ValueType::Integer;
-        let map = IoMap {
-            host: None,
-            port: 502,
-            unit: 1,
-            timeout_ns: 20 * MS,
-            max_gap: 0,
-            enabled: false,
-            overrun_limit: 10,
-            points: vec![count],
-        };
         let mut s = Supervisor::new(
-            PlanBackend::new(map, MemoryDevice::default()),
+            PlanBackend::new(map(vec![count]), MemoryDevice::default()),
             Backoff::default(),
         );
         s.backend.device.input_registers[0] = 0xFFFF;

@@ -81,20 +81,27 @@ impl IoTarget {
     pub fn describe(&self) -> String {
         match self {
             IoTarget::Simulator => "simulator".into(),
-            IoTarget::Modbus { host, port, unit } => {
-                let host = match host {
-                    None => "(the machine file's host)".to_string(),
-                    Some(h) if h.contains(':') => format!("[{h}]"),
-                    Some(h) => h.clone(),
-                };
-                format!(
-                    "modbus://{host}:{} unit {}",
-                    port.unwrap_or(DEFAULT_PORT),
-                    unit.unwrap_or(DEFAULT_UNIT)
-                )
-            }
+            IoTarget::Modbus { host, port, unit } => modbus_device(
+                host.as_deref().unwrap_or("(the machine file's host)"),
+                port.unwrap_or(DEFAULT_PORT),
+                unit.unwrap_or(DEFAULT_UNIT),
+            ),
         }
     }
+}
+
+/// A host as it stands before `:PORT`: an IPv6 address in brackets.
+pub fn host_for_port(host: &str) -> String {
+    if host.contains(':') {
+        format!("[{host}]")
+    } else {
+        host.to_string()
+    }
+}
+
+/// A Modbus TCP device as messages and the trace name it: `modbus://HOST:PORT unit N`.
+pub fn modbus_device(host: &str, port: u16, unit: u8) -> String {
+    format!("modbus://{}:{port} unit {unit}", host_for_port(host))
 }
 
 #[cfg(test)]

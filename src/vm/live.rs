@@ -3,7 +3,7 @@
 //!
 //! None of this is on the per-update path: a batch run never calls it.
 
-use super::task::{Frame, Task, TaskState};
+use super::task::{Task, TaskState};
 use super::{Machine, RunError, REPL_PROGRAM};
 use crate::compile::{Chunk, Layout};
 use crate::registry::{Kind, SlotId, ValueType};
@@ -128,15 +128,7 @@ impl Machine {
         if self.tasks[ti].busy() {
             return Err("the REPL task is still running the last line".into());
         }
-        self.tasks[ti] = Task {
-            state: TaskState::Ready,
-            frames: vec![Frame {
-                chunk,
-                pc: 0,
-                gosub: false,
-            }],
-            program: REPL_PROGRAM,
-        };
+        self.tasks[ti] = Task::starting(chunk, REPL_PROGRAM);
         self.run_task(ti);
         Ok(self.line_outcome())
     }

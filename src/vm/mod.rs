@@ -796,15 +796,7 @@ impl Machine {
                 self.tasks.len()
             ));
         };
-        self.tasks[ti] = Task {
-            state: TaskState::Ready,
-            frames: vec![Frame {
-                chunk,
-                pc: 0,
-                gosub: false,
-            }],
-            program,
-        };
+        self.tasks[ti] = Task::starting(chunk, program);
         self.set_running(program, Some(ti));
         self.trace.event(
             self.tick,

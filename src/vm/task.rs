@@ -47,6 +47,19 @@ impl Task {
         }
     }
 
+    /// A task ready to run `chunk` from its start as `program`.
+    pub fn starting(chunk: usize, program: u32) -> Task {
+        Task {
+            state: TaskState::Ready,
+            frames: vec![Frame {
+                chunk,
+                pc: 0,
+                gosub: false,
+            }],
+            program,
+        }
+    }
+
     /// Has a program.
     pub fn busy(&self) -> bool {
         self.state != TaskState::Free
