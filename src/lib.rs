@@ -4,6 +4,7 @@
 pub mod check;
 pub mod compile;
 pub mod config;
+pub mod devices;
 pub mod diag;
 pub mod export;
 pub mod fixed;

@@ -101,19 +101,7 @@ impl Func {
     }
 }
 
-/// A function served by the kernel (it reads or changes machine state), callable from both
-/// dialects: `OK = REGIST(EN, AXIS, DIST, TOLR, IGNR, LGTH, DIM)`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum KernelFunc {
-    /// `REGIST(EN, AXIS, DIST, TOLR, IGNR, LGTH, DIM)` → OK.
-    Regist,
-    /// `STATUSSV(AXIS)` → the registration status bits.
-    StatusSv,
-    /// `READ_SV(AXIS, VAR)` → a servo variable.
-    ReadSv,
-    /// `WRITE_SV(AXIS, VAR, VALUE)` → OK.
-    WriteSv,
-}
+pub use crate::devices::command::KernelFunc;
 
 /// Kernel functions: name, function, arity, meaning.
 pub const KERNEL_FUNCTIONS: &[(&str, KernelFunc, usize, &str)] = &[

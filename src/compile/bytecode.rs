@@ -4,7 +4,8 @@
 //! `[registry slots | temporaries | constants and loop limits]`. Names were resolved to slots at
 //! compile time, so the VM never looks a name up.
 
-use crate::check::functions::{Func, KernelFunc};
+use crate::check::functions::Func;
+pub use crate::devices::command::{KernelFunc, MotionCmd, StartRef};
 use crate::registry::Hook;
 
 /// An index into the value array.
@@ -52,17 +53,6 @@ impl Cmp {
     }
 }
 
-/// Where a motion initiate starts from.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum StartRef {
-    /// Now.
-    Now,
-    /// `Using Last`.
-    Last,
-    /// `Using Capture.N` (capture instance index).
-    Capture(u16),
-}
-
 /// Arithmetic and logic operators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[allow(missing_docs)]
@@ -85,23 +75,6 @@ pub enum BinaryOp {
     IntDiv,
     /// MotionBASIC `MOD`: both operands rounded to integers first.
     BasicMod,
-}
-
-/// A MotionBASIC motion statement; its operands are in consecutive registers from `args`.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum MotionCmd {
-    /// `GEAR … AT out TO in [IN pacer] [AFTER input]`: args out, in, pacer, input slot.
-    GearAt { pacer: bool, after: bool },
-    /// `GEAR … FOR dist IN pacer`: args dist, pacer.
-    GearFor,
-    /// `MOVE … AT speed [IN time]`: args speed, time.
-    MoveAt { time: bool },
-    /// `MOVE … TO|FOR pos [AT speed] [IN time]`: args pos, speed, time.
-    MovePos {
-        relative: bool,
-        speed: bool,
-        time: bool,
-    },
 }
 
 /// One instruction.

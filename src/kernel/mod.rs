@@ -11,7 +11,7 @@ pub mod queue;
 pub mod regist;
 pub mod timer;
 
-use crate::compile::bytecode::StartRef;
+use crate::devices::command::StartRef;
 use crate::registry::{
     HomeConfig, Hook, IndexConfig, IndexType, Kind, PlsConfig, QueueSource, Registry, SlotId,
 };

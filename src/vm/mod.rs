@@ -758,7 +758,7 @@ impl Machine {
                         hook,
                         slot,
                         instance,
-                        crate::compile::bytecode::StartRef::Now,
+                        crate::devices::command::StartRef::Now,
                         0,
                         &mut self.values,
                         &mut now,

@@ -8,7 +8,7 @@ mod registration;
 use super::dsp::{DspAxes, DspAxisConfig, DspEvent, Queued, Sensor};
 use super::regist::Regist;
 use super::Now;
-use crate::compile::bytecode::MotionCmd;
+use crate::devices::command::MotionCmd;
 use crate::registry::{Hook, Kind, Registry, SlotId};
 use crate::trace::number;
 use crate::world::InputActivity;

@@ -2,7 +2,7 @@
 //! mark does to the axes (re-referencing, corrections released to the geared axes).
 
 use super::Orion;
-use crate::check::functions::KernelFunc;
+use crate::devices::command::KernelFunc;
 use crate::kernel::regist::{MarkClass, RegistParams};
 use crate::kernel::Now;
 use crate::trace::number;

@@ -1,0 +1,45 @@
+//! The commands programs give devices, in the devices' own terms: where a motion starts, a
+//! MotionBASIC motion statement, a kernel function. The front end compiles program text to
+//! these; the devices never see program text.
+
+/// Where a motion initiate starts from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum StartRef {
+    /// Now.
+    Now,
+    /// `Using Last`.
+    Last,
+    /// `Using Capture.N` (capture instance index).
+    Capture(u16),
+}
+
+/// A MotionBASIC motion statement; its operands are in consecutive registers from `args`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum MotionCmd {
+    /// `GEAR … AT out TO in [IN pacer] [AFTER input]`: args out, in, pacer, input slot.
+    GearAt { pacer: bool, after: bool },
+    /// `GEAR … FOR dist IN pacer`: args dist, pacer.
+    GearFor,
+    /// `MOVE … AT speed [IN time]`: args speed, time.
+    MoveAt { time: bool },
+    /// `MOVE … TO|FOR pos [AT speed] [IN time]`: args pos, speed, time.
+    MovePos {
+        relative: bool,
+        speed: bool,
+        time: bool,
+    },
+}
+
+/// A function served by the kernel (it reads or changes machine state), callable from both
+/// dialects: `OK = REGIST(EN, AXIS, DIST, TOLR, IGNR, LGTH, DIM)`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum KernelFunc {
+    /// `REGIST(EN, AXIS, DIST, TOLR, IGNR, LGTH, DIM)` → OK.
+    Regist,
+    /// `STATUSSV(AXIS)` → the registration status bits.
+    StatusSv,
+    /// `READ_SV(AXIS, VAR)` → a servo variable.
+    ReadSv,
+    /// `WRITE_SV(AXIS, VAR, VALUE)` → OK.
+    WriteSv,
+}
