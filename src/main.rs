@@ -368,10 +368,13 @@ fn execute(
             return ExitCode::from(e.exit_code());
         }
     };
-    let sink = export.trace_sink(sink);
     let tick_ns = loaded.image.tick_ns;
     let name = loaded.image.name.clone();
-    let mut machine = Machine::new(loaded.image, Trace::new(sink, tick_ns));
+    let mut writer = Trace::new(sink, tick_ns);
+    if let Some(observer) = export.trace_observer() {
+        writer.observe(observer);
+    }
+    let mut machine = Machine::new(loaded.image, writer);
     let mut realtime = None;
     if let Some(real) = real {
         let overrun_limit = real.map.overrun_limit;

@@ -121,7 +121,8 @@ fn pacer_plot_refuses_what_is_not_a_trace() {
     let bad = dir.join("bad.jsonl");
     std::fs::write(
         &bad,
-        "{\"t\":0.0,\"tick\":0,\"kind\":\"start\",\"machine\":\"m\"}\nthis is not JSON\n",
+        "{\"t\":0.0,\"tick\":0,\"kind\":\"start\",\"machine\":\"m\",\"update\":0.001,\"tasks\":1,\
+         \"units\":{\"master\":\"mm\",\"motor\":\"mm\"}}\nthis is not JSON\n",
     )
     .expect("write");
     refused(&pacer(&["plot", s(&bad)]), 1, &["bad.jsonl", "line 2"]);
@@ -193,14 +194,14 @@ fn pacer_plot_draws_odd_but_well_formed_traces() {
     // panic or a hang (a range's span past the largest double once made the axes loop).
     let dir = scratch("odd");
     let lines = [
-        r#"{"t":0,"tick":0,"kind":"start","machine":"odd machine","update":0.001}"#,
+        r#"{"t":0,"tick":0,"kind":"start","machine":"odd machine","update":0.001,"tasks":1,"units":{"master":"mm","motor":"mm"}}"#,
         r#"{"t":3,"tick":1,"kind":"change","name":"Queue.0.QueueCount","value":1e308}"#,
         r#"{"t":1e300,"tick":2,"kind":"change","name":"Queue.0.QueueCount","value":-1e308}"#,
         r#"{"t":-5,"tick":3,"kind":"change","name":"Index.0.CommandInProgress","value":true}"#,
-        r#"{"t":4,"tick":4,"kind":"capture","master":null,"command":2}"#,
-        r#"{"t":4,"tick":4,"kind":"latch","axis":1,"position":5}"#,
-        r#"{"t":5,"tick":5,"kind":"latch","axis":2,"position":-1e308}"#,
-        r#"{"t":6,"tick":6,"kind":"pick","x":1e308,"y":-1e308,"z":0}"#,
+        r#"{"t":4,"tick":4,"kind":"capture","object":"Capture.0","time":4,"master":null,"command":2,"feedback":null}"#,
+        r#"{"t":4,"tick":4,"kind":"latch","axis":1,"sensor":"ASEN","time":4,"position":5}"#,
+        r#"{"t":5,"tick":5,"kind":"latch","axis":2,"sensor":"ASEN","time":5,"position":-1e308}"#,
+        r#"{"t":6,"tick":6,"kind":"pick","belt":null,"id":null,"x":1e308,"y":-1e308,"z":0}"#,
     ];
     for (name, upto) in [("servo", 5), ("web", 7), ("pp", 8)] {
         let trace = dir.join(format!("{name}.jsonl"));

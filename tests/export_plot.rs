@@ -14,7 +14,7 @@ fn golden(name: &str) -> std::path::PathBuf {
 
 fn record(name: &str, preset: Preset, from: f64, to: Option<f64>) -> Recording {
     let mut r = Recorder::new(Plan { preset, from, to }, 0.001);
-    read_trace(&golden(name), |l| r.line(l)).expect("a trace");
+    read_trace(&golden(name), |l| r.event(l.t, &l.event)).expect("a trace");
     r.finish()
 }
 

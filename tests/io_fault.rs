@@ -335,7 +335,7 @@ fn late_updates_in_a_row_are_a_real_time_fault_that_ends_the_run_safely() {
     );
     let fault = "real-time fault: 5 updates in a row finished after the next one was due (overrun_limit = 5)";
     assert_eq!(report.overrun_fault.as_deref(), Some(fault));
-    assert_eq!(report.summary.stop_reason, fault);
+    assert_eq!(report.summary.stop_reason.to_string(), fault);
     assert_eq!(report.summary.ticks, 5);
     let timing = report.timing.expect("timed updates");
     assert_eq!(
@@ -385,7 +385,10 @@ fn ctrl_c_ends_a_real_time_run_after_the_update_with_the_outputs_safe() {
             }
         },
     );
-    assert_eq!(report.summary.stop_reason, "interrupted (Ctrl-C)");
+    assert_eq!(
+        report.summary.stop_reason,
+        pacer::vm::StopReason::Interrupted
+    );
     assert_eq!(report.summary.ticks, 50);
     assert!(report.overrun_fault.is_none());
     let d = device.0.lock().expect("device lock");

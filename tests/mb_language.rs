@@ -746,7 +746,10 @@ fn subroutines_by_bare_name_and_gosub_nest_and_return() {
         changes(&run, "N&"),
         vec![0.0, 1.0, 11.0, 111.0, 121.0, 242.0]
     );
-    assert_eq!(run.summary.stop_reason, "all programs ended");
+    assert_eq!(
+        run.summary.stop_reason,
+        pacer::vm::StopReason::ProgramsEnded
+    );
 }
 
 #[test]
@@ -795,7 +798,10 @@ fn end_inside_a_subroutine_ends_the_program() {
     );
     assert_eq!(val(&run, "A&"), 3.0);
     assert_eq!(changes(&run, "A&"), vec![1.0, 3.0]);
-    assert_eq!(run.summary.stop_reason, "all programs ended");
+    assert_eq!(
+        run.summary.stop_reason,
+        pacer::vm::StopReason::ProgramsEnded
+    );
     assert!(run
         .events
         .iter()

@@ -136,7 +136,7 @@ fn session_script(trace: &Path) -> (Vec<String>, Vec<String>) {
         assert!(s.advance(&mut out).is_none());
     }
     assert_eq!(s.enter("Queue.0.QueueOffset", &mut out), Ran::Done);
-    s.trace_off("end of script", &mut out);
+    s.trace_off(pacer::vm::StopReason::TraceOff, &mut out);
     (out, lines(trace))
 }
 

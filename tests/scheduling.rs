@@ -4,7 +4,7 @@
 
 use pacer::load::{load, LoadRequest};
 use pacer::trace::Trace;
-use pacer::vm::{Machine, RunSummary};
+use pacer::vm::{Machine, RunSummary, StopReason};
 use serde_json::Value;
 use std::io::Write;
 use std::path::PathBuf;
@@ -451,7 +451,7 @@ fn the_budget_stops_a_runaway_loop_from_stalling_the_clock() {
     let dir = project("runaway", m, &[("a.pt", COUNT_A), ("b.pt", b)], None);
     let r = run_for(&dir, 0.05);
     assert_eq!(r.summary.error, None);
-    assert_eq!(r.summary.stop_reason, "duration reached");
+    assert_eq!(r.summary.stop_reason, StopReason::Duration);
     assert_eq!(r.summary.ticks, 51);
     assert_eq!(r.summary.seconds, 0.05);
     let b_ticks = r.change_ticks("Var.B");
@@ -519,7 +519,7 @@ fn division_by_zero_ends_the_run_with_task_program_line_and_message() {
     assert_eq!(e.message, "division by zero");
     assert!(e.file.ends_with("div.pt"), "{}", e.file);
     assert_eq!(e.time, 0.003);
-    assert_eq!(r.summary.stop_reason, "run-time error");
+    assert_eq!(r.summary.stop_reason, StopReason::RunTimeError);
     assert_eq!(
         r.summary.ticks, 4,
         "the run stops at the update of the error"
@@ -755,7 +755,7 @@ fn an_endless_goto_loop_yields_to_the_budget() {
     let dir = project("gotoloop", &m, &[("a.pt", a)], None);
     let r = run_for(&dir, ms(10));
     assert_eq!(r.summary.error, None);
-    assert_eq!(r.summary.stop_reason, "duration reached");
+    assert_eq!(r.summary.stop_reason, StopReason::Duration);
     assert_eq!(r.value("Var.A"), 11.0, "one pass per update");
 }
 

@@ -2,8 +2,8 @@
 //! run wrote with `--csv`. Both are read line by line (a trace of an hour is large), and
 //! anything that is not what pacer writes is an error naming the file and line.
 
-use super::record::TraceLine;
 use super::ExportError;
+use crate::trace::{Event, Line};
 use indexmap::IndexSet;
 use std::fs::File;
 use std::io::{BufRead, BufReader};
@@ -26,7 +26,7 @@ fn bad(path: &Path, line: usize, message: impl Into<String>) -> ExportError {
 }
 
 /// Call `each` with every line of a trace, parsed; stop at the first line that is not one.
-pub fn read_trace(path: &Path, mut each: impl FnMut(&TraceLine<'_>)) -> Result<usize, ExportError> {
+pub fn read_trace(path: &Path, mut each: impl FnMut(&Line<'_>)) -> Result<usize, ExportError> {
     let mut reader = open(path)?;
     let mut text = String::new();
     let mut n = 0;
@@ -47,7 +47,7 @@ pub fn read_trace(path: &Path, mut each: impl FnMut(&TraceLine<'_>)) -> Result<u
         if line.is_empty() {
             continue;
         }
-        let parsed: TraceLine<'_> = serde_json::from_str(line).map_err(|e| {
+        let parsed: Line<'_> = serde_json::from_str(line).map_err(|e| {
             bad(
                 path,
                 n,
@@ -86,16 +86,16 @@ pub struct TraceSummary {
 pub fn survey(path: &Path) -> Result<TraceSummary, ExportError> {
     let mut s = TraceSummary::default();
     read_trace(path, |l| {
-        if !s.kinds.contains(&*l.kind) {
-            s.kinds.insert(l.kind.to_string());
+        let kind = l.event.kind().as_str();
+        if !s.kinds.contains(kind) {
+            s.kinds.insert(kind.to_string());
         }
-        if let Some(u) = l.update {
-            s.update = Some(u);
-        }
-        if let Some(n) = &l.name {
-            if &*l.kind == "change" && !s.names.contains(&**n) {
-                s.names.insert(n.to_string());
+        match &l.event {
+            Event::Start { update, .. } => s.update = Some(*update),
+            Event::Change { name, .. } if !s.names.contains(&**name) => {
+                s.names.insert(name.to_string());
             }
+            _ => {}
         }
     })?;
     Ok(s)

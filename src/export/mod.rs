@@ -18,7 +18,7 @@ pub mod vcd;
 
 use crate::registry::{Kind, SlotId};
 use crate::vm::{Machine, MachineImage};
-use record::{Plan, Preset, Recorder, TraceLine, TOOL_XYZ};
+use record::{Plan, Preset, Recorder, TOOL_XYZ};
 use std::cell::RefCell;
 use std::io::Write;
 use std::path::{Path, PathBuf};
@@ -232,17 +232,15 @@ impl Export {
         self.vcd.is_some() || self.csv.is_some() || self.plot.is_some()
     }
 
-    /// The trace's output: the trace file as it was, or, when a plot is drawn, a writer that
-    /// also hands every line to the plot (which then needs the trace even without `--trace`).
-    pub fn trace_sink(&self, file: Option<Box<dyn Write>>) -> Option<Box<dyn Write>> {
-        match &self.plot {
-            None => file,
-            Some(p) => Some(Box::new(Tee {
-                file,
-                recorder: Rc::clone(&p.recorder),
-                pending: Vec::new(),
-            })),
-        }
+    /// What watches the trace's events: the plot's recorder, when a plot is drawn (the plot
+    /// then needs the trace's events even without `--trace`).
+    pub fn trace_observer(&self) -> Option<crate::trace::Observer> {
+        let recorder = Rc::clone(&self.plot.as_ref()?.recorder);
+        Some(Box::new(move |t, event| {
+            if let Some(r) = recorder.borrow_mut().as_mut() {
+                r.event(t, event);
+            }
+        }))
     }
 
     /// Note the machine as it is before the run.
@@ -361,40 +359,6 @@ impl LivePlot {
     }
 }
 
-/// The trace's writer when a plot is drawn: lines go to the trace file (if any) and, parsed, to
-/// the plot's recorder.
-struct Tee {
-    file: Option<Box<dyn Write>>,
-    recorder: Rc<RefCell<Option<Recorder>>>,
-    pending: Vec<u8>,
-}
-
-impl Write for Tee {
-    fn write(&mut self, buf: &[u8]) -> std::io::Result<usize> {
-        if let Some(f) = &mut self.file {
-            f.write_all(buf)?;
-        }
-        self.pending.extend_from_slice(buf);
-        while let Some(end) = self.pending.iter().position(|&b| b == b'\n') {
-            if let Some(r) = self.recorder.borrow_mut().as_mut() {
-                // pacer's own lines: one that did not parse would be a bug, not the user's.
-                if let Ok(line) = serde_json::from_slice::<TraceLine<'_>>(&self.pending[..end]) {
-                    r.line(&line);
-                }
-            }
-            self.pending.drain(..=end);
-        }
-        Ok(buf.len())
-    }
-
-    fn flush(&mut self) -> std::io::Result<()> {
-        match &mut self.file {
-            Some(f) => f.flush(),
-            None => Ok(()),
-        }
-    }
-}
-
 fn write_svg(path: &Path, file: &std::fs::File, fig: &figure::Figure) -> Result<(), ExportError> {
     let svg = plot::render(fig).map_err(ExportError::Usage)?;
     let mut out = std::io::BufWriter::new(file);
@@ -503,7 +467,7 @@ pub fn plot_command(args: &PlotArgs) -> Result<PathBuf, ExportError> {
     for c in &columns {
         recorder.prefer_samples(c);
     }
-    input::read_trace(trace, |l| recorder.line(l))?;
+    input::read_trace(trace, |l| recorder.event(l.t, &l.event))?;
     if let Some(d) = data {
         let x = columns.iter().position(|c| c == TOOL_XYZ[0]);
         let y = columns.iter().position(|c| c == TOOL_XYZ[1]);

@@ -5,9 +5,8 @@
 //! of a live run, or read from a CSV).
 
 use super::series::{Path2, Series};
+use crate::trace::{Event, MotionPhase, Value};
 use indexmap::{IndexMap, IndexSet};
-use serde::Deserialize;
-use std::borrow::Cow;
 
 /// The pictures a plot holds.
 #[derive(Debug, Clone, PartialEq)]
@@ -65,86 +64,6 @@ impl Plan {
     }
 }
 
-/// One line of the JSON trace, the fields the pictures use (others are ignored).
-#[derive(Debug, Deserialize)]
-pub struct TraceLine<'a> {
-    /// Seconds.
-    pub t: f64,
-    /// Event kind.
-    #[serde(borrow)]
-    pub kind: Cow<'a, str>,
-    /// `change`: the member.
-    #[serde(borrow, default)]
-    pub name: Option<Cow<'a, str>>,
-    /// `change`: its value.
-    #[serde(default)]
-    pub value: Option<Val>,
-    /// `start`: machine name.
-    #[serde(default)]
-    pub machine: Option<String>,
-    /// `start`: update period, s.
-    #[serde(default)]
-    pub update: Option<f64>,
-    /// `start`: units.
-    #[serde(default)]
-    pub units: Option<Units>,
-    /// `motion`: `start`/`done`.
-    #[serde(borrow, default)]
-    pub event: Option<Cow<'a, str>>,
-    /// `latch`: the axis.
-    #[serde(default)]
-    pub axis: Option<u32>,
-    /// `capture`, `latch`: the exact edge time.
-    #[serde(default)]
-    pub time: Option<f64>,
-    /// `motion`, `latch`: a position.
-    #[serde(default)]
-    pub position: Option<f64>,
-    /// `motion`, `capture`: the master position.
-    #[serde(default)]
-    pub master: Option<f64>,
-    /// `capture`: the command position.
-    #[serde(default)]
-    pub command: Option<f64>,
-    /// `pick`/`place`: tool position.
-    #[serde(default)]
-    pub x: Option<f64>,
-    /// `pick`/`place`: tool position.
-    #[serde(default)]
-    pub y: Option<f64>,
-    /// `pick`/`place`: tool position.
-    #[serde(default)]
-    pub z: Option<f64>,
-}
-
-/// A member value in the trace: bits are booleans, the rest numbers.
-#[derive(Debug, Clone, Copy, Deserialize)]
-#[serde(untagged)]
-pub enum Val {
-    /// A bit.
-    Bit(bool),
-    /// A number.
-    Num(f64),
-}
-
-impl Val {
-    fn number(self) -> f64 {
-        match self {
-            Val::Bit(b) => f64::from(u8::from(b)),
-            Val::Num(x) => x,
-        }
-    }
-}
-
-/// The `units` of the `start` line.
-#[derive(Debug, Clone, Deserialize)]
-pub struct Units {
-    /// The servo axis's unit.
-    pub motor: String,
-    /// The master's unit.
-    pub master: String,
-}
-
 /// One printed mark: the positions every latching axis reported at its edge, and the program's
 /// variables as they stood when the next mark came (after the program had dealt with this one).
 #[derive(Debug, Clone, Default)]
@@ -197,6 +116,13 @@ pub struct Recording {
     pub auto_window: bool,
     /// The last value of every member seen in a change (the per-mark pictures read these).
     pub current: IndexMap<String, f64>,
+}
+
+/// Add a point to an event series, unless the value is not a number (null in the trace).
+fn push_finite(series: &mut Series, t: f64, v: f64) {
+    if v.is_finite() {
+        series.push(t, v);
+    }
 }
 
 /// Members whose values are kept with each mark for the web picture.
@@ -300,28 +226,20 @@ impl Recorder {
             .or_insert_with(|| Series::new(from, update))
     }
 
-    /// Take one trace line.
-    pub fn line(&mut self, l: &TraceLine<'_>) {
-        let t = l.t;
-        match &*l.kind {
-            "start" => {
-                if let Some(m) = &l.machine {
-                    self.rec.machine = m.clone();
-                }
-                if let Some(u) = &l.units {
-                    self.rec.motor_unit = u.motor.clone();
-                    self.rec.master_unit = u.master.clone();
-                }
+    /// Take one trace event, at time `t`.
+    pub fn event(&mut self, t: f64, e: &Event<'_>) {
+        match e {
+            Event::Start { machine, units, .. } => {
+                self.rec.machine = machine.to_string();
+                self.rec.motor_unit = units.motor.to_string();
+                self.rec.master_unit = units.master.to_string();
                 return;
             }
-            "end" => {
+            Event::End { .. } => {
                 self.last_t = self.last_t.max(t);
                 return;
             }
-            _ => {}
-        }
-        if &*l.kind == "change" {
-            if let (Some(name), Some(value)) = (&l.name, l.value) {
+            Event::Change { name, value } => {
                 // Kept whatever the window: a mark's variables are read when the next one comes.
                 let v = value.number();
                 match self.rec.current.get_mut(&**name) {
@@ -331,23 +249,21 @@ impl Recorder {
                     }
                 }
             }
+            _ => {}
         }
         if self.closed(t) {
             // Marks after the window still close the last one inside it.
-            if &*l.kind == "latch" {
+            if matches!(e, Event::Latch { .. }) {
                 self.close_mark();
             }
             return;
         }
         self.last_t = self.last_t.max(t);
         let inside = t >= self.plan.from;
-        match &*l.kind {
-            "change" => {
-                let (Some(name), Some(value)) = (&l.name, l.value) else {
-                    return;
-                };
+        match e {
+            Event::Change { name, value } => {
                 let v = value.number();
-                if matches!(value, Val::Bit(_)) && !self.rec.bits.contains(&**name) {
+                if matches!(value, Value::Bit(_)) && !self.rec.bits.contains(&**name) {
                     self.rec.bits.insert(name.to_string());
                 }
                 if self.plan.wants_series(name) && !self.samples_only.contains(&**name) {
@@ -361,31 +277,33 @@ impl Recorder {
                 }
             }
             _ if !inside => {}
-            "motion" => {
-                if let Some(p) = l.position {
-                    self.rec.servo_at_events.push(t, p);
+            // Non-finite positions (written as null) are not drawn.
+            Event::Motion { phase, .. } => match *phase {
+                MotionPhase::Start { position, .. } => {
+                    push_finite(&mut self.rec.servo_at_events, t, position)
                 }
-                if l.event.as_deref() == Some("done") {
-                    if let Some(m) = l.master {
-                        self.rec.master_at_events.push(t, m);
-                    }
+                MotionPhase::Done {
+                    master, position, ..
+                } => {
+                    push_finite(&mut self.rec.servo_at_events, t, position);
+                    push_finite(&mut self.rec.master_at_events, t, master);
                 }
-            }
-            "capture" => {
+            },
+            Event::Capture {
+                master, command, ..
+            } => {
                 // At the update's time: a series takes its values in time order, and the
                 // exact edge time is within the update before.
-                if let Some(m) = l.master {
-                    self.rec.master_at_events.push(t, m);
-                }
-                if let Some(c) = l.command {
-                    self.rec.servo_at_events.push(t, c);
-                }
+                push_finite(&mut self.rec.master_at_events, t, *master);
+                push_finite(&mut self.rec.servo_at_events, t, *command);
             }
-            "latch" => {
-                let (Some(axis), Some(pos)) = (l.axis, l.position) else {
-                    return;
-                };
-                let time = l.time.unwrap_or(t);
+            Event::Latch {
+                axis,
+                time,
+                position,
+                ..
+            } => {
+                let time = *time;
                 let same = self.mark_open
                     && self
                         .rec
@@ -401,28 +319,22 @@ impl Recorder {
                     self.mark_open = true;
                 }
                 if let Some(m) = self.rec.marks.last_mut() {
-                    m.positions.push((axis, pos));
+                    m.positions.push((*axis, *position));
                 }
             }
-            "pick" | "place" => {
-                let (Some(x), Some(y), Some(z)) = (l.x, l.y, l.z) else {
-                    return;
-                };
-                if &*l.kind == "pick" {
-                    self.picks_in_window += 1;
-                    self.rec.picks.push([t, x, y, z]);
-                    if self.plan.preset == Preset::PickPlace
-                        && self.plan.to.is_none()
-                        && self.picks_in_window > PP_CYCLES
-                    {
-                        // The next pick after the last whole cycle closes the window.
-                        self.to = Some(t);
-                        self.rec.auto_window = true;
-                    }
-                } else {
-                    self.rec.places.push([t, x, y, z]);
+            Event::Pick { x, y, z, .. } => {
+                self.picks_in_window += 1;
+                self.rec.picks.push([t, *x, *y, *z]);
+                if self.plan.preset == Preset::PickPlace
+                    && self.plan.to.is_none()
+                    && self.picks_in_window > PP_CYCLES
+                {
+                    // The next pick after the last whole cycle closes the window.
+                    self.to = Some(t);
+                    self.rec.auto_window = true;
                 }
             }
+            Event::Place { x, y, z, .. } => self.rec.places.push([t, *x, *y, *z]),
             _ => {}
         }
     }

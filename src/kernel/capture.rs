@@ -2,7 +2,7 @@
 //! and positions at the exact edge instant.
 
 use crate::registry::{Kind, Registry, SlotId};
-use crate::trace::{number, Trace};
+use crate::trace::{Event, Trace};
 
 /// One capture.
 #[derive(Debug, Clone)]
@@ -81,16 +81,15 @@ impl Capture {
             v[self.command as usize] = at.command;
             v[self.feedback as usize] = at.feedback;
             v[self.triggered as usize] = 1.0;
-            trace.event(
+            trace.emit(
                 tick,
-                "capture",
-                &[
-                    ("object", format!("Capture.{}", self.index).into()),
-                    ("time", number(t)),
-                    ("master", number(at.master)),
-                    ("command", number(at.command)),
-                    ("feedback", number(at.feedback)),
-                ],
+                &Event::Capture {
+                    object: format!("Capture.{}", self.index).into(),
+                    time: t,
+                    master: at.master,
+                    command: at.command,
+                    feedback: at.feedback,
+                },
             );
         }
     }

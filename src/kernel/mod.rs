@@ -15,7 +15,7 @@ use crate::devices::command::StartRef;
 use crate::registry::{
     HomeConfig, Hook, IndexConfig, IndexType, Kind, PlsConfig, QueueSource, Registry, SlotId,
 };
-use crate::trace::{number, Trace};
+use crate::trace::{self, MotionPhase, Trace};
 use crate::world::Edge;
 use capture::{Capture, Positions};
 use motion::trapezoid::{Phase, Trapezoid};
@@ -1187,7 +1187,7 @@ impl Kernel {
                 let at = self.motion_time_of(e.at, v);
                 if let Some((p, warning)) = self.home_reference(h, at, *position, v) {
                     if let Some(message) = warning {
-                        now.trace.machine_message(now.tick, "warning", message);
+                        now.trace.machine_warning(now.tick, message);
                     }
                     // The profile's new plan at this update; its status events come after the
                     // stale ones, so they win.
@@ -1205,15 +1205,15 @@ impl Kernel {
                     master,
                     position,
                 } => {
-                    now.trace.event(
+                    now.trace.emit(
                         now.tick,
-                        "motion",
-                        &[
-                            ("object", owner.name.clone().into()),
-                            ("event", "start".into()),
-                            ("master", number(*master)),
-                            ("position", number(*position)),
-                        ],
+                        &trace::Event::Motion {
+                            object: owner.name.as_str().into(),
+                            phase: MotionPhase::Start {
+                                master: *master,
+                                position: *position,
+                            },
+                        },
                     );
                 }
                 Event::Running { owner, phase } => self.owner_status(owner, v, *phase),
@@ -1223,16 +1223,16 @@ impl Kernel {
                     position,
                 } => {
                     self.owner_status(owner, v, Phase::Done);
-                    now.trace.event(
+                    now.trace.emit(
                         now.tick,
-                        "motion",
-                        &[
-                            ("object", owner.name.clone().into()),
-                            ("event", "done".into()),
-                            ("end", number(*end)),
-                            ("master", number(now.master)),
-                            ("position", number(*position)),
-                        ],
+                        &trace::Event::Motion {
+                            object: owner.name.as_str().into(),
+                            phase: MotionPhase::Done {
+                                end: *end,
+                                master: now.master,
+                                position: *position,
+                            },
+                        },
                     );
                 }
             }

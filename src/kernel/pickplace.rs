@@ -10,7 +10,7 @@ use crate::pickplace::module::{Event, Module};
 use crate::pickplace::robot::AXES;
 use crate::pickplace::setup::PickPlaceSetup;
 use crate::registry::{Kind, Registry, SlotId, GLOBAL_INSTANCE};
-use crate::trace::number;
+use crate::trace;
 use crate::world::belt::BeltProfile;
 use crate::world::workpieces::WorkpieceFeed;
 
@@ -575,82 +575,59 @@ impl PickPlaceCell {
 
     fn trace(&mut self, now: &mut Now<'_>) {
         for e in self.events.drain(..) {
-            let tick = now.tick;
-            match e {
-                Event::State(s) => now
-                    .trace
-                    .event(tick, "pp_state", &[("state", s.name().into())]),
+            let event = match e {
+                Event::State(s) => trace::Event::PpState {
+                    state: s.name().into(),
+                },
                 Event::Planned {
                     target,
                     duration,
                     scale,
-                } => now.trace.event(
-                    tick,
-                    "pp_path",
-                    &[
-                        ("target", target.into()),
-                        ("duration", number(duration)),
-                        ("scale", number(scale)),
-                    ],
-                ),
-                Event::Pick { belt, id, position } | Event::Place { belt, id, position } => {
-                    let kind = if matches!(e, Event::Pick { .. }) {
-                        "pick"
-                    } else {
-                        "place"
-                    };
-                    now.trace.event(
-                        tick,
-                        kind,
-                        &[
-                            ("belt", belt.map_or(serde_json::Value::Null, Into::into)),
-                            ("id", id.map_or(serde_json::Value::Null, Into::into)),
-                            ("x", number(position[0])),
-                            ("y", number(position[1])),
-                            ("z", number(position[2])),
-                        ],
-                    )
-                }
+                } => trace::Event::PpPath {
+                    target,
+                    duration,
+                    scale,
+                },
+                Event::Pick { belt, id, position } => trace::Event::Pick {
+                    belt,
+                    id,
+                    x: position[0],
+                    y: position[1],
+                    z: position[2],
+                },
+                Event::Place { belt, id, position } => trace::Event::Place {
+                    belt,
+                    id,
+                    x: position[0],
+                    y: position[1],
+                    z: position[2],
+                },
                 Event::Reached {
                     target,
                     id,
                     position,
-                } => now.trace.event(
-                    tick,
-                    "pp_target",
-                    &[
-                        ("target", target.into()),
-                        ("id", id.map_or(serde_json::Value::Null, Into::into)),
-                        ("x", number(position[0])),
-                        ("y", number(position[1])),
-                        ("z", number(position[2])),
-                    ],
-                ),
-                Event::Missed { belt, id, x } => now.trace.event(
-                    tick,
-                    "missed",
-                    &[("belt", belt.into()), ("id", id.into()), ("x", number(x))],
-                ),
-                Event::Gripper { close } => now.trace.event(
-                    tick,
-                    "gripper",
-                    &[("action", if close { "close" } else { "open" }.into())],
-                ),
-                Event::Error { id, message } => now.trace.event(
-                    tick,
-                    "pp_error",
-                    &[("id", id.into()), ("message", message.into())],
-                ),
-                Event::Warning { id, message } => now.trace.event(
-                    tick,
-                    "pp_warning",
-                    &[("id", id.into()), ("message", message.into())],
-                ),
-                Event::Homed { order } => {
-                    now.trace
-                        .event(tick, "pp_homed", &[("order", order.into())])
-                }
-            }
+                } => trace::Event::PpTarget {
+                    target,
+                    id,
+                    x: position[0],
+                    y: position[1],
+                    z: position[2],
+                },
+                Event::Missed { belt, id, x } => trace::Event::Missed { belt, id, x },
+                Event::Gripper { close } => trace::Event::Gripper {
+                    action: if close { "close" } else { "open" }.into(),
+                },
+                Event::Error { id, message } => trace::Event::PpError {
+                    id,
+                    message: message.into(),
+                },
+                Event::Warning { id, message } => trace::Event::PpWarning {
+                    id,
+                    message: message.into(),
+                },
+                Event::Homed { order } => trace::Event::PpHomed { order },
+            };
+            now.trace.emit(now.tick, &event);
         }
     }
 }

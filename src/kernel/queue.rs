@@ -1,7 +1,7 @@
 //! The Queue object: entries, offset and exit position, status bits.
 
 use crate::registry::{Kind, Registry, SlotId};
-use crate::trace::{number, Trace};
+use crate::trace::{Event, EventKind, Trace};
 use std::collections::VecDeque;
 
 /// Slots of one queue's members.
@@ -60,17 +60,16 @@ impl Queue {
             self.entries.push_back(value);
             if trace.enabled() {
                 let exit = value + v[self.s.offset as usize];
-                trace.event(
+                trace.emit(
                     tick,
-                    "queue_in",
-                    &[
-                        ("object", format!("Queue.{}", self.index).into()),
-                        ("value", number(value)),
-                        ("exit", number(exit)),
-                    ],
+                    &Event::QueueIn {
+                        object: format!("Queue.{}", self.index).into(),
+                        value,
+                        exit,
+                    },
                 );
             } else {
-                trace.count("queue_in");
+                trace.count(EventKind::QueueIn);
             }
         }
         self.refresh(v);
@@ -103,13 +102,12 @@ impl Queue {
         let exit = front + v[self.s.offset as usize];
         if source >= exit {
             v[self.s.exit as usize] = 1.0;
-            trace.event(
+            trace.emit(
                 tick,
-                "queue_exit",
-                &[
-                    ("object", format!("Queue.{}", self.index).into()),
-                    ("exit", number(exit)),
-                ],
+                &Event::QueueExit {
+                    object: format!("Queue.{}", self.index).into(),
+                    exit,
+                },
             );
         }
     }

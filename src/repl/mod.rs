@@ -24,6 +24,7 @@ use std::sync::{Arc, Mutex, PoisonError};
 use std::time::{Duration, Instant};
 
 use crate::syntax::Dialect;
+use crate::vm::StopReason;
 
 /// How to start the REPL.
 #[derive(Debug, Clone, Default)]
@@ -245,7 +246,8 @@ pub fn run(options: Options) -> u8 {
             Some(FromEditor::Eof) => repl.quit = true,
         }
     }
-    repl.session.trace_off("repl ended", &mut repl.console);
+    repl.session
+        .trace_off(StopReason::ReplEnded, &mut repl.console);
     repl.console.close();
     editor.close();
     0
@@ -380,7 +382,8 @@ impl Repl {
                 if self.session.trace_path().is_none() {
                     self.console.line("no trace is written".into());
                 }
-                self.session.trace_off("trace off", &mut self.console);
+                self.session
+                    .trace_off(StopReason::TraceOff, &mut self.console);
             }
             Command::Trace(TraceArg::To(path)) => self.session.trace_to(&path, &mut self.console),
             Command::Dialect(None) => self.console.line(format!(
@@ -425,7 +428,7 @@ impl Repl {
                     self.console.line(warnings.trim_end().to_string());
                 }
                 self.session
-                    .trace_off("machine reloaded", &mut self.console);
+                    .trace_off(StopReason::Reloaded, &mut self.console);
                 session.adopt_watches(&self.session, &mut self.console);
                 self.session = session;
                 self.mode = Mode::Paused;

@@ -15,7 +15,7 @@ use crate::syntax::Dialect;
 use crate::trace::Trace;
 use crate::vm::live::{LineRun, TaskView};
 use crate::vm::task::TaskState;
-use crate::vm::{Machine, RunError, REPL_PROGRAM};
+use crate::vm::{Machine, RunError, StopReason, REPL_PROGRAM};
 use indexmap::IndexMap;
 use std::path::{Path, PathBuf};
 
@@ -668,7 +668,7 @@ impl Session {
                 return;
             }
         };
-        self.trace_off("trace moved", out);
+        self.trace_off(StopReason::TraceMoved, out);
         let sink: Box<dyn std::io::Write> =
             Box::new(std::io::BufWriter::with_capacity(1 << 16, file));
         let tick_ns = self.machine.tick_ns();
@@ -682,11 +682,11 @@ impl Session {
     }
 
     /// Close the trace being written, if any, with an `end` event giving `reason`.
-    pub fn trace_off(&mut self, reason: &str, out: &mut dyn Output) {
+    pub fn trace_off(&mut self, reason: StopReason, out: &mut dyn Output) {
         let Some(path) = self.trace_path.take() else {
             return;
         };
-        let result = self.machine.end_trace(reason);
+        let result = self.machine.end_trace(&reason);
         let tick_ns = self.machine.tick_ns();
         self.machine.set_trace(Trace::new(None, tick_ns));
         match result {

@@ -6,7 +6,7 @@ use crate::compile::Chunk;
 use crate::kernel::motion::Domain;
 use crate::kernel::{ActOutcome, Kernel, Now};
 use crate::registry::{Hook, Registry};
-use crate::trace::value_json;
+use crate::trace::{Event, Origin, Value};
 
 /// Why the interpreter stopped.
 #[derive(Debug, Clone, PartialEq)]
@@ -507,15 +507,17 @@ fn motionbasic(
             match orion.motion(cmd, mask, &operands, v)? {
                 (true, Some(message)) => {
                     let line = chunk.lines.get(here as usize).copied().unwrap_or(0);
-                    ctx.now.trace.event(
+                    ctx.now.trace.emit(
                         ctx.now.tick,
-                        "warning",
-                        &[
-                            ("task", ctx.task.into()),
-                            ("program", chunk.program.into()),
-                            ("line", line.into()),
-                            ("message", message.into()),
-                        ],
+                        &Event::Warning {
+                            origin: Origin::Program {
+                                task: ctx.task,
+                                program: (chunk.program != super::REPL_PROGRAM)
+                                    .then_some(chunk.program),
+                                line,
+                            },
+                            message: message.into(),
+                        },
                     );
                 }
                 (true, None) => {}
@@ -745,13 +747,12 @@ fn traced_write(ctx: &mut Ctx<'_, '_>, slot: u32, value: f64) {
         return;
     }
     ctx.snapshot[slot as usize] = value;
-    ctx.now.trace.event(
+    ctx.now.trace.emit(
         ctx.now.tick,
-        "change",
-        &[
-            ("name", info.name.clone().into()),
-            ("value", value_json(info.ty, value)),
-        ],
+        &Event::Change {
+            name: info.name.as_str().into(),
+            value: Value::of(info.ty, value),
+        },
     );
 }
 

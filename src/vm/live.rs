@@ -155,7 +155,7 @@ impl Machine {
     pub fn cancel_line(&mut self) {
         if let Some(ti) = self.repl_task {
             if self.tasks[ti].busy() {
-                self.end_task(ti, "stop");
+                self.end_task(ti, crate::trace::ProgramEvent::Stop);
             }
         }
     }
@@ -220,15 +220,14 @@ impl Machine {
     }
 
     /// Write the `end` event (with `reason`) and flush the trace.
-    pub fn end_trace(&mut self, reason: &str) -> std::io::Result<()> {
+    pub fn end_trace(&mut self, reason: &crate::vm::StopReason) -> std::io::Result<()> {
         if self.trace.enabled() {
-            self.trace.event(
+            self.trace.emit(
                 self.tick,
-                "end",
-                &[
-                    ("reason", reason.into()),
-                    ("instructions", self.instructions.into()),
-                ],
+                &crate::trace::Event::End {
+                    reason: reason.to_string().into(),
+                    instructions: self.instructions,
+                },
             );
         }
         self.trace.finish()

@@ -12,6 +12,7 @@
 pub mod exec;
 pub mod live;
 pub mod realtime;
+pub mod stop;
 pub mod task;
 
 use crate::compile::Chunk;
@@ -19,10 +20,11 @@ use crate::io::supervisor::LinkEvent;
 use crate::io::{IoBackend, IoFault, IoStats, Simulator};
 use crate::kernel::{Kernel, Now};
 use crate::registry::{Access, Hook, Registry, Resolved, SlotId};
-use crate::trace::{value_json, Trace};
+use crate::trace::{Event, Origin, ProgramEvent, Trace, Value};
 use crate::world::{Edge, InputActivity, World};
 use exec::{Ctx, Exit};
 use indexmap::IndexMap;
+pub use stop::StopReason;
 use task::{Frame, Task, TaskState};
 
 /// Instructions a task may run in one update unless machine.toml says otherwise.
@@ -129,7 +131,7 @@ pub struct RunSummary {
     /// The error that ended the run, if any.
     pub error: Option<RunError>,
     /// Why the run stopped.
-    pub stop_reason: String,
+    pub stop_reason: StopReason,
 }
 
 /// A machine running.
@@ -181,13 +183,12 @@ pub(crate) fn trace_changes(
             if !info.member.continuous
                 && !matches!(info.member.access, Access::Action | Access::Input)
             {
-                trace.event(
+                trace.emit(
                     tick,
-                    "change",
-                    &[
-                        ("name", info.name.clone().into()),
-                        ("value", value_json(info.ty, x)),
-                    ],
+                    &Event::Change {
+                        name: info.name.as_str().into(),
+                        value: Value::of(info.ty, x),
+                    },
                 );
             }
         }
@@ -316,7 +317,7 @@ impl Machine {
     pub fn run_controlled(
         &mut self,
         duration_ns: Option<u64>,
-        control: &mut dyn FnMut(&Machine) -> Option<String>,
+        control: &mut dyn FnMut(&Machine) -> Option<StopReason>,
     ) -> RunSummary {
         let tick_ns = self.image.tick_ns;
         let limit_ns = duration_ns.or(self.image.duration_ns);
@@ -331,7 +332,7 @@ impl Machine {
                 stop = control(self);
             }
             if self.error.is_some() {
-                stop_reason = "run-time error".to_string();
+                stop_reason = StopReason::RunTimeError;
                 break;
             }
             if let Some(reason) = stop {
@@ -340,33 +341,34 @@ impl Machine {
             }
             if let Some(last) = last_tick {
                 if self.tick >= last {
-                    stop_reason = "duration reached".to_string();
+                    stop_reason = StopReason::Duration;
                     break;
                 }
             } else {
                 let idle = self.tasks.iter().all(|t| !t.busy());
                 let world_done = self.world.last_edge().is_none_or(|t| t <= self.seconds());
                 if idle && world_done {
-                    stop_reason = "all programs ended".to_string();
+                    stop_reason = StopReason::ProgramsEnded;
                     break;
                 }
                 // A machine on real I/O runs until it is stopped (Ctrl-C, its duration).
                 if self.tick >= max_tick && !self.io.real_time() {
-                    stop_reason = format!("stopped after {DEFAULT_MAX_SECONDS} s simulated (no duration set and programs still running)");
+                    stop_reason = StopReason::Cap {
+                        seconds: DEFAULT_MAX_SECONDS,
+                    };
                     self.trace
-                        .machine_message(self.tick, "warning", stop_reason.clone());
+                        .machine_warning(self.tick, stop_reason.to_string());
                     break;
                 }
             }
             self.tick += 1;
         }
-        self.trace.event(
+        self.trace.emit(
             self.tick,
-            "end",
-            &[
-                ("reason", stop_reason.clone().into()),
-                ("instructions", self.instructions.into()),
-            ],
+            &Event::End {
+                reason: stop_reason.to_string().into(),
+                instructions: self.instructions,
+            },
         );
         RunSummary {
             ticks: self.tick + 1,
@@ -414,15 +416,18 @@ impl Machine {
 
     fn trace_start(&mut self, tick: u64) {
         let tick_ns = self.image.tick_ns;
-        self.trace.event(
+        let units = &self.image.registry.units;
+        self.trace.emit(
             tick,
-            "start",
-            &[
-                ("machine", self.image.name.clone().into()),
-                ("update", crate::trace::number(tick_ns as f64 / 1e9)),
-                ("tasks", self.image.tasks.into()),
-                ("units", serde_json::json!({"motor": self.image.registry.units.motor, "master": self.image.registry.units.master})),
-            ],
+            &Event::Start {
+                machine: self.image.name.as_str().into(),
+                update: tick_ns as f64 / 1e9,
+                tasks: self.image.tasks,
+                units: crate::trace::Units {
+                    master: units.master.as_str().into(),
+                    motor: units.motor.as_str().into(),
+                },
+            },
         );
     }
 
@@ -481,13 +486,12 @@ impl Machine {
     fn link_event(&mut self, event: LinkEvent) {
         match event {
             LinkEvent::Fault(fault) => {
-                self.trace.event(
+                self.trace.emit(
                     self.tick,
-                    "io_fault",
-                    &[
-                        ("device", fault.device().into()),
-                        ("cause", fault.cause().into()),
-                    ],
+                    &Event::IoFault {
+                        device: fault.device().into(),
+                        cause: fault.cause().into(),
+                    },
                 );
                 self.io_down = true;
                 for (slot, safe) in self.io.safe_outputs() {
@@ -501,16 +505,15 @@ impl Machine {
                 }
             }
             LinkEvent::Warning(message) => {
-                self.trace.machine_message(self.tick, "warning", message);
+                self.trace.machine_warning(self.tick, message);
             }
             LinkEvent::Reconnected { attempts } => {
-                self.trace.event(
+                self.trace.emit(
                     self.tick,
-                    "io_reconnect",
-                    &[
-                        ("device", self.io.device().into()),
-                        ("attempts", attempts.into()),
-                    ],
+                    &Event::IoReconnect {
+                        device: self.io.device().into(),
+                        attempts,
+                    },
                 );
                 self.io_down = false;
                 if let Some(pp) = self.kernel.pickplace.as_mut() {
@@ -556,8 +559,7 @@ impl Machine {
                 });
             if let Some(orion) = self.kernel.orion.as_mut() {
                 if let Err(message) = orion.generate(&mut self.values, &self.activity, &mut now) {
-                    now.trace
-                        .machine_message(self.tick, "error", message.clone());
+                    now.trace.machine_error(self.tick, message.clone());
                     self.error = Some(RunError {
                         task: 0,
                         program: 0,
@@ -571,8 +573,7 @@ impl Machine {
             }
             if let Some(pp) = self.kernel.pickplace.as_mut() {
                 if let Err(message) = pp.generate(&mut self.values, &mut now) {
-                    now.trace
-                        .machine_message(self.tick, "error", message.clone());
+                    now.trace.machine_error(self.tick, message.clone());
                     self.error = Some(RunError {
                         task: 0,
                         program: 0,
@@ -664,7 +665,7 @@ impl Machine {
                     ) {
                         Ok(crate::kernel::ActOutcome::ProfileBusy) => {
                             let message = format!("{} from an assignment: a motion is running on its profile; ignored", a.dest.name);
-                            self.trace.machine_message(self.tick, "warning", message);
+                            self.trace.machine_warning(self.tick, message);
                             Ok(())
                         }
                         other => other.map(|_| ()),
@@ -722,8 +723,7 @@ impl Machine {
     fn fail_assignment(&mut self, a: &Assignment, message: String) {
         let time = self.trace.seconds(self.tick);
         let message = format!("assignment to {}: {message}", a.dest.name);
-        self.trace
-            .machine_message(self.tick, "error", message.clone());
+        self.trace.machine_error(self.tick, message.clone());
         self.error = Some(RunError {
             task: 0,
             program: 0,
@@ -779,9 +779,8 @@ impl Machine {
                     .iter()
                     .any(|f| self.image.chunks[f.chunk].program == program)
         }) {
-            self.trace.machine_message(
+            self.trace.machine_warning(
                 self.tick,
-                "warning",
                 format!("Program.{program}.Initiate: the program is already running"),
             );
             return Ok(());
@@ -798,14 +797,13 @@ impl Machine {
         };
         self.tasks[ti] = Task::starting(chunk, program);
         self.set_running(program, Some(ti));
-        self.trace.event(
+        self.trace.emit(
             self.tick,
-            "program",
-            &[
-                ("program", program.into()),
-                ("task", ti.into()),
-                ("event", "start".into()),
-            ],
+            &Event::Program {
+                program,
+                task: ti,
+                event: ProgramEvent::Start,
+            },
         );
         Ok(())
     }
@@ -817,7 +815,7 @@ impl Machine {
         }
     }
 
-    fn end_task(&mut self, ti: usize, event: &'static str) {
+    fn end_task(&mut self, ti: usize, event: ProgramEvent) {
         let program = self.tasks[ti].program;
         self.tasks[ti] = Task::free();
         self.set_running(program, None);
@@ -825,14 +823,13 @@ impl Machine {
         if program == REPL_PROGRAM {
             return;
         }
-        self.trace.event(
+        self.trace.emit(
             self.tick,
-            "program",
-            &[
-                ("program", program.into()),
-                ("task", ti.into()),
-                ("event", event.into()),
-            ],
+            &Event::Program {
+                program,
+                task: ti,
+                event,
+            },
         );
     }
 
@@ -847,14 +844,14 @@ impl Machine {
             })
             .collect();
         for ti in found {
-            self.end_task(ti, "stop");
+            self.end_task(ti, ProgramEvent::Stop);
         }
     }
 
     fn stop_all(&mut self) {
         for ti in 0..self.tasks.len() {
             if self.tasks[ti].busy() {
-                self.end_task(ti, "stop");
+                self.end_task(ti, ProgramEvent::Stop);
             }
         }
     }
@@ -938,20 +935,17 @@ impl Machine {
         let program = c.program;
         let file = c.file.clone();
         let time = self.trace.seconds(self.tick);
-        let program_json = if program == REPL_PROGRAM {
-            serde_json::Value::Null
-        } else {
-            program.into()
-        };
-        self.trace.event(
+        let program_number = (program != REPL_PROGRAM).then_some(program);
+        self.trace.emit(
             self.tick,
-            "error",
-            &[
-                ("task", ti.into()),
-                ("program", program_json),
-                ("line", line.into()),
-                ("message", message.clone().into()),
-            ],
+            &Event::Error {
+                origin: Origin::Program {
+                    task: ti,
+                    program: program_number,
+                    line,
+                },
+                message: message.as_str().into(),
+            },
         );
         self.error = Some(RunError {
             task: ti,
@@ -961,7 +955,7 @@ impl Machine {
             message,
             time,
         });
-        self.end_task(ti, "error");
+        self.end_task(ti, ProgramEvent::Error);
     }
 
     /// Pick the next ready task after the last one run, and run it for this update.
@@ -982,7 +976,7 @@ impl Machine {
         let budget_end = self.instructions.saturating_add(self.image.budget);
         loop {
             let Some(frame) = self.tasks[ti].frames.last().copied() else {
-                self.end_task(ti, "end");
+                self.end_task(ti, ProgramEvent::End);
                 return;
             };
             let exit = self.exec(ti, frame.chunk, frame.pc, false, budget_end);
@@ -1050,7 +1044,7 @@ impl Machine {
                     }
                     self.tasks[ti].frames.pop();
                     if self.tasks[ti].frames.is_empty() {
-                        self.end_task(ti, "end");
+                        self.end_task(ti, ProgramEvent::End);
                         return;
                     }
                 }

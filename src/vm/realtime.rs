@@ -4,6 +4,7 @@
 //! row is a fault that ends the run, and Ctrl-C ends it cleanly. Either way the outputs are
 //! driven to their safe values at the end.
 
+use super::StopReason;
 use super::{Machine, RunSummary};
 use crate::io::jitter::TimingSummary;
 use crate::io::pace::{request_realtime, Pacer, Realtime};
@@ -70,14 +71,12 @@ pub fn run_real_time(
             0
         };
         if limit > 0 && streak >= limit {
-            let reason = format!(
-                "real-time fault: {streak} updates in a row finished after the next one was due (overrun_limit = {limit})"
-            );
-            overrun_fault = Some(reason.clone());
+            let reason = StopReason::RealTimeFault { streak, limit };
+            overrun_fault = Some(reason.to_string());
             return Some(reason);
         }
         if options.interrupt.load(Ordering::SeqCst) {
-            return Some("interrupted (Ctrl-C)".to_string());
+            return Some(StopReason::Interrupted);
         }
         pacer.wait_next();
         None

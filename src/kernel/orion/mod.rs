@@ -10,7 +10,7 @@ use super::regist::Regist;
 use super::Now;
 use crate::devices::command::MotionCmd;
 use crate::registry::{Hook, Kind, Registry, SlotId};
-use crate::trace::number;
+use crate::trace::Event;
 use crate::world::InputActivity;
 
 /// What a mark sensor is wired to.
@@ -268,13 +268,12 @@ impl Orion {
                             .clone();
                         let r = self.dsp.set_sens_mode(n, &text);
                         if r.is_ok() {
-                            now.trace.event(
+                            now.trace.emit(
                                 now.tick,
-                                "sens_mode",
-                                &[
-                                    ("axis", n.into()),
-                                    ("mode", text.to_ascii_uppercase().into()),
-                                ],
+                                &Event::SensMode {
+                                    axis: n,
+                                    mode: text.to_ascii_uppercase().into(),
+                                },
                             );
                         }
                         r
@@ -400,24 +399,22 @@ impl Orion {
                     time,
                     position,
                     ..
-                } => now.trace.event(
+                } => now.trace.emit(
                     now.tick,
-                    "latch",
-                    &[
-                        ("axis", axis.into()),
-                        ("sensor", which.name().into()),
-                        ("time", number(time)),
-                        ("position", number(position)),
-                    ],
+                    &Event::Latch {
+                        axis,
+                        sensor: which.name().into(),
+                        time,
+                        position,
+                    },
                 ),
-                DspEvent::EdgeBlinded { card, which, time } => now.trace.event(
+                DspEvent::EdgeBlinded { card, which, time } => now.trace.emit(
                     now.tick,
-                    "blinded",
-                    &[
-                        ("card", card.into()),
-                        ("sensor", which.name().into()),
-                        ("time", number(time)),
-                    ],
+                    &Event::Blinded {
+                        card,
+                        sensor: which.name().into(),
+                        time,
+                    },
                 ),
                 _ => {}
             }

@@ -5,7 +5,7 @@ use super::Orion;
 use crate::devices::command::KernelFunc;
 use crate::kernel::regist::{MarkClass, RegistParams};
 use crate::kernel::Now;
-use crate::trace::number;
+use crate::trace::{Event, Origin};
 use crate::world::InputActivity;
 
 impl Orion {
@@ -49,13 +49,12 @@ impl Orion {
                 };
                 // As on the controller, bad values leave OK false; the trace says why.
                 if let Err(e) = regist.enable(params) {
-                    now.trace.event(
+                    now.trace.emit(
                         now.tick,
-                        "warning",
-                        &[
-                            ("axis", n.into()),
-                            ("message", format!("REGIST: {}", e.0).into()),
-                        ],
+                        &Event::Warning {
+                            origin: Origin::Axis { axis: n },
+                            message: format!("REGIST: {}", e.0).into(),
+                        },
                     );
                 }
                 Ok(f64::from(regist.ok()))
@@ -145,16 +144,16 @@ impl Orion {
                 MarkClass::Bad => "bad",
                 MarkClass::Ignored => "ignored",
             };
-            let mut fields = vec![
-                ("axis", n.into()),
-                ("mark", class.into()),
-                ("time", number(time)),
-                ("position", number(mark.position)),
-            ];
-            if let Some(c) = mark.correction {
-                fields.push(("correction", number(c)));
-            }
-            now.trace.event(now.tick, "regist", &fields);
+            now.trace.emit(
+                now.tick,
+                &Event::Regist {
+                    axis: n,
+                    mark: class.into(),
+                    time,
+                    position: mark.position,
+                    correction: mark.correction,
+                },
+            );
             if let Some(dim) = mark.rereference {
                 self.reference[i] = dim - mark.position;
             }
@@ -163,10 +162,12 @@ impl Orion {
             let n = c.number;
             let p = self.dsp.position(n).map_err(|e| e.0)?;
             if self.regists[i].passed(p).map_err(|e| e.0)? {
-                now.trace.event(
+                now.trace.emit(
                     now.tick,
-                    "regist_window",
-                    &[("axis", n.into()), ("position", number(p))],
+                    &Event::RegistWindow {
+                        axis: n,
+                        position: p,
+                    },
                 );
             }
             let ratio = self.dsp.ratio(n).map_err(|e| e.0)?;
