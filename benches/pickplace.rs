@@ -7,10 +7,10 @@
 //! The manual quotes 200 µs average / 511 µs peak on a 1.6 GHz
 //! Atom and allows path preparation to take up to 25 cycles; pacer prepares within the cycle.
 
-use pacer::kinematics::delta3::Delta3;
-use pacer::pickplace::io::{BeltParams, Edges, Inputs, Params};
-use pacer::pickplace::module::{Event, Module};
-use pacer::pickplace::setup::{AxisLimit, BeltSetup, Kinematics, PickPlaceSetup};
+use pacer::devices::pickplace::io::{BeltParams, Edges, Inputs, Params};
+use pacer::devices::pickplace::kinematics::delta3::Delta3;
+use pacer::devices::pickplace::module::{Event, Module};
+use pacer::devices::pickplace::setup::{AxisLimit, BeltSetup, Kinematics, PickPlaceSetup};
 use std::hint::black_box;
 use std::time::Instant;
 

@@ -244,11 +244,11 @@ fn resolve_io(io: Option<&str>, loaded: &pacer::load::Loaded) -> Result<Option<R
                 .into(),
         );
     };
-    if loaded.image.orion.is_some() {
-        return Err(
-            "--io modbus: this machine has MotionBASIC DSP axes, which pacer cannot yet bring to a stop on an I/O fault; real I/O runs PowerTools and pick & place machines"
-                .into(),
-        );
+    if let Some(d) = loaded.image.devices.iter().find(|d| !d.safe_state()) {
+        return Err(format!(
+            "--io modbus: this machine has {}, which pacer cannot yet bring to a stop on an I/O fault; real I/O runs PowerTools and pick & place machines",
+            d.describe()
+        ));
     }
     Ok(Some(RealIo {
         port: port.unwrap_or(map.port),

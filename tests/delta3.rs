@@ -1,8 +1,8 @@
 //! Delta3 kinematics (spec: pick-and-place.md conventions): round trips, the 120° and mirror
 //! symmetries of the robot, and unreachable points as named errors, never NaN.
 
-use pacer::kinematics::delta3::Delta3;
-use pacer::kinematics::KinematicsError;
+use pacer::devices::pickplace::kinematics::delta3::Delta3;
+use pacer::devices::pickplace::kinematics::KinematicsError;
 use proptest::prelude::*;
 
 /// A common industrial size: base side 457.3, effector side 115, upper arm 112, forearm 232 mm.

@@ -1,7 +1,7 @@
 //! ORION DSP axes: MOVE AT, GEAR AT, GEAR FOR on top of a gear, the queue, PLS, POS.MOD and the
 //! card latches, checked against closed-form values.
 
-use pacer::kernel::dsp::{
+use pacer::devices::orion::dsp::{
     DspAxes, DspAxisConfig, DspEvent, Layer, Queued, Sensor, DEFAULT_QUEUE_DEPTH,
 };
 use proptest::prelude::*;

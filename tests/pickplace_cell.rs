@@ -7,8 +7,9 @@
 
 mod common;
 
+use pacer::devices::pickplace::cell::PickPlaceCell;
+use pacer::devices::pickplace::frame::Frame;
 use pacer::load::{load, LoadRequest};
-use pacer::pickplace::frame::Frame;
 use pacer::registry::{Kind, GLOBAL_INSTANCE};
 use pacer::trace::Trace;
 use pacer::vm::Machine;
@@ -99,7 +100,9 @@ fn mode_3_cell_over_a_thousand_workpieces() {
                 }
             }
         }
-        let cell = m.pickplace().expect("the cell has a pick & place module");
+        let cell = m
+            .device::<PickPlaceCell>()
+            .expect("the cell has a pick & place module");
         if let Some((belt, id)) = cell.module().sync_target() {
             let i = (belt - 1) as usize;
             let feed = cell
@@ -130,7 +133,7 @@ fn mode_3_cell_over_a_thousand_workpieces() {
             .find(|(k, _)| k == kind)
             .map_or(0, |(_, n)| *n)
     };
-    let cell = machine.pickplace().expect("module");
+    let cell = machine.device::<PickPlaceCell>().expect("module");
     let belt1 = &cell.module().belts[0];
     let received = cell
         .feeds()

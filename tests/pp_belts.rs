@@ -4,9 +4,9 @@
 
 use pacer::config::parse_toml;
 use pacer::config::scenario::ScenarioFile;
+use pacer::devices::pickplace::setup::{AxisLimit, BeltSetup};
 use pacer::diag::Problem;
 use pacer::load::belts::{belts, BeltWorld};
-use pacer::pickplace::setup::{AxisLimit, BeltSetup};
 use pacer::world::belt::{BeltChange, BeltProfile};
 use pacer::world::workpieces::{feeds, Stream};
 

@@ -1,7 +1,7 @@
 //! The jerk-limited path motion law of the pick & place planner: hand-computed profiles, the
 //! limits and exactness on random profiles, time scaling, servo-rate sampling and stops.
 
-use pacer::pickplace::law::*;
+use pacer::devices::pickplace::law::*;
 use proptest::prelude::*;
 
 fn lim(vel: f64, acc: f64, dec: f64, jerk: f64) -> Limits {

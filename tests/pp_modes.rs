@@ -5,10 +5,10 @@
 //! window, the elliptical mode and the axis limits while a belt changes speed (manual
 //! §3.10–3.23, `spec/pick-and-place.md`).
 
-use pacer::pickplace::io::{BeltParams, Edges, Inputs, Outputs, Params, TmState};
-use pacer::pickplace::module::{Event, Module};
-use pacer::pickplace::robot::Pose;
-use pacer::pickplace::setup::{AxisLimit, BeltSetup, Kinematics, PickPlaceSetup};
+use pacer::devices::pickplace::io::{BeltParams, Edges, Inputs, Outputs, Params, TmState};
+use pacer::devices::pickplace::module::{Event, Module};
+use pacer::devices::pickplace::robot::Pose;
+use pacer::devices::pickplace::setup::{AxisLimit, BeltSetup, Kinematics, PickPlaceSetup};
 
 /// The update period, s.
 const DT: f64 = 0.001;

@@ -3,11 +3,11 @@
 //! and warnings, jog, homing and queued profiles, each checked against the manual (§3.7–3.20)
 //! and `spec/pick-and-place.md` with measured setpoints.
 
-use pacer::kinematics::delta3::Delta3;
-use pacer::pickplace::io::{BeltParams, Edges, Inputs, Outputs, Params, TmState};
-use pacer::pickplace::law::Stop;
-use pacer::pickplace::module::{Event, Module};
-use pacer::pickplace::setup::{AxisLimit, BeltSetup, Kinematics, PickPlaceSetup};
+use pacer::devices::pickplace::io::{BeltParams, Edges, Inputs, Outputs, Params, TmState};
+use pacer::devices::pickplace::kinematics::delta3::Delta3;
+use pacer::devices::pickplace::law::Stop;
+use pacer::devices::pickplace::module::{Event, Module};
+use pacer::devices::pickplace::setup::{AxisLimit, BeltSetup, Kinematics, PickPlaceSetup};
 
 /// The update period, s.
 const DT: f64 = 0.001;

@@ -9,9 +9,9 @@ mod common;
 use common::{load_error, project, run_loaded, Run};
 use pacer::config::machine::MachineFile;
 use pacer::config::parse_toml;
+use pacer::devices::pickplace::setup::{AxisLimit, Kinematics};
 use pacer::diag::{Diagnostics, Level, Problem};
 use pacer::load::{load, LoadRequest, Loaded};
-use pacer::pickplace::setup::{AxisLimit, Kinematics};
 use pacer::registry::{Kind, Registry};
 
 /// A delta robot over two belts, as the spec's "it works" cell.

@@ -1,7 +1,7 @@
 //! Path geometry of the Track Pick & Place module: polylines with tangent blends, the
 //! half-ellipse mode, and the arc-length parametrisation.
 
-use pacer::pickplace::path::*;
+use pacer::devices::pickplace::path::*;
 use std::f64::consts::PI;
 
 fn sub(a: P3, b: P3) -> P3 {

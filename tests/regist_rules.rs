@@ -1,9 +1,9 @@
-//! REGIST's servo side (`pacer::kernel::regist`) against the spec `regist.md`: its worked
+//! REGIST's servo side (`pacer::devices::regist`) against the spec `regist.md`: its worked
 //! cases, the three cases the note has but does not print, a reference model under random
 //! marks, and the edges of the interface (minimum time, falling edges, release of corrections,
 //! filters, switches, refused values).
 
-use pacer::kernel::regist::{
+use pacer::devices::regist::{
     Mark, MarkClass, Regist, RegistParams, BAD_MARK, DIST_TOLR, FAST_INPUT, FAST_IN_OCCURRED,
     FAST_IN_RISING, GOOD_MARK, SWITCH_DEFAULT, SWITCH_DIM, SWITCH_MASTER, SWITCH_SLAVE,
 };

@@ -43,3 +43,12 @@ pub enum KernelFunc {
     /// `WRITE_SV(AXIS, VAR, VALUE)` → OK.
     WriteSv,
 }
+
+/// What a motion's progress is measured in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Domain {
+    /// Seconds.
+    Time,
+    /// Master units.
+    Master,
+}

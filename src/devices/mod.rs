@@ -1,4 +1,375 @@
-//! The device models of a machine and the vocabulary programs use to command them. The devices
-//! never depend on the front end (syntax, check, compile): the front end depends on them.
+//! The device models of a machine behind one interface, [`Device`], and the vocabulary programs
+//! use to command them. Each device is one folder: a pure model and the adapter that binds it to
+//! the machine's members (`drive` the PowerTools servo drive with its profiles and objects,
+//! `orion` the ORMEC ORION DSP axes with `regist` on their fast inputs, `pickplace` the Lenze
+//! Track Pick & Place module). A new controller family is one new folder and one line in
+//! [`Devices::new`]'s caller.
+//!
+//! The devices never depend on the front end (syntax, check, compile): the front end depends
+//! on them.
+//!
+//! Each update, [`Devices::update`] runs every device's part of the control loop in the order
+//! the machine lists them (the drive, the DSP axes, pick & place), then [`Devices::derive`]
+//! lets each derive its status from where everything now stands (queue compares, PLS windows,
+//! timers).
 
+pub mod bind;
 pub mod command;
+pub mod drive;
+pub mod orion;
+pub mod pickplace;
+pub mod regist;
+
+use crate::registry::{Hook, SlotId};
+use crate::trace::Trace;
+use crate::world::master::MasterProfile;
+use crate::world::{Edge, InputActivity};
+use command::{Domain, KernelFunc, MotionCmd, StartRef};
+use std::any::Any;
+
+/// What an action did.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ActOutcome {
+    /// Done; the program goes on.
+    Done,
+    /// Motion is running on that profile: the program waits and retries.
+    ProfileBusy,
+}
+
+/// When a write or an action takes effect.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum When {
+    /// At this update (a program's statement).
+    Now,
+    /// At an input's edge inside this update, at this exact time in seconds (an assignment
+    /// from an input: captures latch there, a latching input starts its motion there).
+    Edge(f64),
+}
+
+/// A member a program or an assignment writes or acts on, as the compiler resolved it.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Target {
+    /// What the write does.
+    pub hook: Hook,
+    /// The member's slot.
+    pub slot: SlotId,
+    /// Its object's instance (0-based), or [`crate::registry::GLOBAL_INSTANCE`].
+    pub instance: u32,
+}
+
+/// Everything the devices need from the moment.
+pub struct Now<'a> {
+    /// The update being computed.
+    pub tick: u64,
+    /// Its time in nanoseconds.
+    pub time_ns: u64,
+    /// Update period in nanoseconds.
+    pub tick_ns: u64,
+    /// Master position at this update.
+    pub master: f64,
+    /// The master axis at any instant (edges inside the update are exact).
+    pub master_profile: &'a MasterProfile,
+    /// The inputs' edges inside this update, with their exact times.
+    pub activity: &'a [InputActivity],
+    /// The trace.
+    pub trace: &'a mut Trace,
+}
+
+impl Now<'_> {
+    /// The time of this update, seconds.
+    pub fn seconds(&self) -> f64 {
+        self.time_ns as f64 / 1e9
+    }
+
+    /// The master's position at `t` seconds.
+    pub fn master_at(&self, t: f64) -> f64 {
+        self.master_profile.position(t)
+    }
+
+    /// The master's speed at this update.
+    pub fn master_speed(&self) -> f64 {
+        self.master_profile.speed(self.seconds())
+    }
+}
+
+/// A device model bound to a machine's members.
+pub trait Device: Send {
+    /// Its name in messages: the place a run-time error of the device is reported at.
+    fn name(&self) -> &'static str;
+
+    /// What it is, for a user ("MotionBASIC DSP axes").
+    fn describe(&self) -> &'static str {
+        self.name()
+    }
+
+    /// It reaches a safe state on an I/O fault ([`Device::stop_all`] brings its motion to
+    /// rest, [`Device::hold`] holds it): only such a device may run on real I/O.
+    fn safe_state(&self) -> bool {
+        true
+    }
+
+    /// Whether it reacts to writes of members with `hook`.
+    fn serves(&self, hook: Hook) -> bool;
+
+    /// Bring derived members in line with the initial values, before the first update.
+    fn start(&mut self, _v: &mut [f64]) {}
+
+    /// Its part of the control loop: advance its motion to this update and set its members.
+    fn update(&mut self, v: &mut [f64], now: &mut Now<'_>) -> Result<(), String>;
+
+    /// Status derived once every device has moved (queue compares, PLS windows, timers).
+    fn derive(&mut self, _v: &mut [f64], _now: &mut Now<'_>) {}
+
+    /// Input edges it made this update (sensors on its axes), for the world's next update.
+    fn take_edges(&mut self, _out: &mut Vec<Edge>) {}
+
+    /// A program or an assignment writes `value` (already rounded to the member's type).
+    fn write(
+        &mut self,
+        target: Target,
+        value: f64,
+        when: When,
+        v: &mut [f64],
+        now: &mut Now<'_>,
+    ) -> Result<(), String>;
+
+    /// Run an action; `start` and `profile` matter to motion initiates only.
+    fn act(
+        &mut self,
+        target: Target,
+        start: StartRef,
+        profile: u8,
+        when: When,
+        v: &mut [f64],
+        now: &mut Now<'_>,
+    ) -> Result<ActOutcome, String>;
+
+    /// `Stop` or an I/O fault: bring every motion to rest as the device does.
+    fn stop_all(&mut self, _v: &mut [f64], _now: &mut Now<'_>) {}
+
+    /// The I/O link went down (`true`: hold everything safe) or came back.
+    fn hold(&mut self, _down: bool) {}
+
+    /// The motion profiles programs dwell on and wait for, if it has them.
+    fn profiles(&mut self) -> Option<&mut dyn Profiles> {
+        None
+    }
+
+    /// Its axes addressed by axis sets, if it has them.
+    fn axes(&mut self) -> Option<&mut dyn AxisSet> {
+        None
+    }
+
+    /// For tools and tests that look inside one device.
+    fn as_any(&self) -> &dyn Any;
+}
+
+/// Motion profiles a program's dwells run on and its motion initiates wait for (the PowerTools
+/// drive's profiles 0 and 1).
+pub trait Profiles {
+    /// A motion runs (or waits to start) on `profile`.
+    fn busy(&self, profile: usize) -> bool;
+
+    /// `Dwell For Time` / `Dwell For Master Dist`: a motion on profile 0 of `length` seconds or
+    /// master units.
+    fn dwell(
+        &mut self,
+        length: f64,
+        domain: Domain,
+        v: &mut [f64],
+        now: &mut Now<'_>,
+    ) -> Result<ActOutcome, String>;
+}
+
+/// Numbered axes addressed by axis sets (the ORION DSP axes): MotionBASIC's motion statements,
+/// its controller variables and the kernel functions (`REGIST` …).
+pub trait AxisSet {
+    /// The axis numbers in an axis-set value, checked against the machine.
+    fn axes_of(&self, mask: f64) -> Result<Vec<u32>, String>;
+
+    /// The slot of member index `member` of axis `axis`.
+    fn slot(&self, axis: u32, member: u32) -> Option<SlotId>;
+
+    /// A program writes member index `member` of axis `axis`.
+    fn write(
+        &mut self,
+        hook: Hook,
+        axis: u32,
+        member: u32,
+        value: f64,
+        v: &mut [f64],
+        now: &mut Now<'_>,
+    ) -> Result<(), String>;
+
+    /// A motion statement on the axes of `mask`. `Ok((false, _))`: an axis's motion queue is
+    /// full (the statement waits); `Ok((true, Some(warning)))`: done, with a warning.
+    fn motion(
+        &mut self,
+        cmd: MotionCmd,
+        mask: f64,
+        operands: &[f64; 4],
+        v: &mut [f64],
+    ) -> Result<(bool, Option<String>), String>;
+
+    /// A kernel function on its arguments.
+    fn call(
+        &mut self,
+        func: KernelFunc,
+        args: &[f64],
+        v: &mut [f64],
+        now: &mut Now<'_>,
+    ) -> Result<f64, String>;
+}
+
+/// Number of [`Hook`]s (the routing table's size).
+const HOOKS: usize = Hook::ALL.len();
+
+/// The devices of a machine, in the order they update, and which serves what.
+pub struct Devices {
+    list: Vec<Box<dyn Device>>,
+    /// For each hook, the device that serves its writes.
+    route: [Option<u8>; HOOKS],
+    profiles: Option<usize>,
+    axes: Option<usize>,
+}
+
+/// A run-time error of a device: its name and what went wrong.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DeviceError {
+    /// The device.
+    pub device: &'static str,
+    /// What went wrong.
+    pub message: String,
+}
+
+impl Devices {
+    /// The devices `list`, in update order.
+    pub fn new(mut list: Vec<Box<dyn Device>>) -> Devices {
+        let mut route = [None; HOOKS];
+        for &hook in Hook::ALL {
+            route[hook as usize] = list.iter().position(|d| d.serves(hook)).map(|i| i as u8);
+        }
+        let profiles = list.iter_mut().position(|d| d.profiles().is_some());
+        let axes = list.iter_mut().position(|d| d.axes().is_some());
+        Devices {
+            list,
+            route,
+            profiles,
+            axes,
+        }
+    }
+
+    /// Bring every device's derived members in line with the initial values.
+    pub fn start(&mut self, v: &mut [f64]) {
+        for d in &mut self.list {
+            d.start(v);
+        }
+    }
+
+    /// Every device's part of the control loop, in order; the first error stops it.
+    pub fn update(&mut self, v: &mut [f64], now: &mut Now<'_>) -> Result<(), DeviceError> {
+        for d in &mut self.list {
+            d.update(v, now).map_err(|message| DeviceError {
+                device: d.name(),
+                message,
+            })?;
+        }
+        Ok(())
+    }
+
+    /// Every device's derived status, in order.
+    pub fn derive(&mut self, v: &mut [f64], now: &mut Now<'_>) {
+        for d in &mut self.list {
+            d.derive(v, now);
+        }
+    }
+
+    /// Input edges the devices made this update.
+    pub fn take_edges(&mut self, out: &mut Vec<Edge>) {
+        for d in &mut self.list {
+            d.take_edges(out);
+        }
+    }
+
+    /// A program or an assignment writes `value` to `target`: the device serving its hook
+    /// reacts; a member no device serves is stored.
+    pub fn write(
+        &mut self,
+        target: Target,
+        value: f64,
+        when: When,
+        v: &mut [f64],
+        now: &mut Now<'_>,
+    ) -> Result<(), String> {
+        match self.device_for(target.hook) {
+            Some(d) => d.write(target, value, when, v, now),
+            None if matches!(target.hook, Hook::AxisLatch | Hook::AxisSetting) => {
+                Err("this machine has no DSP axes".into())
+            }
+            None => {
+                v[target.slot as usize] = value;
+                Ok(())
+            }
+        }
+    }
+
+    /// Run an action on the device serving it.
+    pub fn act(
+        &mut self,
+        target: Target,
+        start: StartRef,
+        profile: u8,
+        when: When,
+        v: &mut [f64],
+        now: &mut Now<'_>,
+    ) -> Result<ActOutcome, String> {
+        match self.device_for(target.hook) {
+            Some(d) => d.act(target, start, profile, when, v, now),
+            None => Err(format!(
+                "{:?} is not an action of this machine",
+                target.hook
+            )),
+        }
+    }
+
+    /// `Stop` or an I/O fault: every device brings its motion to rest.
+    pub fn stop_all(&mut self, v: &mut [f64], now: &mut Now<'_>) {
+        for d in &mut self.list {
+            d.stop_all(v, now);
+        }
+    }
+
+    /// The I/O link went down (`true`) or came back.
+    pub fn hold(&mut self, down: bool) {
+        for d in &mut self.list {
+            d.hold(down);
+        }
+    }
+
+    /// The motion profiles of the machine (its PowerTools drive).
+    pub fn profiles(&mut self) -> Option<&mut dyn Profiles> {
+        self.list.get_mut(self.profiles?)?.profiles()
+    }
+
+    /// True while a motion runs (or waits to start) on `profile`.
+    pub fn profile_busy(&mut self, profile: usize) -> bool {
+        self.profiles().is_some_and(|p| p.busy(profile))
+    }
+
+    /// The axes of the machine addressed by axis sets (its DSP axes).
+    pub fn axes(&mut self) -> Option<&mut dyn AxisSet> {
+        self.list.get_mut(self.axes?)?.axes()
+    }
+
+    /// The device of type `T`, if the machine has one (tools and tests look inside).
+    pub fn get<T: Any>(&self) -> Option<&T> {
+        self.list
+            .iter()
+            .find_map(|d| d.as_any().downcast_ref::<T>())
+    }
+
+    fn device_for(&mut self, hook: Hook) -> Option<&mut Box<dyn Device>> {
+        let i = self.route.get(hook as usize).copied().flatten()?;
+        self.list.get_mut(usize::from(i))
+    }
+}

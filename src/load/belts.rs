@@ -5,8 +5,8 @@
 
 use crate::config::scenario::{BeltEntry, ScenarioFile, WorkpiecesEntry};
 use crate::config::span_of;
+use crate::devices::pickplace::setup::{AxisLimit, BeltSetup};
 use crate::diag::Problem;
-use crate::pickplace::setup::{AxisLimit, BeltSetup};
 use crate::world::belt::{BeltChange, BeltProfile};
 use crate::world::workpieces::{feeds, Stream, WorkpieceFeed};
 use indexmap::IndexMap;

@@ -3,9 +3,9 @@
 
 use crate::config::scenario::PrintedMarks;
 use crate::config::span_of;
+use crate::devices::orion::dsp::Sensor;
+use crate::devices::orion::{MarkInput, MarkTrack};
 use crate::diag::Problem;
-use crate::kernel::dsp::Sensor;
-use crate::kernel::orion::{MarkInput, MarkTrack};
 use crate::world::products::unit;
 use rand_chacha::rand_core::SeedableRng;
 use rand_chacha::ChaCha8Rng;

@@ -441,7 +441,7 @@ pub fn load_with(req: &LoadRequest, options: &LoadOptions) -> Result<Loaded, Dia
         None
     } else {
         let configs = dsp_configs(&machine);
-        match crate::kernel::orion::Orion::new(
+        match crate::devices::orion::Orion::new(
             &registry,
             configs,
             &mark_tracks,
@@ -490,29 +490,25 @@ pub fn load_with(req: &LoadRequest, options: &LoadOptions) -> Result<Loaded, Dia
                 }
                 None => (Vec::new(), Vec::new()),
             };
-            match crate::kernel::pickplace::PickPlaceCell::new(
+            Some(crate::devices::pickplace::cell::PickPlaceCell::new(
                 &registry,
                 setup,
                 profiles,
                 feeds,
                 update_ns as f64 / 1e9,
-            ) {
-                Ok(cell) => Some(Box::new(cell)),
-                Err(message) => {
-                    diags.extend_file(
-                        &machine_file,
-                        vec![Problem::error(
-                            "pacer::machine::pickplace",
-                            machine.pickplace.as_ref().map(span_of).unwrap_or_default(),
-                            message,
-                            "here",
-                        )],
-                    );
-                    return Err(diags);
-                }
-            }
+            ))
         }
     };
+    // The devices, in the order they update: the drive, the DSP axes, pick & place.
+    let mut devices: Vec<Box<dyn crate::devices::Device>> = vec![Box::new(
+        crate::devices::drive::Drive::new(&registry, axis_marks),
+    )];
+    if let Some(o) = orion {
+        devices.push(Box::new(o));
+    }
+    if let Some(pp) = pickplace {
+        devices.push(Box::new(pp));
+    }
     let initial = layout.initial_values(&registry);
     let name = machine.machine.name.clone().unwrap_or_else(|| {
         folder
@@ -534,11 +530,9 @@ pub fn load_with(req: &LoadRequest, options: &LoadOptions) -> Result<Loaded, Dia
         assignments,
         edges,
         master,
-        axis_marks,
         products,
         duration_ns,
-        orion,
-        pickplace,
+        devices,
     };
     Ok(Loaded {
         image,
@@ -611,7 +605,7 @@ fn split_paths(
 fn wire_fast_inputs(
     machine: &MachineFile,
     registry: &Registry,
-    orion: &mut crate::kernel::orion::Orion,
+    orion: &mut crate::devices::orion::Orion,
 ) -> Vec<Problem> {
     let mut problems = Vec::new();
     for (key, setup) in &machine.axis {
@@ -652,8 +646,8 @@ fn wire_fast_inputs(
 fn dsp_configs(
     machine: &MachineFile,
 ) -> Vec<(
-    crate::kernel::dsp::DspAxisConfig,
-    crate::kernel::orion::MoveDefaults,
+    crate::devices::orion::dsp::DspAxisConfig,
+    crate::devices::orion::MoveDefaults,
 )> {
     machine
         .axis
@@ -661,7 +655,7 @@ fn dsp_configs(
         .filter_map(|(k, setup)| {
             let n = k.parse::<u32>().ok()?;
             let s = setup.get_ref();
-            let mut c = crate::kernel::dsp::DspAxisConfig::new(
+            let mut c = crate::devices::orion::dsp::DspAxisConfig::new(
                 n,
                 s.pacer.as_ref().map(|p| *p.get_ref()),
                 s.units_per_rev.as_ref().map_or(1.0, |u| *u.get_ref()),
@@ -669,7 +663,7 @@ fn dsp_configs(
             if let Some(q) = &s.queue {
                 c.queue_depth = *q.get_ref() as usize;
             }
-            let defaults = crate::kernel::orion::MoveDefaults {
+            let defaults = crate::devices::orion::MoveDefaults {
                 accel: s
                     .accel
                     .as_ref()

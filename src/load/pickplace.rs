@@ -6,9 +6,9 @@
 
 use crate::config::machine::{MachineFile, TomlTable, TomlValue, BELT_SETUP_KEYS};
 use crate::config::span_of;
+use crate::devices::pickplace::kinematics::delta3::Delta3;
+use crate::devices::pickplace::setup::{AxisLimit, BeltSetup, Kinematics, PickPlaceSetup};
 use crate::diag::{nearest, Problem};
-use crate::kinematics::delta3::Delta3;
-use crate::pickplace::setup::{AxisLimit, BeltSetup, Kinematics, PickPlaceSetup};
 use toml::Spanned;
 
 const CODE: &str = "pacer::machine::pickplace";

@@ -4,8 +4,8 @@
 use super::resolve_text;
 use crate::config::scenario::ScenarioFile;
 use crate::config::span_of;
+use crate::devices::drive::AxisMarks;
 use crate::diag::{nearest, Problem};
-use crate::kernel::AxisMarks;
 use crate::registry::{Kind, Registry};
 use crate::syntax::span::Span;
 use crate::world::master::{MasterProfile, SpeedChange};

@@ -32,10 +32,25 @@ impl ValueType {
     }
 }
 
-/// What the kernel does when a program writes a member.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[allow(missing_docs)]
-pub enum Hook {
+/// Defines [`Hook`] and [`Hook::ALL`] from one list, so no hook can be left out of the devices'
+/// routing table.
+macro_rules! hooks {
+    ($($(#[$doc:meta])* $variant:ident,)*) => {
+        /// What happens when a program writes a member: which device reacts, and how.
+        #[derive(Debug, Clone, Copy, PartialEq, Eq)]
+        #[allow(missing_docs)]
+        pub enum Hook {
+            $($(#[$doc])* $variant,)*
+        }
+
+        impl Hook {
+            /// Every hook, in declaration order (`ALL[h as usize] == h`).
+            pub const ALL: &'static [Hook] = &[$(Hook::$variant,)*];
+        }
+    };
+}
+
+hooks! {
     /// Only stored; the kernel reads the stored value when it needs it.
     Store,
     OutputWrite,
@@ -195,31 +210,31 @@ const fn alias(mut d: MemberDef, aliases: &'static [&'static str]) -> MemberDef 
 use Access::{Action, Input, Read, ReadWrite};
 use ValueType::{Bit, Fixed, Integer, Real};
 
-const INPUT: &[MemberDef] = &[m(
+pub const INPUT: &[MemberDef] = &[m(
     "Value",
     Bit,
     Read,
     "state of the input, sampled every update",
 )];
-const OUTPUT: &[MemberDef] = &[hook(
+pub const OUTPUT: &[MemberDef] = &[hook(
     Hook::OutputWrite,
     m("Value", Bit, ReadWrite, "state of the output"),
 )];
-const DRIVE_IO: &[MemberDef] = &[
+pub const DRIVE_IO: &[MemberDef] = &[
     m("In", Bit, Read, "state of the point as an input"),
     hook(
         Hook::OutputWrite,
         m("Out", Bit, ReadWrite, "state of the point as an output"),
     ),
 ];
-const VAR: &[MemberDef] = &[m(
+pub const VAR: &[MemberDef] = &[m(
     "Value",
     Fixed(0),
     ReadWrite,
     "the variable's value (decimal places set in machine.toml)",
 )];
-const BIT: &[MemberDef] = &[m("Value", Bit, ReadWrite, "the bit")];
-const PROGRAM: &[MemberDef] = &[
+pub const BIT: &[MemberDef] = &[m("Value", Bit, ReadWrite, "the bit")];
+pub const PROGRAM: &[MemberDef] = &[
     hook(
         Hook::ProgramInitiate,
         m(
@@ -241,7 +256,7 @@ const PROGRAM: &[MemberDef] = &[
         "the task the program runs on, -1 when not running",
     ),
 ];
-const TIMER: &[MemberDef] = &[
+pub const TIMER: &[MemberDef] = &[
     hook(
         Hook::TimerInitiate,
         m("Initiate", Bit, Action, "start timing from 0"),
@@ -276,7 +291,7 @@ const TIMER: &[MemberDef] = &[
         "on once the preset is reached, until the next Initiate or Stop",
     ),
 ];
-const QUEUE: &[MemberDef] = &[
+pub const QUEUE: &[MemberDef] = &[
     hook(
         Hook::QueueDataIn,
         m(
@@ -350,7 +365,7 @@ const QUEUE: &[MemberDef] = &[
         ),
     ),
 ];
-const CAPTURE: &[MemberDef] = &[
+pub const CAPTURE: &[MemberDef] = &[
     hook(
         Hook::CaptureEnable,
         m(
@@ -407,7 +422,7 @@ const CAPTURE: &[MemberDef] = &[
         "master position at the edge",
     ),
 ];
-const INDEX: &[MemberDef] = &[
+pub const INDEX: &[MemberDef] = &[
     hook(
         Hook::MotionStart,
         m("Initiate", Bit, Action, "start the index"),
@@ -476,7 +491,7 @@ const INDEX: &[MemberDef] = &[
         "timed index could not meet its time within the maxima",
     ),
 ];
-const HOME: &[MemberDef] = &[
+pub const HOME: &[MemberDef] = &[
     hook(
         Hook::MotionStart,
         m("Initiate", Bit, Action, "start homing"),
@@ -495,7 +510,7 @@ const HOME: &[MemberDef] = &[
     m("AtVel", Bit, Read, "at home velocity"),
     m("CommandComplete", Bit, Read, "homed"),
 ];
-const JOG: &[MemberDef] = &[
+pub const JOG: &[MemberDef] = &[
     hook(
         Hook::MotionStart,
         m("PlusInitiate", Bit, Action, "jog in the plus direction"),
@@ -510,7 +525,7 @@ const JOG: &[MemberDef] = &[
     m("Deceleration", Real, ReadWrite, "deceleration"),
     m("CommandInProgress", Bit, Read, "jogging"),
 ];
-const JOG_GLOBAL: &[MemberDef] = &[
+pub const JOG_GLOBAL: &[MemberDef] = &[
     m(
         "Select",
         Bit,
@@ -526,7 +541,7 @@ const JOG_GLOBAL: &[MemberDef] = &[
         m("MinusActivate", Bit, ReadWrite, "jog minus while on"),
     ),
 ];
-const AXIS: &[MemberDef] = &[
+pub const AXIS: &[MemberDef] = &[
     continuous(m(
         "Position",
         Real,
@@ -609,13 +624,13 @@ const AXIS: &[MemberDef] = &[
         ),
     )),
 ];
-const BASIC_VAR: &[MemberDef] = &[m(
+pub const BASIC_VAR: &[MemberDef] = &[m(
     "Value",
     Real,
     ReadWrite,
     "a MotionBASIC variable (type from its suffix)",
 )];
-const GEAR: &[MemberDef] = &[
+pub const GEAR: &[MemberDef] = &[
     hook(
         Hook::MotionStart,
         m("Initiate", Bit, Action, "start gearing"),
@@ -628,8 +643,8 @@ const GEAR: &[MemberDef] = &[
     m("Ratio", Real, ReadWrite, "follower units per master unit"),
     m("CommandInProgress", Bit, Read, "gearing"),
 ];
-const PROFILE: &[MemberDef] = &[m("Busy", Bit, Read, "a motion object runs on this profile")];
-const PLS: &[MemberDef] = &[
+pub const PROFILE: &[MemberDef] = &[m("Busy", Bit, Read, "a motion object runs on this profile")];
+pub const PLS: &[MemberDef] = &[
     m("Enable", Bit, ReadWrite, "evaluate the window"),
     m(
         "OnPosn",
@@ -646,7 +661,7 @@ const PLS: &[MemberDef] = &[
     ),
     m("Status", Bit, Read, "inside the window"),
 ];
-const MOTION: &[MemberDef] = &[
+pub const MOTION: &[MemberDef] = &[
     hook(
         Hook::StopAll,
         m(
@@ -1535,7 +1550,8 @@ const PICKPLACE_PARTS: &[&[MemberDef]] = &[
     ],
 ];
 
-static PICKPLACE: [MemberDef; total_len(PICKPLACE_PARTS)] = flatten(PICKPLACE_PARTS);
+/// The members of the pick & place module.
+pub const PICKPLACE: [MemberDef; total_len(PICKPLACE_PARTS)] = flatten(PICKPLACE_PARTS);
 
 const BELT_PARTS: &[&[MemberDef]] = &[
     // The input structure ascBeltInput[i] (3.6.3).
@@ -1627,7 +1643,8 @@ const BELT_PARTS: &[&[MemberDef]] = &[
     ],
 ];
 
-static BELT: [MemberDef; total_len(BELT_PARTS)] = flatten(BELT_PARTS);
+/// The members of a pick & place belt.
+pub const BELT: [MemberDef; total_len(BELT_PARTS)] = flatten(BELT_PARTS);
 
 /// Highest belt number (CV16).
 pub const MAX_BELTS: u32 = 16;
@@ -1658,253 +1675,319 @@ pub fn split_index(name: &str) -> Option<(&str, &str)> {
 
 /// Every object type, in the order the docs list them.
 pub static TYPES: &[TypeDef] = &[
-    t(
-        "DriveInput",
-        Kind::DriveInput,
-        Instances::Numbered {
-            first: 1,
-            default_count: 8,
-        },
-        Some("Value"),
-        INPUT,
-        &[],
-        "digital input of the drive",
-    ),
-    t(
-        "ModuleInput",
-        Kind::ModuleInput,
-        Instances::Numbered {
-            first: 1,
-            default_count: 8,
-        },
-        Some("Value"),
-        INPUT,
-        &[],
-        "digital input of the motion module (latches in hardware)",
-    ),
-    t(
-        "DriveIO",
-        Kind::DriveIO,
-        Instances::Numbered {
-            first: 1,
-            default_count: 4,
-        },
-        None,
-        DRIVE_IO,
-        &[],
-        "bidirectional drive I/O point",
-    ),
-    t(
-        "DriveOutput",
-        Kind::DriveOutput,
-        Instances::Numbered {
-            first: 1,
-            default_count: 4,
-        },
-        Some("Value"),
-        OUTPUT,
-        &[],
-        "digital output of the drive",
-    ),
-    t(
-        "ModuleOutput",
-        Kind::ModuleOutput,
-        Instances::Numbered {
-            first: 1,
-            default_count: 4,
-        },
-        Some("Value"),
-        OUTPUT,
-        &[],
-        "digital output of the motion module",
-    ),
-    t(
-        "Var",
-        Kind::Var,
-        Instances::Named,
-        Some("Value"),
-        VAR,
-        &[],
-        "user variable (machine.toml [variables])",
-    ),
-    t(
-        "Bit",
-        Kind::Bit,
-        Instances::Named,
-        Some("Value"),
-        BIT,
-        &[],
-        "user bit (machine.toml [bits])",
-    ),
-    t(
-        "Program",
-        Kind::Program,
-        Instances::Numbered {
-            first: 0,
-            default_count: 16,
-        },
-        None,
-        PROGRAM,
-        &[],
-        "user program",
-    ),
-    t(
-        "Timer",
-        Kind::Timer,
-        Instances::Numbered {
-            first: 0,
-            default_count: 8,
-        },
-        None,
-        TIMER,
-        &[],
-        "timer",
-    ),
-    t(
-        "Queue",
-        Kind::Queue,
-        Instances::Numbered {
-            first: 0,
-            default_count: 8,
-        },
-        None,
-        QUEUE,
-        &[],
-        "position queue",
-    ),
-    t(
-        "Capture",
-        Kind::Capture,
-        Instances::Numbered {
-            first: 0,
-            default_count: 4,
-        },
-        None,
-        CAPTURE,
-        &[],
-        "high-speed capture",
-    ),
-    t(
-        "Index",
-        Kind::Index,
-        Instances::Numbered {
-            first: 0,
-            default_count: 16,
-        },
-        None,
-        INDEX,
-        &[],
-        "index motion",
-    ),
-    t(
-        "Home",
-        Kind::Home,
-        Instances::Numbered {
-            first: 0,
-            default_count: 1,
-        },
-        None,
-        HOME,
-        &[],
-        "home motion",
-    ),
-    t(
-        "Jog",
-        Kind::Jog,
-        Instances::Numbered {
-            first: 0,
-            default_count: 2,
-        },
-        None,
-        JOG,
-        JOG_GLOBAL,
-        "jog motion",
-    ),
-    t(
-        "Gear",
-        Kind::Gear,
-        Instances::Global,
-        None,
-        GEAR,
-        &[],
-        "electronic gearing",
-    ),
-    t(
-        "Profile",
-        Kind::Profile,
-        Instances::Numbered {
-            first: 0,
-            default_count: 2,
-        },
-        None,
-        PROFILE,
-        &[],
-        "motion profile (motions on the two profiles add up)",
-    ),
-    t(
-        "PLS",
-        Kind::Pls,
-        Instances::Numbered {
-            first: 0,
-            default_count: 8,
-        },
-        None,
-        PLS,
-        &[],
-        "programmable limit switch",
-    ),
-    t(
-        "Motion",
-        Kind::Motion,
-        Instances::Global,
-        None,
-        MOTION,
-        &[],
-        "drive-wide motion members, also written without `Motion.`",
-    ),
-    t(
-        "Axis",
-        Kind::Axis,
-        Instances::Numbered {
-            first: 1,
-            default_count: 0,
-        },
-        None,
-        AXIS,
-        &[],
-        "ORION DSP axis (machine.toml [axis.N]); MotionBASIC axis {N}",
-    ),
-    t(
-        "BasicVar",
-        Kind::BasicVar,
-        Instances::Named,
-        Some("Value"),
-        BASIC_VAR,
-        &[],
-        "MotionBASIC variable",
-    ),
-    t(
-        "PickPlace",
-        Kind::PickPlace,
-        Instances::Global,
-        None,
-        &PICKPLACE,
-        &[],
-        "the Track Pick & Place module (machine.toml [pickplace]); members under the manual's names",
-    ),
-    t(
-        "Belt",
-        Kind::Belt,
-        Instances::Numbered {
-            first: 1,
-            default_count: 0,
-        },
-        None,
-        &BELT,
-        &[],
-        "conveying belt CVn of the pick & place module (machine.toml [pickplace.belt.N])",
-    ),
+    DRIVE_INPUT_TYPE,
+    MODULE_INPUT_TYPE,
+    DRIVE_IO_TYPE,
+    DRIVE_OUTPUT_TYPE,
+    MODULE_OUTPUT_TYPE,
+    VAR_TYPE,
+    BIT_TYPE,
+    PROGRAM_TYPE,
+    TIMER_TYPE,
+    QUEUE_TYPE,
+    CAPTURE_TYPE,
+    INDEX_TYPE,
+    HOME_TYPE,
+    JOG_TYPE,
+    GEAR_TYPE,
+    PROFILE_TYPE,
+    PLS_TYPE,
+    MOTION_TYPE,
+    AXIS_TYPE,
+    BASIC_VAR_TYPE,
+    PICK_PLACE_TYPE,
+    BELT_TYPE,
 ];
+
+/// The `DriveInput` object type.
+pub const DRIVE_INPUT_TYPE: TypeDef = t(
+    "DriveInput",
+    Kind::DriveInput,
+    Instances::Numbered {
+        first: 1,
+        default_count: 8,
+    },
+    Some("Value"),
+    INPUT,
+    &[],
+    "digital input of the drive",
+);
+
+/// The `ModuleInput` object type.
+pub const MODULE_INPUT_TYPE: TypeDef = t(
+    "ModuleInput",
+    Kind::ModuleInput,
+    Instances::Numbered {
+        first: 1,
+        default_count: 8,
+    },
+    Some("Value"),
+    INPUT,
+    &[],
+    "digital input of the motion module (latches in hardware)",
+);
+
+/// The `DriveIO` object type.
+pub const DRIVE_IO_TYPE: TypeDef = t(
+    "DriveIO",
+    Kind::DriveIO,
+    Instances::Numbered {
+        first: 1,
+        default_count: 4,
+    },
+    None,
+    DRIVE_IO,
+    &[],
+    "bidirectional drive I/O point",
+);
+
+/// The `DriveOutput` object type.
+pub const DRIVE_OUTPUT_TYPE: TypeDef = t(
+    "DriveOutput",
+    Kind::DriveOutput,
+    Instances::Numbered {
+        first: 1,
+        default_count: 4,
+    },
+    Some("Value"),
+    OUTPUT,
+    &[],
+    "digital output of the drive",
+);
+
+/// The `ModuleOutput` object type.
+pub const MODULE_OUTPUT_TYPE: TypeDef = t(
+    "ModuleOutput",
+    Kind::ModuleOutput,
+    Instances::Numbered {
+        first: 1,
+        default_count: 4,
+    },
+    Some("Value"),
+    OUTPUT,
+    &[],
+    "digital output of the motion module",
+);
+
+/// The `Var` object type.
+pub const VAR_TYPE: TypeDef = t(
+    "Var",
+    Kind::Var,
+    Instances::Named,
+    Some("Value"),
+    VAR,
+    &[],
+    "user variable (machine.toml [variables])",
+);
+
+/// The `Bit` object type.
+pub const BIT_TYPE: TypeDef = t(
+    "Bit",
+    Kind::Bit,
+    Instances::Named,
+    Some("Value"),
+    BIT,
+    &[],
+    "user bit (machine.toml [bits])",
+);
+
+/// The `Program` object type.
+pub const PROGRAM_TYPE: TypeDef = t(
+    "Program",
+    Kind::Program,
+    Instances::Numbered {
+        first: 0,
+        default_count: 16,
+    },
+    None,
+    PROGRAM,
+    &[],
+    "user program",
+);
+
+/// The `Timer` object type.
+pub const TIMER_TYPE: TypeDef = t(
+    "Timer",
+    Kind::Timer,
+    Instances::Numbered {
+        first: 0,
+        default_count: 8,
+    },
+    None,
+    TIMER,
+    &[],
+    "timer",
+);
+
+/// The `Queue` object type.
+pub const QUEUE_TYPE: TypeDef = t(
+    "Queue",
+    Kind::Queue,
+    Instances::Numbered {
+        first: 0,
+        default_count: 8,
+    },
+    None,
+    QUEUE,
+    &[],
+    "position queue",
+);
+
+/// The `Capture` object type.
+pub const CAPTURE_TYPE: TypeDef = t(
+    "Capture",
+    Kind::Capture,
+    Instances::Numbered {
+        first: 0,
+        default_count: 4,
+    },
+    None,
+    CAPTURE,
+    &[],
+    "high-speed capture",
+);
+
+/// The `Index` object type.
+pub const INDEX_TYPE: TypeDef = t(
+    "Index",
+    Kind::Index,
+    Instances::Numbered {
+        first: 0,
+        default_count: 16,
+    },
+    None,
+    INDEX,
+    &[],
+    "index motion",
+);
+
+/// The `Home` object type.
+pub const HOME_TYPE: TypeDef = t(
+    "Home",
+    Kind::Home,
+    Instances::Numbered {
+        first: 0,
+        default_count: 1,
+    },
+    None,
+    HOME,
+    &[],
+    "home motion",
+);
+
+/// The `Jog` object type.
+pub const JOG_TYPE: TypeDef = t(
+    "Jog",
+    Kind::Jog,
+    Instances::Numbered {
+        first: 0,
+        default_count: 2,
+    },
+    None,
+    JOG,
+    JOG_GLOBAL,
+    "jog motion",
+);
+
+/// The `Gear` object type.
+pub const GEAR_TYPE: TypeDef = t(
+    "Gear",
+    Kind::Gear,
+    Instances::Global,
+    None,
+    GEAR,
+    &[],
+    "electronic gearing",
+);
+
+/// The `Profile` object type.
+pub const PROFILE_TYPE: TypeDef = t(
+    "Profile",
+    Kind::Profile,
+    Instances::Numbered {
+        first: 0,
+        default_count: 2,
+    },
+    None,
+    PROFILE,
+    &[],
+    "motion profile (motions on the two profiles add up)",
+);
+
+/// The `PLS` object type.
+pub const PLS_TYPE: TypeDef = t(
+    "PLS",
+    Kind::Pls,
+    Instances::Numbered {
+        first: 0,
+        default_count: 8,
+    },
+    None,
+    PLS,
+    &[],
+    "programmable limit switch",
+);
+
+/// The `Motion` object type.
+pub const MOTION_TYPE: TypeDef = t(
+    "Motion",
+    Kind::Motion,
+    Instances::Global,
+    None,
+    MOTION,
+    &[],
+    "drive-wide motion members, also written without `Motion.`",
+);
+
+/// The `Axis` object type.
+pub const AXIS_TYPE: TypeDef = t(
+    "Axis",
+    Kind::Axis,
+    Instances::Numbered {
+        first: 1,
+        default_count: 0,
+    },
+    None,
+    AXIS,
+    &[],
+    "ORION DSP axis (machine.toml [axis.N]); MotionBASIC axis {N}",
+);
+
+/// The `BasicVar` object type.
+pub const BASIC_VAR_TYPE: TypeDef = t(
+    "BasicVar",
+    Kind::BasicVar,
+    Instances::Named,
+    Some("Value"),
+    BASIC_VAR,
+    &[],
+    "MotionBASIC variable",
+);
+
+/// The `PickPlace` object type.
+pub const PICK_PLACE_TYPE: TypeDef = t(
+    "PickPlace",
+    Kind::PickPlace,
+    Instances::Global,
+    None,
+    &PICKPLACE,
+    &[],
+    "the Track Pick & Place module (machine.toml [pickplace]); members under the manual's names",
+);
+
+/// The `Belt` object type.
+pub const BELT_TYPE: TypeDef = t(
+    "Belt",
+    Kind::Belt,
+    Instances::Numbered {
+        first: 1,
+        default_count: 0,
+    },
+    None,
+    &BELT,
+    &[],
+    "conveying belt CVn of the pick & place module (machine.toml [pickplace.belt.N])",
+);
 
 #[allow(clippy::too_many_arguments)]
 const fn t(

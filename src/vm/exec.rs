@@ -3,8 +3,8 @@
 
 use crate::compile::bytecode::{BinaryOp, Op, REAL_STORE};
 use crate::compile::Chunk;
-use crate::kernel::motion::Domain;
-use crate::kernel::{ActOutcome, Kernel, Now};
+use crate::devices::command::Domain;
+use crate::devices::{ActOutcome, Devices, Now, Target, When};
 use crate::registry::{Hook, Registry};
 use crate::trace::{Event, Origin, Value};
 
@@ -37,8 +37,8 @@ pub enum Exit {
 
 /// What the interpreter needs besides the values.
 pub struct Ctx<'a, 'b> {
-    /// The kernel objects.
-    pub kernel: &'a mut Kernel,
+    /// The machine's devices.
+    pub devices: &'a mut Devices,
     /// The registry (names for trace events).
     pub registry: &'a Registry,
     /// Current values of registry slots as last traced, so a program write is not traced twice.
@@ -214,7 +214,12 @@ pub fn run(
                 if trace_on {
                     traced_write(ctx, slot, x);
                 }
-                if let Err(message) = ctx.kernel.write(hook, instance, slot, x, v, &mut ctx.now) {
+                let target = Target {
+                    hook,
+                    slot,
+                    instance,
+                };
+                if let Err(message) = ctx.devices.write(target, x, When::Now, v, &mut ctx.now) {
                     pc = here;
                     let name = name_of(ctx, slot);
                     fault!("{name}: {message}");
@@ -233,15 +238,20 @@ pub fn run(
                         *executed = n;
                         return Exit::Control { hook, instance, pc };
                     }
-                    Hook::MotionStart if ctx.kernel.profile_busy(profile as usize) => {
+                    Hook::MotionStart if ctx.devices.profile_busy(profile as usize) => {
                         *executed = n;
                         return Exit::MotionBusy { profile, pc: here };
                     }
                     _ => {}
                 }
+                let target = Target {
+                    hook,
+                    slot,
+                    instance,
+                };
                 match ctx
-                    .kernel
-                    .act(hook, slot, instance, start, profile, v, &mut ctx.now)
+                    .devices
+                    .act(target, start, profile, When::Now, v, &mut ctx.now)
                 {
                     Ok(ActOutcome::Done) => sync_snapshot(ctx, v),
                     Ok(ActOutcome::ProfileBusy) => {
@@ -374,7 +384,10 @@ pub fn run(
             }
             Op::Dwell { src, master } => {
                 let domain = if master { Domain::Master } else { Domain::Time };
-                let started = ctx.kernel.dwell(v[src as usize], domain, v, &ctx.now);
+                let started = match ctx.devices.profiles() {
+                    Some(p) => p.dwell(v[src as usize], domain, v, &mut ctx.now),
+                    None => Err("this machine has no motion profiles to dwell on".into()),
+                };
                 match started {
                     Ok(ActOutcome::Done) => sync_snapshot(ctx, v),
                     Ok(ActOutcome::ProfileBusy) => {
@@ -503,8 +516,8 @@ fn motionbasic(
             let a = args as usize;
             let operand = |i: usize| v.get(a + i).copied().unwrap_or(0.0);
             let operands = [operand(0), operand(1), operand(2), operand(3)];
-            let orion = ctx.kernel.orion.as_mut().ok_or(NO_AXES)?;
-            match orion.motion(cmd, mask, &operands, v)? {
+            let axes = ctx.devices.axes().ok_or(NO_AXES)?;
+            match axes.motion(cmd, mask, &operands, v)? {
                 (true, Some(message)) => {
                     let line = chunk.lines.get(here as usize).copied().unwrap_or(0);
                     ctx.now.trace.emit(
@@ -532,12 +545,11 @@ fn motionbasic(
                 .find(|f| f.1 == func)
                 .map_or(0, |f| f.2);
             let values: Vec<f64> = v.get(a..a + count).map(<[f64]>::to_vec).unwrap_or_default();
-            let orion = ctx
-                .kernel
-                .orion
-                .as_mut()
+            let axes = ctx
+                .devices
+                .axes()
                 .ok_or_else(|| format!("{} works on DSP axes: {NO_AXES}", func.name()))?;
-            v[dst as usize] = orion
+            v[dst as usize] = axes
                 .call(func, &values, v, &mut ctx.now)
                 .map_err(|m| format!("{}: {m}", func.name()))?;
         }
@@ -645,13 +657,13 @@ fn int(x: f64) -> i64 {
 
 /// Read member `member` of the DSP axes in `mask`.
 fn axis_read(
-    ctx: &Ctx<'_, '_>,
+    ctx: &mut Ctx<'_, '_>,
     v: &[f64],
     mask: f64,
     member: u32,
     truth: bool,
 ) -> Result<f64, String> {
-    let Some(orion) = ctx.kernel.orion.as_ref() else {
+    let Some(orion) = ctx.devices.axes() else {
         return Err(
             "this machine has no DSP axes: define them in machine.toml ([axis.1] …)".into(),
         );
@@ -683,7 +695,7 @@ fn axis_write(
     hook: Hook,
     value: f64,
 ) -> Result<(), String> {
-    let Some(orion) = ctx.kernel.orion.as_mut() else {
+    let Some(orion) = ctx.devices.axes() else {
         return Err(
             "this machine has no DSP axes: define them in machine.toml ([axis.1] …)".into(),
         );

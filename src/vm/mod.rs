@@ -16,9 +16,10 @@ pub mod stop;
 pub mod task;
 
 use crate::compile::Chunk;
+use crate::devices::command::StartRef;
+use crate::devices::{ActOutcome, Device, Devices, Now, Target, When};
 use crate::io::supervisor::LinkEvent;
 use crate::io::{IoBackend, IoFault, IoStats, Simulator};
-use crate::kernel::{Kernel, Now};
 use crate::registry::{Access, Hook, Registry, Resolved, SlotId};
 use crate::trace::{Event, Origin, ProgramEvent, Trace, Value};
 use crate::world::{Edge, InputActivity, World};
@@ -77,17 +78,46 @@ pub struct MachineImage {
     pub edges: Vec<Edge>,
     /// The master axis.
     pub master: crate::world::master::MasterProfile,
-    /// Sensors tied to the servo axis.
-    pub axis_marks: Vec<crate::kernel::AxisMarks>,
     /// The scenario's products, per stream: the sensor slot and the products (for reports and
     /// tests).
     pub products: Vec<(SlotId, Vec<crate::world::products::Product>)>,
     /// Scenario duration, if set.
     pub duration_ns: Option<u64>,
-    /// The ORION DSP axes, with their scenario marks, when the machine has any.
-    pub orion: Option<crate::kernel::orion::Orion>,
-    /// The pick & place module with its belts and workpieces, when the machine has one.
-    pub pickplace: Option<Box<crate::kernel::pickplace::PickPlaceCell>>,
+    /// The devices, in the order they update: the drive, then the DSP axes and the pick &
+    /// place module when the machine has them.
+    pub devices: Vec<Box<dyn Device>>,
+}
+
+crate::bind_slots! {
+    /// The members the scheduler keeps for each program.
+    struct ProgramSlots for crate::registry::catalog::PROGRAM_TYPE {
+        running: "Running",
+        task: "Task",
+    }
+}
+
+crate::bind_slots! {
+    /// The master's members, which the world sets every update.
+    struct MasterSlots for crate::registry::catalog::MOTION_TYPE {
+        position: "MasterPosnFeedback",
+        velocity: "MasterVelFeedback",
+    }
+}
+
+/// The devices' view of the moment: the machine's update, its master, its inputs' edges and
+/// its trace (borrowed field by field, so the devices and values can be borrowed beside it).
+macro_rules! now {
+    ($m:expr) => {
+        Now {
+            tick: $m.tick,
+            time_ns: $m.tick * $m.image.tick_ns,
+            tick_ns: $m.image.tick_ns,
+            master: $m.master_now,
+            master_profile: &$m.world.master,
+            activity: &$m.activity,
+            trace: &mut $m.trace,
+        }
+    };
 }
 
 /// A run-time error in a program.
@@ -139,7 +169,7 @@ pub struct Machine {
     image: MachineImage,
     values: Vec<f64>,
     snapshot: Vec<f64>,
-    kernel: Kernel,
+    devices: Devices,
     world: World,
     tasks: Vec<Task>,
     trace: Trace,
@@ -149,11 +179,11 @@ pub struct Machine {
     assign_last: Vec<Option<bool>>,
     instructions: u64,
     error: Option<RunError>,
-    running_slots: Vec<(SlotId, SlotId)>,
+    running_slots: Vec<ProgramSlots>,
     /// Master position at the current update.
     master_now: f64,
     /// Slots of the master's position and velocity.
-    master_slots: (SlotId, SlotId),
+    master_slots: MasterSlots,
     /// The run has begun: `start` traced, autostart programs started.
     begun: bool,
     /// An update has been computed (`tick` is the last one computed, not the next).
@@ -197,33 +227,20 @@ pub(crate) fn trace_changes(
 
 impl Machine {
     /// A machine ready to run, writing its trace to `trace`.
-    pub fn new(image: MachineImage, trace: Trace) -> Machine {
+    pub fn new(mut image: MachineImage, trace: Trace) -> Machine {
         let values = image.initial.clone();
-        let mut kernel = Kernel::new(&image.registry);
-        kernel.set_marks(image.axis_marks.clone());
-        kernel.orion = image.orion.clone();
-        kernel.pickplace = image.pickplace.clone();
+        let devices = Devices::new(std::mem::take(&mut image.devices));
         let world = World::new(image.edges.clone(), image.master.clone());
         let tasks = (0..image.tasks).map(|_| Task::free()).collect();
         let slot_count = image.registry.slot_count();
         let running_slots = (0..image.registry.of(crate::registry::Kind::Program).count)
-            .map(|i| {
-                (
-                    crate::kernel::slot(
-                        &image.registry,
-                        crate::registry::Kind::Program,
-                        i,
-                        "Running",
-                    ),
-                    crate::kernel::slot(&image.registry, crate::registry::Kind::Program, i, "Task"),
-                )
-            })
+            .map(|i| ProgramSlots::of(&image.registry, i))
             .collect();
         let assign_last = vec![None; image.assignments.len()];
         let mut m = Machine {
             snapshot: Vec::new(),
             values,
-            kernel,
+            devices,
             world,
             tasks,
             trace,
@@ -235,20 +252,7 @@ impl Machine {
             error: None,
             running_slots,
             master_now: 0.0,
-            master_slots: (
-                crate::kernel::slot(
-                    &image.registry,
-                    crate::registry::Kind::Motion,
-                    0,
-                    "MasterPosnFeedback",
-                ),
-                crate::kernel::slot(
-                    &image.registry,
-                    crate::registry::Kind::Motion,
-                    0,
-                    "MasterVelFeedback",
-                ),
-            ),
+            master_slots: MasterSlots::of(&image.registry, 0),
             begun: false,
             stepped: false,
             repl_task: None,
@@ -256,7 +260,7 @@ impl Machine {
             io_down: false,
             image,
         };
-        m.kernel.start(&mut m.values);
+        m.devices.start(&mut m.values);
         m.snapshot = m.values[..slot_count].to_vec();
         m
     }
@@ -288,9 +292,9 @@ impl Machine {
         self.run_observed(duration_ns, &mut |_| {})
     }
 
-    /// The pick & place module, when the machine has one.
-    pub fn pickplace(&self) -> Option<&crate::kernel::pickplace::PickPlaceCell> {
-        self.kernel.pickplace.as_deref()
+    /// The device of type `T`, when the machine has one (tools and tests look inside).
+    pub fn device<T: std::any::Any>(&self) -> Option<&T> {
+        self.devices.get::<T>()
     }
 
     /// The time of the current update, seconds.
@@ -469,15 +473,9 @@ impl Machine {
         self.io.close()
     }
 
-    /// Every motion comes to rest at StopDeceleration (at once when it is 0).
+    /// Every device brings its motion to rest (`Stop`, an I/O fault).
     fn stop_all_motion(&mut self) {
-        let now = Now::at(
-            self.tick,
-            self.image.tick_ns,
-            self.master_now,
-            &mut self.trace,
-        );
-        self.kernel.stop_all(&mut self.values, &now);
+        self.devices.stop_all(&mut self.values, &mut now!(self));
     }
 
     /// A link going down puts the machine in its safe state: the fault is traced with its
@@ -500,9 +498,7 @@ impl Machine {
                     }
                 }
                 self.stop_all_motion();
-                if let Some(pp) = self.kernel.pickplace.as_mut() {
-                    pp.external_stop = true;
-                }
+                self.devices.hold(true);
             }
             LinkEvent::Warning(message) => {
                 self.trace.machine_warning(self.tick, message);
@@ -516,9 +512,7 @@ impl Machine {
                     },
                 );
                 self.io_down = false;
-                if let Some(pp) = self.kernel.pickplace.as_mut() {
-                    pp.external_stop = false;
-                }
+                self.devices.hold(false);
             }
         }
     }
@@ -533,8 +527,8 @@ impl Machine {
                 .read_inputs(t, now_ns, &mut self.world, &mut self.values, &mut activity);
         self.activity = activity;
         self.master_now = self.world.master.position(t);
-        self.values[self.master_slots.0 as usize] = self.master_now;
-        self.values[self.master_slots.1 as usize] = self.world.master.speed(t);
+        self.values[self.master_slots.position as usize] = self.master_now;
+        self.values[self.master_slots.velocity as usize] = self.world.master.speed(t);
         for event in events {
             self.link_event(event);
         }
@@ -542,54 +536,26 @@ impl Machine {
         if self.error.is_some() {
             return;
         }
-        {
-            // The control loop: motion generators, derived status (queue compares on the new
-            // positions), timers. The task runs after it, as on the drive.
-            let master_speed = self.world.master.speed(self.seconds());
-            let master = &self.world.master;
-            let mut now = Now::at(
-                self.tick,
-                self.image.tick_ns,
-                self.master_now,
-                &mut self.trace,
-            );
-            self.kernel
-                .generate(&mut self.values, &mut now, master_speed, &|at| {
-                    master.position(at)
-                });
-            if let Some(orion) = self.kernel.orion.as_mut() {
-                if let Err(message) = orion.generate(&mut self.values, &self.activity, &mut now) {
-                    now.trace.machine_error(self.tick, message.clone());
-                    self.error = Some(RunError {
-                        task: 0,
-                        program: 0,
-                        file: "DSP axes".into(),
-                        line: 0,
-                        message,
-                        time: self.tick as f64 * self.image.tick_ns as f64 / 1e9,
-                    });
-                    return;
-                }
-            }
-            if let Some(pp) = self.kernel.pickplace.as_mut() {
-                if let Err(message) = pp.generate(&mut self.values, &mut now) {
-                    now.trace.machine_error(self.tick, message.clone());
-                    self.error = Some(RunError {
-                        task: 0,
-                        program: 0,
-                        file: "pick & place".into(),
-                        line: 0,
-                        message,
-                        time: self.tick as f64 * self.image.tick_ns as f64 / 1e9,
-                    });
-                    return;
-                }
-            }
-            self.kernel.derive(&mut self.values, &mut now);
-            self.kernel.update(&mut self.values, &now);
-            let made = std::mem::take(&mut self.kernel.pending_edges);
-            self.world.inject(made);
+        // The control loop: every device moves to this update, then derives its status (queue
+        // compares on the new positions, PLS windows, timers). The task runs after it, as on
+        // the drive.
+        let updated = self.devices.update(&mut self.values, &mut now!(self));
+        if let Err(e) = updated {
+            self.trace.machine_error(self.tick, e.message.clone());
+            self.error = Some(RunError {
+                task: 0,
+                program: 0,
+                file: e.device.into(),
+                line: 0,
+                message: e.message,
+                time: self.tick as f64 * self.image.tick_ns as f64 / 1e9,
+            });
+            return;
         }
+        self.devices.derive(&mut self.values, &mut now!(self));
+        let mut made = Vec::new();
+        self.devices.take_edges(&mut made);
+        self.world.inject(made);
         // While the I/O link is down the programs are held: their inputs are stale.
         if !self.io_down {
             self.unblock();
@@ -642,28 +608,25 @@ impl Machine {
             } else {
                 self.seconds()
             };
-            let mut now = Now::at(
-                self.tick,
-                self.image.tick_ns,
-                self.master_now,
-                &mut self.trace,
-            );
+            let target = Target {
+                hook: a.dest.hook,
+                slot: a.dest.slot,
+                instance: a.dest.instance,
+            };
             let result = match (a.dest.access, a.dest.hook) {
                 (Access::Action, _) if !on => Ok(()),
                 // A module input (it latches in hardware) initiating a motion starts it at its
                 // exact edge, as `Using Capture` would.
                 (Access::Action, Hook::MotionStart) if a.latched && edge_at.is_some() => {
-                    let master = self.world.master.position(edge);
-                    match self.kernel.initiate_from_edge(
-                        a.dest.hook,
-                        a.dest.slot,
-                        a.dest.instance,
-                        edge,
-                        master,
+                    match self.devices.act(
+                        target,
+                        StartRef::Now,
+                        0,
+                        When::Edge(edge),
                         &mut self.values,
-                        &mut now,
+                        &mut now!(self),
                     ) {
-                        Ok(crate::kernel::ActOutcome::ProfileBusy) => {
+                        Ok(ActOutcome::ProfileBusy) => {
                             let message = format!("{} from an assignment: a motion is running on its profile; ignored", a.dest.name);
                             self.trace.machine_warning(self.tick, message);
                             Ok(())
@@ -671,45 +634,15 @@ impl Machine {
                         other => other.map(|_| ()),
                     }
                 }
-                (Access::Action, _) => {
-                    self.control_or_act(a.dest.hook, a.dest.instance, a.dest.slot)
-                }
-                // Index.N.SensorTrigger from an input: the sensor edge at its exact time.
-                (_, Hook::MotionInput) if a.dest.kind == crate::registry::Kind::Index => {
-                    let master = &self.world.master;
-                    self.kernel
-                        .sensor_edge(a.dest.instance, on, edge, &mut self.values, &|t| {
-                            master.position(t)
-                        });
-                    Ok(())
-                }
-                (_, Hook::CaptureActivate) => {
-                    let master = &self.world.master;
-                    let command =
-                        self.kernel
-                            .command_at(edge, &|t| master.position(t), &self.values);
-                    let at = crate::kernel::capture::Positions {
-                        master: master.position(edge),
-                        command,
-                        feedback: command,
-                    };
-                    self.kernel.capture_edge(
-                        a.dest.instance,
-                        on,
-                        edge,
-                        at,
-                        &mut self.values,
-                        &mut now,
-                    );
-                    Ok(())
-                }
-                _ => self.kernel.write(
-                    a.dest.hook,
-                    a.dest.instance,
-                    a.dest.slot,
+                (Access::Action, _) => self.control_or_act(target),
+                // From an input: the edge at its exact time (a capture latches there, a
+                // registration index's sensor acts there).
+                _ => self.devices.write(
+                    target,
                     f64::from(on),
+                    When::Edge(edge),
                     &mut self.values,
-                    &mut now,
+                    &mut now!(self),
                 ),
             };
             if let Err(message) = result {
@@ -734,11 +667,12 @@ impl Machine {
         });
     }
 
-    fn control_or_act(&mut self, hook: Hook, instance: u32, slot: SlotId) -> Result<(), String> {
-        match hook {
-            Hook::ProgramInitiate => self.start_program(instance),
+    /// Run an action: program control here, the rest on the devices.
+    fn control_or_act(&mut self, target: Target) -> Result<(), String> {
+        match target.hook {
+            Hook::ProgramInitiate => self.start_program(target.instance),
             Hook::ProgramStop => {
-                self.stop_program(instance);
+                self.stop_program(target.instance);
                 Ok(())
             }
             Hook::StopAll => {
@@ -746,25 +680,17 @@ impl Machine {
                 self.stop_all_motion();
                 Ok(())
             }
-            _ => {
-                let mut now = Now::at(
-                    self.tick,
-                    self.image.tick_ns,
-                    self.master_now,
-                    &mut self.trace,
-                );
-                self.kernel
-                    .act(
-                        hook,
-                        slot,
-                        instance,
-                        crate::devices::command::StartRef::Now,
-                        0,
-                        &mut self.values,
-                        &mut now,
-                    )
-                    .map(|_| ())
-            }
+            _ => self
+                .devices
+                .act(
+                    target,
+                    StartRef::Now,
+                    0,
+                    When::Now,
+                    &mut self.values,
+                    &mut now!(self),
+                )
+                .map(|_| ()),
         }
     }
 
@@ -809,7 +735,11 @@ impl Machine {
     }
 
     fn set_running(&mut self, program: u32, task: Option<usize>) {
-        if let Some(&(running, task_slot)) = self.running_slots.get(program as usize) {
+        if let Some(&ProgramSlots {
+            running,
+            task: task_slot,
+        }) = self.running_slots.get(program as usize)
+        {
             self.values[running as usize] = f64::from(task.is_some());
             self.values[task_slot as usize] = task.map_or(-1.0, |t| t as f64);
         }
@@ -864,7 +794,7 @@ impl Machine {
                     self.tasks[ti].state = TaskState::Ready
                 }
                 TaskState::MotionWait { profile }
-                    if !self.kernel.profile_busy(profile as usize) =>
+                    if !self.devices.profile_busy(profile as usize) =>
                 {
                     self.tasks[ti].state = TaskState::Ready
                 }
@@ -904,15 +834,10 @@ impl Machine {
         let slot_count = self.image.registry.slot_count() as u32;
         let mut ctx = Ctx {
             task,
-            kernel: &mut self.kernel,
+            devices: &mut self.devices,
             registry: &self.image.registry,
             snapshot: &mut self.snapshot,
-            now: Now::at(
-                self.tick,
-                self.image.tick_ns,
-                self.master_now,
-                &mut self.trace,
-            ),
+            now: now!(self),
             slot_count,
         };
         let mut executed = self.instructions;
@@ -1092,7 +1017,12 @@ impl Machine {
                 }
                 Exit::Control { hook, instance, pc } => {
                     set_pc(self, pc);
-                    let r = self.control_or_act(hook, instance, 0);
+                    // Only program control leaves the interpreter: its slot is not needed.
+                    let r = self.control_or_act(Target {
+                        hook,
+                        slot: 0,
+                        instance,
+                    });
                     if let Err(message) = r {
                         self.fault(ti, frame.chunk, pc.saturating_sub(1), message);
                         return;

@@ -2,7 +2,7 @@
 //! (X, Y, Z, A, B, C, A1–A6, Aux1) and their limits, through the kinematics.
 
 use super::setup::{AxisLimit, Kinematics};
-use crate::kinematics::KinematicsError;
+use crate::devices::pickplace::kinematics::KinematicsError;
 
 /// Number of axes the manual's arrays index (1–13).
 pub const AXES: usize = 13;

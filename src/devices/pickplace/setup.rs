@@ -2,7 +2,7 @@
 //! kinematics, the real axes' limits (the manual keeps them in the axes group's AXIS_REF
 //! settings), software limit positions, and the belt drives' own limits.
 
-use crate::kinematics::delta3::Delta3;
+use crate::devices::pickplace::kinematics::delta3::Delta3;
 
 /// How the tool's Cartesian position maps to the real axes.
 #[derive(Debug, Clone, PartialEq)]

@@ -11,7 +11,7 @@ use super::robot::{Pose, Robot, AXES, AXIS_NAMES};
 use super::setup::AxisLimit;
 use super::track::Belt;
 use super::trajectory::{Follow, Leg, Trajectory};
-use crate::kinematics::KinematicsError;
+use crate::devices::pickplace::kinematics::KinematicsError;
 
 /// How the path is shaped and how fast it may go (the module's parameters).
 #[derive(Debug, Clone, Copy, PartialEq)]

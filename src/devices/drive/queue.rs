@@ -1,22 +1,24 @@
 //! The Queue object: entries, offset and exit position, status bits.
 
-use crate::registry::{Kind, Registry, SlotId};
+use crate::registry::catalog::QUEUE_TYPE;
+use crate::registry::Registry;
 use crate::trace::{Event, EventKind, Trace};
 use std::collections::VecDeque;
 
-/// Slots of one queue's members.
-#[derive(Debug, Clone)]
-struct Slots {
-    data_out: SlotId,
-    offset: SlotId,
-    exit_position: SlotId,
-    exit: SlotId,
-    compare_enable: SlotId,
-    empty: SlotId,
-    full: SlotId,
-    overflow: SlotId,
-    count: SlotId,
-    full_level: SlotId,
+crate::bind_slots! {
+    /// Slots of one queue's members.
+    struct Slots for QUEUE_TYPE {
+        data_out: "DataOut",
+        offset: "QueueOffset",
+        exit_position: "ExitPosition",
+        exit: "QueueExit",
+        compare_enable: "QueueCompareEnable",
+        empty: "QueueEmpty",
+        full: "QueueFull",
+        overflow: "QueueOverflow",
+        count: "QueueCount",
+        full_level: "FullLevel",
+    }
 }
 
 /// One queue.
@@ -31,24 +33,12 @@ pub struct Queue {
 impl Queue {
     /// Queue `index` as set up in the registry.
     pub fn new(registry: &Registry, index: u32) -> Queue {
-        let slot = |m: &str| super::slot(registry, Kind::Queue, index, m);
         let size = registry.queue_sizes.get(index as usize).map_or(8, |s| s.0) as usize;
         Queue {
             index,
             entries: VecDeque::with_capacity(size),
             size,
-            s: Slots {
-                data_out: slot("DataOut"),
-                offset: slot("QueueOffset"),
-                exit_position: slot("ExitPosition"),
-                exit: slot("QueueExit"),
-                compare_enable: slot("QueueCompareEnable"),
-                empty: slot("QueueEmpty"),
-                full: slot("QueueFull"),
-                overflow: slot("QueueOverflow"),
-                count: slot("QueueCount"),
-                full_level: slot("FullLevel"),
-            },
+            s: Slots::of(registry, index),
         }
     }
 

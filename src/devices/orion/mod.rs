@@ -2,16 +2,16 @@
 //! motion statements go in; each update, positions, latches and status come out into the
 //! `Axis.N.…` slots, and latches, blinded marks and stepped corrections into the trace.
 
+pub mod dsp;
 mod moves;
-mod registration;
 
-use super::dsp::{DspAxes, DspAxisConfig, DspEvent, Queued, Sensor};
-use super::regist::Regist;
-use super::Now;
-use crate::devices::command::MotionCmd;
+use super::command::{KernelFunc, MotionCmd};
+use super::regist::axes::{FastTrack, RegistAxes};
+use super::{ActOutcome, AxisSet, Device, Now, StartRef, Target, When};
+use crate::registry::catalog::AXIS_TYPE;
 use crate::registry::{Hook, Kind, Registry, SlotId};
 use crate::trace::Event;
-use crate::world::InputActivity;
+use dsp::{DspAxes, DspAxisConfig, DspEvent, Queued, Sensor};
 
 /// What a mark sensor is wired to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -55,6 +55,26 @@ struct Members {
     latched_position: [u32; 3],
 }
 
+/// The Axis members the DSP axes set, bound when pacer is compiled.
+const MEMBERS: Members = {
+    Members {
+        position: crate::member_index!(AXIS_TYPE, "Position") as u32,
+        velocity: crate::member_index!(AXIS_TYPE, "Velocity") as u32,
+        ratio: crate::member_index!(AXIS_TYPE, "Ratio") as u32,
+        dsp_done: crate::member_index!(AXIS_TYPE, "DspDone") as u32,
+        latched: [
+            crate::member_index!(AXIS_TYPE, "Zref") as u32,
+            crate::member_index!(AXIS_TYPE, "Asen") as u32,
+            crate::member_index!(AXIS_TYPE, "Bsen") as u32,
+        ],
+        latched_position: [
+            crate::member_index!(AXIS_TYPE, "PosZref") as u32,
+            crate::member_index!(AXIS_TYPE, "PosAsen") as u32,
+            crate::member_index!(AXIS_TYPE, "PosBsen") as u32,
+        ],
+    }
+};
+
 /// The DSP axes of a machine and where their members live.
 #[derive(Debug, Clone)]
 pub struct Orion {
@@ -68,40 +88,11 @@ pub struct Orion {
     strings: Vec<String>,
     /// Inputs named by `AFTER`, with their value at the last update.
     after: Vec<(SlotId, bool)>,
-    /// Per axis (as `configs`): REGIST's servo side.
-    regists: Vec<Regist>,
-    /// Per axis: what is added to the axis's continuous position to report it (DIM
-    /// re-referencing at good marks).
-    reference: Vec<f64>,
-    /// Per axis: the continuous position at the previous update.
-    last: Vec<f64>,
-    /// Fast-input marks.
-    fast: Vec<FastTrack>,
-    /// Inputs wired to axes' fast inputs: (axis index, input slot).
-    fast_inputs: Vec<(usize, SlotId)>,
-    /// Per axis: the numbers of the axes it paces (fixed by the machine file).
-    followers: Vec<Vec<u32>>,
-}
-
-/// Marks on an axis seen by its fast input.
-#[derive(Debug, Clone)]
-struct FastTrack {
-    axis: u32,
-    positions: Vec<f64>,
-    on_time: f64,
-    /// Times the sensor turns off again, pending.
-    falls: Vec<f64>,
+    /// REGIST on the axes' fast inputs.
+    regist: RegistAxes,
 }
 
 const SENSORS: [Sensor; 3] = [Sensor::Zref, Sensor::Asen, Sensor::Bsen];
-
-fn member(def: &crate::registry::TypeDef, name: &str) -> u32 {
-    def.members
-        .iter()
-        .position(|m| m.name == name)
-        .unwrap_or_else(|| panic!("catalog has no Axis.{name} (a bug in pacer's catalog)"))
-        as u32
-}
 
 impl Orion {
     /// The DSP axes `configs` (machine.toml `[axis.N]`) with their scenario marks and start
@@ -114,7 +105,6 @@ impl Orion {
         servo_update: f64,
     ) -> Result<Orion, String> {
         let axes = registry.of(Kind::Axis);
-        let def = axes.def;
         let (configs, defaults): (Vec<DspAxisConfig>, Vec<MoveDefaults>) =
             configs.into_iter().unzip();
         let mut dsp = DspAxes::new(&configs).map_err(|e| e.0)?;
@@ -124,81 +114,123 @@ impl Orion {
                 MarkInput::Card(sensor) => dsp
                     .add_marks(
                         m.axis,
-                        super::dsp::card_of(m.axis),
+                        dsp::card_of(m.axis),
                         sensor,
                         m.positions.clone(),
                         m.width,
                     )
                     .map_err(|e| e.0)?,
-                MarkInput::Fast { on_time } => fast.push(FastTrack {
-                    axis: m.axis,
-                    positions: m.positions.clone(),
-                    on_time,
-                    falls: Vec::new(),
-                }),
+                MarkInput::Fast { on_time } => {
+                    fast.push(FastTrack::new(m.axis, m.positions.clone(), on_time))
+                }
             }
         }
-        let followers = configs
-            .iter()
-            .map(|m| {
-                configs
-                    .iter()
-                    .filter(|f| f.pacer == Some(m.number))
-                    .map(|f| f.number)
-                    .collect()
-            })
-            .collect();
-        let regists = configs
-            .iter()
-            .map(|_| Regist::new(servo_update).map_err(|e| e.0))
-            .collect::<Result<Vec<_>, _>>()?;
+        let regist = RegistAxes::new(&configs, fast, servo_update)?;
         Ok(Orion {
             dsp,
             configs,
             defaults,
             base: axes.base,
-            per: def.members.len() as u32,
+            per: AXIS_TYPE.members.len() as u32,
             count: axes.count,
-            members: Members {
-                position: member(def, "Position"),
-                velocity: member(def, "Velocity"),
-                ratio: member(def, "Ratio"),
-                dsp_done: member(def, "DspDone"),
-                latched: [
-                    member(def, "Zref"),
-                    member(def, "Asen"),
-                    member(def, "Bsen"),
-                ],
-                latched_position: [
-                    member(def, "PosZref"),
-                    member(def, "PosAsen"),
-                    member(def, "PosBsen"),
-                ],
-            },
+            members: MEMBERS,
             strings,
             after: Vec::new(),
-            reference: vec![0.0; regists.len()],
-            last: vec![0.0; regists.len()],
-            regists,
-            fast,
-            fast_inputs: Vec::new(),
-            followers,
+            regist,
         })
     }
 
     /// Wire input `slot` to the fast input of axis `n` (its edges keep their exact times).
     pub fn wire_fast_input(&mut self, n: u32, slot: SlotId) -> Result<(), String> {
-        let i = self
-            .configs
-            .iter()
-            .position(|c| c.number == n)
-            .ok_or_else(|| format!("axis {n} is not a DSP axis of this machine"))?;
-        self.fast_inputs.push((i, slot));
-        Ok(())
+        self.regist.wire_fast_input(n, slot)
     }
 
+    /// The position axis `i` reports: continuous, re-referenced, rolled over at POS.MOD@.
+    fn reported(&self, i: usize) -> Result<f64, String> {
+        let n = self.configs[i].number;
+        let p = self.dsp.position(n).map_err(|e| e.0)? + self.regist.reference(i);
+        let m = self.dsp.pos_mod(n).map_err(|e| e.0)?;
+        Ok(if m > 0.0 { p.rem_euclid(m) } else { p })
+    }
+
+    /// The control loop's part for the DSP axes: AFTER inputs, then motion to `now`, latches
+    /// and status into the slots.
+    fn generate(&mut self, v: &mut [f64], now: &mut Now<'_>) -> Result<(), String> {
+        let t = now.seconds();
+        for (slot, last) in &mut self.after {
+            let on = v[*slot as usize] != 0.0;
+            if on && !*last {
+                self.dsp.trigger(*slot, t).map_err(|e| e.0)?;
+            }
+            *last = on;
+        }
+        let events = self.dsp.advance(t).map_err(|e| e.0)?;
+        self.regist.update(&mut self.dsp, t, now.activity, now)?;
+        for e in events {
+            match e {
+                DspEvent::Latched {
+                    axis,
+                    which,
+                    time,
+                    position,
+                    ..
+                } => now.trace.emit(
+                    now.tick,
+                    &Event::Latch {
+                        axis,
+                        sensor: which.name().into(),
+                        time,
+                        position,
+                    },
+                ),
+                DspEvent::EdgeBlinded { card, which, time } => now.trace.emit(
+                    now.tick,
+                    &Event::Blinded {
+                        card,
+                        sensor: which.name().into(),
+                        time,
+                    },
+                ),
+                _ => {}
+            }
+        }
+        for (i, c) in self.configs.iter().enumerate() {
+            let n = c.number;
+            let m = self.members;
+            self.regist
+                .note_position(i, self.dsp.position(n).map_err(|e| e.0)?);
+            let put = |v: &mut [f64], member: u32, x: f64| {
+                if let Some(s) =
+                    (n >= 1 && n <= self.count).then(|| self.base + (n - 1) * self.per + member)
+                {
+                    v[s as usize] = x;
+                }
+            };
+            put(v, m.position, self.reported(i)?);
+            put(v, m.velocity, self.dsp.velocity(n).map_err(|e| e.0)?);
+            put(
+                v,
+                m.ratio,
+                self.dsp.ratio(n).map_err(|e| e.0)?.unwrap_or(0.0),
+            );
+            put(v, m.dsp_done, f64::from(self.dsp.done(n).map_err(|e| e.0)?));
+            for (k, sensor) in SENSORS.iter().enumerate() {
+                let latched = self.dsp.latched(n, *sensor).map_err(|e| e.0)?;
+                put(v, m.latched[k], f64::from(latched));
+                put(
+                    v,
+                    m.latched_position[k],
+                    self.dsp.latched_position(n, *sensor).map_err(|e| e.0)?,
+                );
+            }
+        }
+        Ok(())
+    }
+}
+
+impl AxisSet for Orion {
     /// The axis numbers in an axis-set value, checked against the machine.
-    pub fn axes_of(&self, mask: f64) -> Result<Vec<u32>, String> {
+    fn axes_of(&self, mask: f64) -> Result<Vec<u32>, String> {
         if !(mask.fract() == 0.0 && (0.0..65536.0).contains(&mask)) {
             return Err(format!("{mask} is not an axis set"));
         }
@@ -218,12 +250,12 @@ impl Orion {
     }
 
     /// The slot of `member` (an index into the Axis members) of axis `n`.
-    pub fn slot(&self, n: u32, member: u32) -> Option<SlotId> {
+    fn slot(&self, n: u32, member: u32) -> Option<SlotId> {
         (n >= 1 && n <= self.count).then(|| self.base + (n - 1) * self.per + member)
     }
 
     /// A program writes a controller variable of axis `n`.
-    pub fn write(
+    fn write(
         &mut self,
         hook: Hook,
         n: u32,
@@ -296,11 +328,11 @@ impl Orion {
 
     /// A motion statement on the axes of `mask`. `Ok(false)`: a queue is full, retry later.
     /// `Ok(true)` and a message: accepted, with a warning to show.
-    pub fn motion(
+    fn motion(
         &mut self,
         cmd: MotionCmd,
         mask: f64,
-        args: &[f64],
+        args: &[f64; 4],
         v: &mut [f64],
     ) -> Result<(bool, Option<String>), String> {
         let axes = self.axes_of(mask)?;
@@ -365,90 +397,73 @@ impl Orion {
         Ok((true, warning))
     }
 
-    /// The position axis `i` reports: continuous, re-referenced, rolled over at POS.MOD@.
-    fn reported(&self, i: usize) -> Result<f64, String> {
-        let n = self.configs[i].number;
-        let p = self.dsp.position(n).map_err(|e| e.0)? + self.reference[i];
-        let m = self.dsp.pos_mod(n).map_err(|e| e.0)?;
-        Ok(if m > 0.0 { p.rem_euclid(m) } else { p })
+    fn call(
+        &mut self,
+        func: KernelFunc,
+        args: &[f64],
+        _v: &mut [f64],
+        now: &mut Now<'_>,
+    ) -> Result<f64, String> {
+        self.regist.call(func, args, now)
+    }
+}
+
+impl Device for Orion {
+    fn name(&self) -> &'static str {
+        "DSP axes"
     }
 
-    /// The control loop's part for the DSP axes: AFTER inputs, then motion to `now`, latches
-    /// and status into the slots.
-    pub fn generate(
+    fn describe(&self) -> &'static str {
+        "MotionBASIC DSP axes"
+    }
+
+    /// The DSP axes have no stop ramp yet: an I/O fault could not bring them to rest.
+    fn safe_state(&self) -> bool {
+        false
+    }
+
+    fn serves(&self, hook: Hook) -> bool {
+        matches!(hook, Hook::AxisLatch | Hook::AxisSetting)
+    }
+
+    fn update(&mut self, v: &mut [f64], now: &mut Now<'_>) -> Result<(), String> {
+        self.generate(v, now)
+    }
+
+    /// A member of `Axis.N` written by name (`Axis.2.PosMod`, from PowerTools or an
+    /// assignment).
+    fn write(
         &mut self,
+        target: Target,
+        value: f64,
+        _when: When,
         v: &mut [f64],
-        activity: &[InputActivity],
         now: &mut Now<'_>,
     ) -> Result<(), String> {
-        let t = now.seconds();
-        for (slot, last) in &mut self.after {
-            let on = v[*slot as usize] != 0.0;
-            if on && !*last {
-                self.dsp.trigger(*slot, t).map_err(|e| e.0)?;
-            }
-            *last = on;
-        }
-        let events = self.dsp.advance(t).map_err(|e| e.0)?;
-        self.registration(t, activity, now)?;
-        for e in events {
-            match e {
-                DspEvent::Latched {
-                    axis,
-                    which,
-                    time,
-                    position,
-                    ..
-                } => now.trace.emit(
-                    now.tick,
-                    &Event::Latch {
-                        axis,
-                        sensor: which.name().into(),
-                        time,
-                        position,
-                    },
-                ),
-                DspEvent::EdgeBlinded { card, which, time } => now.trace.emit(
-                    now.tick,
-                    &Event::Blinded {
-                        card,
-                        sensor: which.name().into(),
-                        time,
-                    },
-                ),
-                _ => {}
-            }
-        }
-        for (i, c) in self.configs.iter().enumerate() {
-            let n = c.number;
-            let m = self.members;
-            self.last[i] = self.dsp.position(n).map_err(|e| e.0)?;
-            let put = |v: &mut [f64], member: u32, x: f64| {
-                if let Some(s) =
-                    (n >= 1 && n <= self.count).then(|| self.base + (n - 1) * self.per + member)
-                {
-                    v[s as usize] = x;
-                }
-            };
-            put(v, m.position, self.reported(i)?);
-            put(v, m.velocity, self.dsp.velocity(n).map_err(|e| e.0)?);
-            put(
-                v,
-                m.ratio,
-                self.dsp.ratio(n).map_err(|e| e.0)?.unwrap_or(0.0),
-            );
-            put(v, m.dsp_done, f64::from(self.dsp.done(n).map_err(|e| e.0)?));
-            for (k, sensor) in SENSORS.iter().enumerate() {
-                let latched = self.dsp.latched(n, *sensor).map_err(|e| e.0)?;
-                put(v, m.latched[k], f64::from(latched));
-                put(
-                    v,
-                    m.latched_position[k],
-                    self.dsp.latched_position(n, *sensor).map_err(|e| e.0)?,
-                );
-            }
-        }
-        Ok(())
+        let n = target.instance + 1;
+        let first = AxisSet::slot(self, n, 0).unwrap_or(target.slot);
+        let member = target.slot.saturating_sub(first);
+        AxisSet::write(self, target.hook, n, member, value, v, now)
+    }
+
+    fn act(
+        &mut self,
+        target: Target,
+        _start: StartRef,
+        _profile: u8,
+        _when: When,
+        _v: &mut [f64],
+        _now: &mut Now<'_>,
+    ) -> Result<ActOutcome, String> {
+        Err(format!("{:?} is not an action", target.hook))
+    }
+
+    fn axes(&mut self) -> Option<&mut dyn AxisSet> {
+        Some(self)
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 }
 

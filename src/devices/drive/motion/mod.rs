@@ -7,14 +7,7 @@ pub mod trapezoid;
 
 use trapezoid::{Phase, Trapezoid};
 
-/// What a motion's progress is measured in.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-pub enum Domain {
-    /// Seconds.
-    Time,
-    /// Master units.
-    Master,
-}
+pub use crate::devices::command::Domain;
 
 /// What a motion does over its domain.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -110,17 +103,36 @@ impl Plan {
     }
 }
 
-/// The object a motion belongs to, for status members and trace events.
-#[derive(Debug, Clone, PartialEq)]
-pub struct Owner {
-    /// Name in the trace, e.g. `Index.0` or `Dwell`.
-    pub name: String,
-    /// The object whose status members follow the motion (Index or Home, and its instance).
-    pub status: Option<(crate::registry::Kind, usize)>,
+/// The object a motion belongs to: its status members follow the motion, and the trace names
+/// it (`Index.0`, `Dwell`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Owner {
+    /// `Index.N`.
+    Index(u32),
+    /// `Home.N`.
+    Home(u32),
+    /// `Jog.N`.
+    Jog(u32),
+    /// The gear.
+    Gear,
+    /// A dwell (no object: `Dwell For Time`, `Dwell For Master Dist`).
+    Dwell,
+}
+
+impl std::fmt::Display for Owner {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Owner::Index(i) => write!(f, "Index.{i}"),
+            Owner::Home(i) => write!(f, "Home.{i}"),
+            Owner::Jog(i) => write!(f, "Jog.{i}"),
+            Owner::Gear => f.write_str("Gear"),
+            Owner::Dwell => f.write_str("Dwell"),
+        }
+    }
 }
 
 /// A motion on a profile.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Motion {
     /// Who runs it.
     pub owner: Owner,
@@ -166,7 +178,7 @@ impl Profile {
 }
 
 /// What happened to a motion during an update.
-#[derive(Debug, Clone, PartialEq)]
+#[derive(Debug, Clone, Copy, PartialEq)]
 pub enum Event {
     /// It reached its start: master position and axis position there.
     Started {
@@ -285,7 +297,7 @@ impl Axis {
         }
         let v0 = p.velocity;
         if !(decel.is_finite() && decel > 0.0) || v0 == 0.0 || !m.started {
-            let owner = m.owner.clone();
+            let owner = m.owner;
             p.last_end = None;
             p.motion = None;
             p.velocity = 0.0;
@@ -342,7 +354,7 @@ impl Axis {
                 Domain::Time => master_at(now.real_time_of(m.start)),
             };
             events.push(Event::Started {
-                owner: m.owner.clone(),
+                owner: m.owner,
                 master,
                 position: self.command(),
             });
@@ -366,7 +378,7 @@ impl Axis {
             });
         } else {
             events.push(Event::Running {
-                owner: m.owner.clone(),
+                owner: m.owner,
                 phase,
             });
             self.profiles[i].motion = Some(m);
@@ -389,10 +401,7 @@ mod tests {
     }
 
     fn owner() -> Owner {
-        Owner {
-            name: "Index.0".into(),
-            status: None,
-        }
+        Owner::Index(0)
     }
 
     #[test]

@@ -1,20 +1,122 @@
-//! REGIST on the DSP axes: the kernel functions, the fast-input edges of an update, and what a
-//! mark does to the axes (re-referencing, corrections released to the geared axes).
+//! REGIST on the DSP axes: the adapter between the REGIST model (one per axis) and the ORION
+//! DSP axes it runs on. Each update it gathers the fast-input edges (scenario marks and wired
+//! inputs, at their exact times and positions), classifies them, re-references the axes at
+//! good marks and releases the corrections to the geared axes; programs reach it through the
+//! kernel functions (`REGIST`, `STATUSSV`, `READ_SV`, `WRITE_SV`).
 
-use super::Orion;
+use super::{MarkClass, Regist, RegistParams};
 use crate::devices::command::KernelFunc;
-use crate::kernel::regist::{MarkClass, RegistParams};
-use crate::kernel::Now;
+use crate::devices::orion::dsp::{DspAxes, DspAxisConfig};
+use crate::devices::Now;
+use crate::registry::SlotId;
 use crate::trace::{Event, Origin};
 use crate::world::InputActivity;
 
-impl Orion {
+/// Marks on an axis seen by its fast input (from the scenario).
+#[derive(Debug, Clone)]
+pub struct FastTrack {
+    /// The axis the marks are printed on.
+    pub axis: u32,
+    /// Mark positions, ascending.
+    pub positions: Vec<f64>,
+    /// How long the sensor stays on at each mark, s.
+    pub on_time: f64,
+    /// Times the sensor turns off again, pending.
+    falls: Vec<f64>,
+}
+
+impl FastTrack {
+    /// Marks at `positions` on `axis`, each seen for `on_time` seconds.
+    pub fn new(axis: u32, positions: Vec<f64>, on_time: f64) -> FastTrack {
+        FastTrack {
+            axis,
+            positions,
+            on_time,
+            falls: Vec::new(),
+        }
+    }
+}
+
+/// REGIST on every DSP axis of a machine (indexes follow the axes' set-up order).
+#[derive(Debug, Clone)]
+pub struct RegistAxes {
+    /// Each axis's number and the axis that paces it.
+    configs: Vec<(u32, Option<u32>)>,
+    /// Per axis: REGIST's servo side.
+    regists: Vec<Regist>,
+    /// Per axis: what is added to the axis's continuous position to report it (DIM
+    /// re-referencing at good marks).
+    reference: Vec<f64>,
+    /// Per axis: the continuous position at the previous update.
+    last: Vec<f64>,
+    /// Fast-input marks.
+    fast: Vec<FastTrack>,
+    /// Inputs wired to axes' fast inputs: (axis index, input slot).
+    fast_inputs: Vec<(usize, SlotId)>,
+    /// Per axis: the numbers of the axes it paces (fixed by the machine file).
+    followers: Vec<Vec<u32>>,
+}
+
+impl RegistAxes {
+    /// REGIST on the axes `configs`, with the scenario's fast-input marks.
+    pub fn new(
+        configs: &[DspAxisConfig],
+        fast: Vec<FastTrack>,
+        servo_update: f64,
+    ) -> Result<RegistAxes, String> {
+        let followers = configs
+            .iter()
+            .map(|m| {
+                configs
+                    .iter()
+                    .filter(|f| f.pacer == Some(m.number))
+                    .map(|f| f.number)
+                    .collect()
+            })
+            .collect();
+        let regists = configs
+            .iter()
+            .map(|_| Regist::new(servo_update).map_err(|e| e.0))
+            .collect::<Result<Vec<_>, _>>()?;
+        Ok(RegistAxes {
+            configs: configs.iter().map(|c| (c.number, c.pacer)).collect(),
+            reference: vec![0.0; regists.len()],
+            last: vec![0.0; regists.len()],
+            regists,
+            fast,
+            fast_inputs: Vec::new(),
+            followers,
+        })
+    }
+
+    /// Wire input `slot` to the fast input of axis `n` (its edges keep their exact times).
+    pub fn wire_fast_input(&mut self, n: u32, slot: SlotId) -> Result<(), String> {
+        let i = self
+            .configs
+            .iter()
+            .position(|c| c.0 == n)
+            .ok_or_else(|| format!("axis {n} is not a DSP axis of this machine"))?;
+        self.fast_inputs.push((i, slot));
+        Ok(())
+    }
+
+    /// What is added to axis `i`'s continuous position to report it.
+    pub fn reference(&self, i: usize) -> f64 {
+        self.reference.get(i).copied().unwrap_or(0.0)
+    }
+
+    /// Axis `i` stands at continuous position `p` at the end of this update.
+    pub fn note_position(&mut self, i: usize, p: f64) {
+        if let Some(l) = self.last.get_mut(i) {
+            *l = p;
+        }
+    }
+
     /// A kernel function on the DSP axes (`REGIST`, `STATUSSV`, `READ_SV`, `WRITE_SV`).
     pub fn call(
         &mut self,
         func: KernelFunc,
         args: &[f64],
-        _v: &mut [f64],
         now: &mut Now<'_>,
     ) -> Result<f64, String> {
         let arg = |i: usize| args.get(i).copied().unwrap_or(0.0);
@@ -23,7 +125,7 @@ impl Orion {
         let i = self
             .configs
             .iter()
-            .position(|c| f64::from(c.number) == axis)
+            .position(|c| f64::from(c.0) == axis)
             .ok_or_else(|| format!("axis {axis} is not a DSP axis of this machine ([axis.N])"))?;
         let var = || {
             let x = arg(1);
@@ -71,36 +173,36 @@ impl Orion {
     /// Fast-input edges of this update, in time order: (time, rising, axis index, position).
     fn fast_edges(
         &mut self,
+        dsp: &DspAxes,
         t: f64,
         activity: &[InputActivity],
     ) -> Result<Vec<(f64, bool, usize, f64)>, String> {
-        let t0 = self.dsp.previous_time();
+        let t0 = dsp.previous_time();
         let mut edges = Vec::new();
         for &(i, slot) in &self.fast_inputs {
-            let n = self.configs[i].number;
+            let n = self.configs[i].0;
             let Some(a) = activity.iter().find(|a| a.slot == slot) else {
                 continue;
             };
             for (at, rising) in [(a.first_rise, true), (a.first_fall, false)] {
                 if let Some(at) = at {
                     let at = at.clamp(t0, t);
-                    let p = self.dsp.position_at(n, at).map_err(|e| e.0)?;
+                    let p = dsp.position_at(n, at).map_err(|e| e.0)?;
                     edges.push((at, rising, i, p));
                 }
             }
         }
         for track in &mut self.fast {
-            let Some(i) = self.configs.iter().position(|c| c.number == track.axis) else {
+            let Some(i) = self.configs.iter().position(|c| c.0 == track.axis) else {
                 continue;
             };
             let n = track.axis;
-            let (p0, p1) = (self.last[i], self.dsp.position(n).map_err(|e| e.0)?);
+            let (p0, p1) = (self.last[i], dsp.position(n).map_err(|e| e.0)?);
             let (lo, hi) = (p0.min(p1), p0.max(p1));
             let from = track.positions.partition_point(|&m| m <= lo);
             let to = track.positions.partition_point(|&m| m <= hi);
             for &m in &track.positions[from..to] {
-                let at = self
-                    .dsp
+                let at = dsp
                     .time_at_position(n, m, t0, t)
                     .map_err(|e| e.0)?
                     .unwrap_or(t);
@@ -112,7 +214,7 @@ impl Orion {
             while k < track.falls.len() {
                 if track.falls[k] <= t {
                     let f = track.falls.swap_remove(k).max(t0);
-                    let p = self.dsp.position_at(n, f).map_err(|e| e.0)?;
+                    let p = dsp.position_at(n, f).map_err(|e| e.0)?;
                     edges.push((f, false, i, p));
                 } else {
                     k += 1;
@@ -125,14 +227,15 @@ impl Orion {
 
     /// REGIST's servo side for this update: fast-input marks classified and traced, DIM
     /// re-referencing, the window event, and corrections released to the axis.
-    pub(super) fn registration(
+    pub fn update(
         &mut self,
+        dsp: &mut DspAxes,
         t: f64,
         activity: &[InputActivity],
         now: &mut Now<'_>,
     ) -> Result<(), String> {
-        for (time, rising, i, position) in self.fast_edges(t, activity)? {
-            let n = self.configs[i].number;
+        for (time, rising, i, position) in self.fast_edges(dsp, t, activity)? {
+            let n = self.configs[i].0;
             let Some(mark) = self.regists[i]
                 .edge(time, position, rising)
                 .map_err(|e| e.0)?
@@ -158,9 +261,8 @@ impl Orion {
                 self.reference[i] = dim - mark.position;
             }
         }
-        for (i, c) in self.configs.iter().enumerate() {
-            let n = c.number;
-            let p = self.dsp.position(n).map_err(|e| e.0)?;
+        for (i, &(n, pacer)) in self.configs.iter().enumerate() {
+            let p = dsp.position(n).map_err(|e| e.0)?;
             if self.regists[i].passed(p).map_err(|e| e.0)? {
                 now.trace.emit(
                     now.tick,
@@ -170,17 +272,17 @@ impl Orion {
                     },
                 );
             }
-            let ratio = self.dsp.ratio(n).map_err(|e| e.0)?;
-            let (master_moving, ratio_move) = match (c.pacer, ratio) {
+            let ratio = dsp.ratio(n).map_err(|e| e.0)?;
+            let (master_moving, ratio_move) = match (pacer, ratio) {
                 // Slave registration: this axis runs the ratio move.
-                (Some(p), Some(_)) => (self.dsp.velocity(p).map_err(|e| e.0)? != 0.0, true),
+                (Some(p), Some(_)) => (dsp.velocity(p).map_err(|e| e.0)? != 0.0, true),
                 // Master registration: this axis is the master of the ratio moves.
                 _ => {
                     let mut geared = false;
                     for &f in &self.followers[i] {
-                        geared |= self.dsp.ratio(f).map_err(|e| e.0)?.is_some();
+                        geared |= dsp.ratio(f).map_err(|e| e.0)?.is_some();
                     }
-                    (self.dsp.velocity(n).map_err(|e| e.0)? != 0.0, geared)
+                    (dsp.velocity(n).map_err(|e| e.0)? != 0.0, geared)
                 }
             };
             let (slave, master) = self.regists[i].take_correction(master_moving, ratio_move);
@@ -189,15 +291,15 @@ impl Orion {
                     // A master offset moves the position the slave's gear follows: r × it.
                     let delta = slave + r * master;
                     if delta != 0.0 {
-                        self.dsp.shift(n, delta).map_err(|e| e.0)?;
+                        dsp.shift(n, delta).map_err(|e| e.0)?;
                     }
                 }
                 // No slave of its own (a slave correction has nothing to move): the master
                 // correction moves every axis geared to this one by its ratio.
                 None if master != 0.0 => {
                     for &f in &self.followers[i] {
-                        if let Some(r) = self.dsp.ratio(f).map_err(|e| e.0)? {
-                            self.dsp.shift(f, r * master).map_err(|e| e.0)?;
+                        if let Some(r) = dsp.ratio(f).map_err(|e| e.0)? {
+                            dsp.shift(f, r * master).map_err(|e| e.0)?;
                         }
                     }
                 }

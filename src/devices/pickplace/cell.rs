@@ -4,12 +4,14 @@
 //! scenario's belts move and feed workpieces, the module runs one cycle, and its outputs come
 //! out into the members and its events into the trace.
 
-use super::Now;
-use crate::pickplace::io::{BeltParams, Edges, Inputs, Params};
-use crate::pickplace::module::{Event, Module};
-use crate::pickplace::robot::AXES;
-use crate::pickplace::setup::PickPlaceSetup;
-use crate::registry::{Kind, Registry, SlotId, GLOBAL_INSTANCE};
+use super::io::{BeltParams, Edges, Inputs, Params};
+use super::module::{Event, Module};
+use super::robot::AXES;
+use super::setup::PickPlaceSetup;
+use crate::devices::command::StartRef;
+use crate::devices::{ActOutcome, Device, Now, Target, When};
+use crate::registry::catalog::{BELT_TYPE, PICK_PLACE_TYPE};
+use crate::registry::{Hook, Registry, SlotId};
 use crate::trace;
 use crate::world::belt::BeltProfile;
 use crate::world::workpieces::WorkpieceFeed;
@@ -85,28 +87,6 @@ struct BeltSlots {
     status: [SlotId; 5],
 }
 
-const OUT_BITS: [&str; 19] = [
-    "xError",
-    "xWarning",
-    "xAxesEnabled",
-    "xAxesGroupEnabled",
-    "xDone",
-    "xBusy",
-    "xAxesGroupHomed",
-    "xInPosition",
-    "xHwLimitSwitchActive",
-    "xSwLimitSwitchActive",
-    "xPathHold",
-    "xGripperCtrlActive",
-    "xPulseGripper",
-    "xProfileInPreparation",
-    "xAccDecSync",
-    "xSynchronised",
-    "xInTarget",
-    "xInParkPos",
-    "xInternalControlActive",
-];
-
 /// The module and its world: belts driven by the scenario and the workpieces it feeds.
 #[derive(Debug, Clone)]
 pub struct PickPlaceCell {
@@ -127,26 +107,7 @@ pub struct PickPlaceCell {
     belts_now: Vec<(f64, f64)>,
     belt_params_now: Vec<BeltParams>,
     /// Every axis brakes as on xStopALL while this is set (the I/O link is down).
-    pub external_stop: bool,
-}
-
-fn find(registry: &Registry, kind: Kind, instance: u32, name: &str) -> Result<SlotId, String> {
-    registry
-        .slot_of(kind, instance, name)
-        .ok_or_else(|| format!("the catalog has no {kind:?} member {name} (a bug in pacer)"))
-}
-
-fn arr<const N: usize>(
-    registry: &Registry,
-    kind: Kind,
-    instance: u32,
-    name: &str,
-) -> Result<[SlotId; N], String> {
-    let mut out = [0; N];
-    for (k, s) in out.iter_mut().enumerate() {
-        *s = find(registry, kind, instance, &format!("{name}[{}]", k + 1))?;
-    }
-    Ok(out)
+    external_stop: bool,
 }
 
 impl PickPlaceCell {
@@ -158,133 +119,180 @@ impl PickPlaceCell {
         profiles: Vec<BeltProfile>,
         feeds: Vec<WorkpieceFeed>,
         dt: f64,
-    ) -> Result<PickPlaceCell, String> {
-        let g = |name: &str| find(registry, Kind::PickPlace, GLOBAL_INSTANCE, name);
-        let ga = |name: &str| arr::<AXES>(registry, Kind::PickPlace, GLOBAL_INSTANCE, name);
-        let axes7 = ["X", "Y", "Z", "A", "B", "C", "Aux1"];
-        let mut limits = [[0; 3]; 7];
-        for (k, a) in axes7.iter().enumerate() {
-            limits[k] = [
-                g(&format!("lr{a}MaxVel"))?,
-                g(&format!("lr{a}MaxAccDec"))?,
-                g(&format!("lr{a}MaxJerk"))?,
-            ];
+    ) -> PickPlaceCell {
+        macro_rules! g {
+            ($name:literal) => {
+                crate::slot!(registry, PICK_PLACE_TYPE, 0, $name)
+            };
         }
-        let mut jog = [[0; 4]; 3];
-        for (k, kind) in ["Cartesian", "Orientation", "RealAxis"].iter().enumerate() {
-            for (m, what) in ["Jerk", "Vel", "Acc", "Dec"].iter().enumerate() {
-                jog[k][m] = g(&format!("lr{kind}Jog{what}"))?;
-            }
-        }
-        let mut target = [0; 7];
-        for (k, a) in axes7.iter().enumerate() {
-            target[k] = g(&format!("lr{a}TargetPos"))?;
+        macro_rules! ga {
+            ($name:literal, $len:expr) => {
+                crate::slots!(registry, PICK_PLACE_TYPE, 0, $name, $len)
+            };
         }
         let params = ParamSlots {
             scalars: [
-                g("lrPathStopDec")?,
-                g("lrPathStopJerk")?,
-                g("lrPathHaltDec")?,
-                g("lrPathJerk")?,
-                g("lrPathVel")?,
-                g("lrPathAcc")?,
-                g("lrPathDec")?,
+                g!("lrPathStopDec"),
+                g!("lrPathStopJerk"),
+                g!("lrPathHaltDec"),
+                g!("lrPathJerk"),
+                g!("lrPathVel"),
+                g!("lrPathAcc"),
+                g!("lrPathDec"),
             ],
-            stop_dec: ga("alrStopDec")?,
-            stop_jerk: ga("alrStopJerk")?,
-            jog,
-            home_pos: arr::<7>(
-                registry,
-                Kind::PickPlace,
-                GLOBAL_INSTANCE,
-                "alrHomePosition",
-            )?,
-            home_order: arr::<7>(registry, Kind::PickPlace, GLOBAL_INSTANCE, "aeHomingOrder")?,
-            limits,
-            gripper: [g("lrGripperClosingTime")?, g("lrGripperOpenTime")?],
-            coord: g("eTargetCoordSystem")?,
-            target,
+            stop_dec: ga!("alrStopDec", AXES),
+            stop_jerk: ga!("alrStopJerk", AXES),
+            jog: [
+                [
+                    g!("lrCartesianJogJerk"),
+                    g!("lrCartesianJogVel"),
+                    g!("lrCartesianJogAcc"),
+                    g!("lrCartesianJogDec"),
+                ],
+                [
+                    g!("lrOrientationJogJerk"),
+                    g!("lrOrientationJogVel"),
+                    g!("lrOrientationJogAcc"),
+                    g!("lrOrientationJogDec"),
+                ],
+                [
+                    g!("lrRealAxisJogJerk"),
+                    g!("lrRealAxisJogVel"),
+                    g!("lrRealAxisJogAcc"),
+                    g!("lrRealAxisJogDec"),
+                ],
+            ],
+            home_pos: ga!("alrHomePosition", 7),
+            home_order: ga!("aeHomingOrder", 7),
+            limits: [
+                [g!("lrXMaxVel"), g!("lrXMaxAccDec"), g!("lrXMaxJerk")],
+                [g!("lrYMaxVel"), g!("lrYMaxAccDec"), g!("lrYMaxJerk")],
+                [g!("lrZMaxVel"), g!("lrZMaxAccDec"), g!("lrZMaxJerk")],
+                [g!("lrAMaxVel"), g!("lrAMaxAccDec"), g!("lrAMaxJerk")],
+                [g!("lrBMaxVel"), g!("lrBMaxAccDec"), g!("lrBMaxJerk")],
+                [g!("lrCMaxVel"), g!("lrCMaxAccDec"), g!("lrCMaxJerk")],
+                [
+                    g!("lrAux1MaxVel"),
+                    g!("lrAux1MaxAccDec"),
+                    g!("lrAux1MaxJerk"),
+                ],
+            ],
+            gripper: [g!("lrGripperClosingTime"), g!("lrGripperOpenTime")],
+            coord: g!("eTargetCoordSystem"),
+            target: [
+                g!("lrXTargetPos"),
+                g!("lrYTargetPos"),
+                g!("lrZTargetPos"),
+                g!("lrATargetPos"),
+                g!("lrBTargetPos"),
+                g!("lrCTargetPos"),
+                g!("lrAux1TargetPos"),
+            ],
             shape: [
-                g("lrZStartDist")?,
-                g("ePathMode")?,
-                g("lrZDistElliptical")?,
-                g("lrZTargetDist")?,
-                g("lrBlendingRadius")?,
-                g("xPosInWindow")?,
-                g("lrPosInWindow")?,
-                g("lrTimePosInWindow")?,
+                g!("lrZStartDist"),
+                g!("ePathMode"),
+                g!("lrZDistElliptical"),
+                g!("lrZTargetDist"),
+                g!("lrBlendingRadius"),
+                g!("xPosInWindow"),
+                g!("lrPosInWindow"),
+                g!("lrTimePosInWindow"),
             ],
-            mode: g("eTrackingMode")?,
+            mode: g!("eTrackingMode"),
         };
-        let mut bits = [0; 19];
-        for (k, name) in OUT_BITS.iter().enumerate() {
-            bits[k] = g(name)?;
-        }
         let out = OutSlots {
-            bits,
+            bits: [
+                g!("xError"),
+                g!("xWarning"),
+                g!("xAxesEnabled"),
+                g!("xAxesGroupEnabled"),
+                g!("xDone"),
+                g!("xBusy"),
+                g!("xAxesGroupHomed"),
+                g!("xInPosition"),
+                g!("xHwLimitSwitchActive"),
+                g!("xSwLimitSwitchActive"),
+                g!("xPathHold"),
+                g!("xGripperCtrlActive"),
+                g!("xPulseGripper"),
+                g!("xProfileInPreparation"),
+                g!("xAccDecSync"),
+                g!("xSynchronised"),
+                g!("xInTarget"),
+                g!("xInParkPos"),
+                g!("xInternalControlActive"),
+            ],
             ints: [
-                g("eTMState")?,
-                g("eErrorID")?,
-                g("iProfilePointPassed")?,
-                g("eSetTargetOut")?,
+                g!("eTMState"),
+                g!("eErrorID"),
+                g!("iProfilePointPassed"),
+                g!("eSetTargetOut"),
             ],
             reals: [
-                g("lrSetPathVelOut")?,
-                g("lrPathPreparationTime")?,
-                g("lrPreCalcProfileTime")?,
+                g!("lrSetPathVelOut"),
+                g!("lrPathPreparationTime"),
+                g!("lrPreCalcProfileTime"),
             ],
-            act_pos: ga("alrActPos")?,
-            act_vel: ga("alrActVel")?,
-            hw_pos: ga("axHwLimitSwitchPos")?,
-            hw_neg: ga("axHwLimitSwitchNeg")?,
-            sw_active: ga("axSwLimitSwitchActive")?,
+            act_pos: ga!("alrActPos", AXES),
+            act_vel: ga!("alrActVel", AXES),
+            hw_pos: ga!("axHwLimitSwitchPos", AXES),
+            hw_neg: ga!("axHwLimitSwitchNeg", AXES),
+            sw_active: ga!("axSwLimitSwitchActive", AXES),
         };
         let slots = Slots {
-            execute: g("xExecutePickAndPlace")?,
-            abort: g("xAbort")?,
-            ack: g("xAckGripper")?,
-            home: g("xGroupHomeExecute")?,
-            enable: g("xEnable")?,
-            reset: g("xResetError")?,
-            regulator: g("xRegulatorOnALL")?,
-            stop: g("xPathStop")?,
-            halt: g("xPathHalt")?,
-            stop_all: g("xStopALL")?,
-            interrupt: g("xPathInterrupt")?,
-            jog_pos: g("xJogPos")?,
-            jog_neg: g("xJogNeg")?,
-            select: g("eSelectAxis")?,
-            set_target: g("eSetTarget")?,
-            override_: g("lrOverride")?,
-            hw_enable: g("xGroupEnableHWLimit")?,
-            hw_pos: ga("axHwLimitPos")?,
-            hw_neg: ga("axHwLimitNeg")?,
-            sw_enabled: ga("axSwLimitEnabled")?,
+            execute: g!("xExecutePickAndPlace"),
+            abort: g!("xAbort"),
+            ack: g!("xAckGripper"),
+            home: g!("xGroupHomeExecute"),
+            enable: g!("xEnable"),
+            reset: g!("xResetError"),
+            regulator: g!("xRegulatorOnALL"),
+            stop: g!("xPathStop"),
+            halt: g!("xPathHalt"),
+            stop_all: g!("xStopALL"),
+            interrupt: g!("xPathInterrupt"),
+            jog_pos: g!("xJogPos"),
+            jog_neg: g!("xJogNeg"),
+            select: g!("eSelectAxis"),
+            set_target: g!("eSetTarget"),
+            override_: g!("lrOverride"),
+            hw_enable: g!("xGroupEnableHWLimit"),
+            hw_pos: ga!("axHwLimitPos", AXES),
+            hw_neg: ga!("axHwLimitNeg", AXES),
+            sw_enabled: ga!("axSwLimitEnabled", AXES),
             params,
             out,
         };
         let mut belt_slots = Vec::new();
         for b in &setup.belts {
             let i = b.number - 1;
-            let f = |name: &str| find(registry, Kind::Belt, i, name);
-            let a6 = |name: &str| arr::<6>(registry, Kind::Belt, i, name);
+            macro_rules! f {
+                ($name:literal) => {
+                    crate::slot!(registry, BELT_TYPE, i, $name)
+                };
+            }
+            macro_rules! a6 {
+                ($name:literal) => {
+                    crate::slots!(registry, BELT_TYPE, i, $name, 6)
+                };
+            }
             belt_slots.push(BeltSlots {
-                receive: f("xWorkpieceOnBeltReceive")?,
-                valid: f("xValidPos")?,
-                initial: a6("ascInitialObjectPosition")?,
-                aux: f("lrAux1TargetPos")?,
-                park: a6("alrParkPos")?,
-                z_dist: f("lrZDistBelt")?,
-                origin: a6("alrConveyorBeltOrigin")?,
-                sync: f("lrSyncTimeOnBelt")?,
-                lower: f("lrLowerSyncLimit")?,
-                upper: f("lrUpperSyncLimit")?,
+                receive: f!("xWorkpieceOnBeltReceive"),
+                valid: f!("xValidPos"),
+                initial: a6!("ascInitialObjectPosition"),
+                aux: f!("lrAux1TargetPos"),
+                park: a6!("alrParkPos"),
+                z_dist: f!("lrZDistBelt"),
+                origin: a6!("alrConveyorBeltOrigin"),
+                sync: f!("lrSyncTimeOnBelt"),
+                lower: f!("lrLowerSyncLimit"),
+                upper: f!("lrUpperSyncLimit"),
                 status: [
-                    f("Position")?,
-                    f("Velocity")?,
-                    f("Workpieces")?,
-                    f("Picked")?,
-                    f("Missed")?,
+                    f!("Position"),
+                    f!("Velocity"),
+                    f!("Workpieces"),
+                    f!("Picked"),
+                    f!("Missed"),
                 ],
             });
         }
@@ -298,7 +306,7 @@ impl PickPlaceCell {
         let n = setup.belts.len();
         let mut profiles = profiles;
         profiles.resize(n, BeltProfile::stopped());
-        Ok(PickPlaceCell {
+        PickPlaceCell {
             module: Module::new(setup, dt),
             slots,
             belt_slots,
@@ -315,7 +323,7 @@ impl PickPlaceCell {
             belts_now: Vec::with_capacity(n),
             belt_params_now: Vec::with_capacity(n),
             external_stop: false,
-        })
+        }
     }
 
     /// The module.
@@ -335,7 +343,7 @@ impl PickPlaceCell {
 
     /// A program writes a member: stored, and a rising edge of an edge-controlled input is
     /// remembered for the next cycle.
-    pub fn write(&mut self, slot: SlotId, value: f64, v: &mut [f64]) {
+    pub fn store(&mut self, slot: SlotId, value: f64, v: &mut [f64]) {
         let rising = value != 0.0 && v[slot as usize] == 0.0;
         v[slot as usize] = value;
         if !rising {
@@ -434,7 +442,7 @@ impl PickPlaceCell {
     }
 
     /// One cycle of the module at this update.
-    pub fn generate(&mut self, v: &mut [f64], now: &mut Now<'_>) -> Result<(), String> {
+    fn generate(&mut self, v: &mut [f64], now: &mut Now<'_>) -> Result<(), String> {
         let t = now.seconds();
         for s in self.pulsed.drain(..) {
             v[s as usize] = 0.0;
@@ -629,5 +637,52 @@ impl PickPlaceCell {
             };
             now.trace.emit(now.tick, &event);
         }
+    }
+}
+
+impl Device for PickPlaceCell {
+    fn name(&self) -> &'static str {
+        "pick & place"
+    }
+
+    fn serves(&self, hook: Hook) -> bool {
+        hook == Hook::PickPlace
+    }
+
+    fn update(&mut self, v: &mut [f64], now: &mut Now<'_>) -> Result<(), String> {
+        self.generate(v, now)
+    }
+
+    fn write(
+        &mut self,
+        target: Target,
+        value: f64,
+        _when: When,
+        v: &mut [f64],
+        _now: &mut Now<'_>,
+    ) -> Result<(), String> {
+        self.store(target.slot, value, v);
+        Ok(())
+    }
+
+    fn act(
+        &mut self,
+        target: Target,
+        _start: StartRef,
+        _profile: u8,
+        _when: When,
+        _v: &mut [f64],
+        _now: &mut Now<'_>,
+    ) -> Result<ActOutcome, String> {
+        Err(format!("{:?} is not an action", target.hook))
+    }
+
+    /// While the I/O link is down every axis brakes as on xStopALL.
+    fn hold(&mut self, down: bool) {
+        self.external_stop = down;
+    }
+
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
     }
 }

@@ -1,7 +1,7 @@
 //! MOVE TO / MOVE FOR on a DSP axis: a trapezoid from rest, queued as velocity ramps.
 
 use super::Orion;
-use crate::kernel::dsp::Queued;
+use crate::devices::orion::dsp::Queued;
 
 impl Orion {
     /// `MOVE axis TO position` / `MOVE axis FOR distance` [`AT` speed RPM] [`IN` time ms]: a

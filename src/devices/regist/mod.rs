@@ -28,6 +28,7 @@
 //!   set back by `c`, just as re-referencing the master to DIM at the mark would do). Both are
 //!   offsets ADDED to the position they offset.
 
+pub mod axes;
 mod marks;
 mod offsets;
 mod servo_vars;

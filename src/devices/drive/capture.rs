@@ -1,20 +1,28 @@
 //! The Capture object: the first rising edge of CaptureActivate while enabled latches the time
 //! and positions at the exact edge instant.
 
-use crate::registry::{Kind, Registry, SlotId};
+use crate::registry::catalog::CAPTURE_TYPE;
+use crate::registry::Registry;
 use crate::trace::{Event, Trace};
+
+crate::bind_slots! {
+    /// Slots of one capture's members.
+    struct Slots for CAPTURE_TYPE {
+        enable: "CaptureEnable",
+        activate: "CaptureActivate",
+        triggered: "CaptureTriggered",
+        time: "CapturedTime",
+        command: "CapturedPosnCommand",
+        feedback: "CapturedPosnFeedback",
+        master: "CapturedMasterPosition",
+    }
+}
 
 /// One capture.
 #[derive(Debug, Clone)]
 pub struct Capture {
     index: u32,
-    enable: SlotId,
-    activate: SlotId,
-    triggered: SlotId,
-    time: SlotId,
-    command: SlotId,
-    feedback: SlotId,
-    master: SlotId,
+    s: Slots,
 }
 
 /// Positions of the axes at an instant (the motion kernel supplies them; zero without axes).
@@ -31,35 +39,28 @@ pub struct Positions {
 impl Capture {
     /// Capture `index`.
     pub fn new(registry: &Registry, index: u32) -> Capture {
-        let slot = |m: &str| super::slot(registry, Kind::Capture, index, m);
         Capture {
             index,
-            enable: slot("CaptureEnable"),
-            activate: slot("CaptureActivate"),
-            triggered: slot("CaptureTriggered"),
-            time: slot("CapturedTime"),
-            command: slot("CapturedPosnCommand"),
-            feedback: slot("CapturedPosnFeedback"),
-            master: slot("CapturedMasterPosition"),
+            s: Slots::of(registry, index),
         }
     }
 
     /// The latched time (seconds) and master position, as programs may have rewritten them.
     pub fn latched(&self, v: &[f64]) -> (f64, f64) {
-        (v[self.time as usize], v[self.master as usize])
+        (v[self.s.time as usize], v[self.s.master as usize])
     }
 
     /// CaptureEnable written; turning it off resets the capture.
     pub fn set_enable(&self, on: bool, v: &mut [f64]) {
-        v[self.enable as usize] = f64::from(on);
+        v[self.s.enable as usize] = f64::from(on);
         if !on {
-            v[self.triggered as usize] = 0.0;
+            v[self.s.triggered as usize] = 0.0;
         }
     }
 
     /// CaptureClear / CaptureReset.
     pub fn clear(&self, v: &mut [f64]) {
-        v[self.triggered as usize] = 0.0;
+        v[self.s.triggered as usize] = 0.0;
     }
 
     /// CaptureActivate driven to `on` at `time` seconds, with the positions at that instant.
@@ -72,15 +73,15 @@ impl Capture {
         trace: &mut Trace,
         tick: u64,
     ) {
-        let rising = on && v[self.activate as usize] == 0.0;
-        v[self.activate as usize] = f64::from(on);
-        if rising && v[self.enable as usize] != 0.0 && v[self.triggered as usize] == 0.0 {
+        let rising = on && v[self.s.activate as usize] == 0.0;
+        v[self.s.activate as usize] = f64::from(on);
+        if rising && v[self.s.enable as usize] != 0.0 && v[self.s.triggered as usize] == 0.0 {
             let t = time;
-            v[self.time as usize] = t;
-            v[self.master as usize] = at.master;
-            v[self.command as usize] = at.command;
-            v[self.feedback as usize] = at.feedback;
-            v[self.triggered as usize] = 1.0;
+            v[self.s.time as usize] = t;
+            v[self.s.master as usize] = at.master;
+            v[self.s.command as usize] = at.command;
+            v[self.s.feedback as usize] = at.feedback;
+            v[self.s.triggered as usize] = 1.0;
             trace.emit(
                 tick,
                 &Event::Capture {
