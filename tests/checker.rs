@@ -26,7 +26,9 @@ const LOADED: &[u32] = &[0, 1, 2];
 
 fn registry() -> Registry {
     let machine: MachineFile = toml::from_str(MACHINE).expect("machine TOML");
-    Registry::build(&machine, LOADED).expect("registry")
+    let (registry, problems) = pacer::config::registry(&machine, LOADED, &[]);
+    assert!(problems.is_empty(), "{problems:?}");
+    registry
 }
 
 /// Parse (which must succeed) and check; every problem the checker reports.
@@ -1123,11 +1125,12 @@ fn syntax_problems_render_too() {
 
 #[test]
 fn a_number_too_large_to_represent_is_reported() {
-    let reg = pacer::registry::Registry::build(
+    let (reg, problems) = pacer::config::registry(
         &toml::from_str("[variables.X]\ndecimals = 0\n").expect("machine"),
         &[0],
-    )
-    .expect("registry");
+        &[],
+    );
+    assert!(problems.is_empty(), "{problems:?}");
     let src = "Var.X = 1e999\n";
     let mut problems = Vec::new();
     let ast = pacer::syntax::parse_program(src, &mut problems);

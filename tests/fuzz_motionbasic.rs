@@ -35,7 +35,6 @@ use pacer::check::basic::{check, Variables};
 use pacer::compile::{compile, Layout};
 use pacer::config::machine::MachineFile;
 use pacer::config::parse_toml;
-use pacer::registry::Registry;
 use pacer::syntax::{parse_program_as, Dialect};
 use proptest::prelude::*;
 use proptest::sample::{select, Index};
@@ -69,7 +68,7 @@ impl Machines {
             axes,
         };
         for file in m.all() {
-            let (_, problems) = Registry::build_with_basic(file, PROGRAMS, &[]);
+            let (_, problems) = pacer::config::registry(file, PROGRAMS, &[]);
             assert!(
                 !has_errors(&problems),
                 "the fuzz machine files must build: {problems:?}"
@@ -98,7 +97,7 @@ fn exercise(src: &str, m: &Machines, stats: &Stats) {
     vars.collect(&ast);
     let list = vars.list();
     for machine in m.all() {
-        let (registry, registry_problems) = Registry::build_with_basic(machine, PROGRAMS, &list);
+        let (registry, registry_problems) = pacer::config::registry(machine, PROGRAMS, &list);
         let problems = check(&ast, &registry, &vars);
         render("fuzz.mb", src, &problems);
         if !parse_clean || has_errors(&registry_problems) || has_errors(&problems) {

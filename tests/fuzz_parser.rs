@@ -49,12 +49,14 @@ struct Machines {
 
 impl Machines {
     fn new() -> Machines {
-        let default = Registry::build(&MachineFile::default(), LOADED).expect("default registry");
+        let (default, problems) = pacer::config::registry(&MachineFile::default(), LOADED, &[]);
+        assert!(problems.is_empty(), "default registry: {problems:?}");
         let toml_text = "[variables.X]\n[variables.I]\n[variables.Count]\n\
                          [variables.Offset]\ndecimals = 3\n\
                          [bits]\nnames = { Ready = 3, Done = 4 }\n";
         let file: MachineFile = toml::from_str(toml_text).expect("fuzz machine file");
-        let with_vars = Registry::build(&file, LOADED).expect("registry with variables");
+        let (with_vars, problems) = pacer::config::registry(&file, LOADED, &[]);
+        assert!(problems.is_empty(), "registry with variables: {problems:?}");
         Machines { default, with_vars }
     }
 }

@@ -570,7 +570,8 @@ fn names_are_case_insensitive() {
     // Object, instance and member names resolve whatever the case.
     let machine: pacer::config::machine::MachineFile =
         toml::from_str("[variables.Count]\ndecimals = 0\n").unwrap();
-    let registry = pacer::registry::Registry::build(&machine, &[0, 1]).unwrap();
+    let (registry, problems) = pacer::config::registry(&machine, &[0, 1], &[]);
+    assert!(problems.is_empty(), "{problems:?}");
     let src = "var.count = VAR.COUNT + 1\nWait For queue.0.queueempty\nIf DRIVEINPUT.4 = on Then\nqueue.0.QUEUEREMOVE\nEndif\ncapture.0.capturereset\nprogram.1.initiate\n";
     let ast = parse_ok(src);
     let env = pacer::check::CheckEnv {

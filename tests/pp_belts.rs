@@ -2,11 +2,11 @@
 //! acceleration and jerk, and its inverse), the workpiece feeds a detector makes from it, and the
 //! `[[belts]]` / `[[workpieces]]` scenario entries with errors pointing at the offending value.
 
+use pacer::config::belts::{belts, BeltWorld};
 use pacer::config::parse_toml;
 use pacer::config::scenario::ScenarioFile;
 use pacer::devices::pickplace::setup::{AxisLimit, BeltSetup};
 use pacer::diag::Problem;
-use pacer::load::belts::{belts, BeltWorld};
 use pacer::world::belt::{BeltChange, BeltProfile};
 use pacer::world::workpieces::{feeds, Stream};
 

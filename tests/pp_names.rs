@@ -368,7 +368,7 @@ fn machine_file_values_are_the_initial_values() {
 fn the_setup_reads_kinematics_limits_and_belts() {
     let machine: MachineFile = parse_toml(MACHINE, "machine file").expect("machine file");
     let mut problems = Vec::new();
-    let setup = pacer::load::pickplace::setup(&machine, &mut problems).expect("a setup");
+    let setup = pacer::config::pickplace::setup(&machine, &mut problems).expect("a setup");
     assert!(problems.is_empty(), "{problems:#?}");
     assert!(matches!(setup.kinematics, Kinematics::Delta3(_)));
     assert_eq!(setup.start, [0.0, 0.0, -600.0]);
@@ -407,10 +407,10 @@ fn the_setup_reads_kinematics_limits_and_belts() {
     );
 
     let plain: MachineFile = parse_toml(PLAIN, "machine file").expect("machine file");
-    assert!(pacer::load::pickplace::setup(&plain, &mut problems).is_none());
+    assert!(pacer::config::pickplace::setup(&plain, &mut problems).is_none());
     let cartesian: MachineFile =
         parse_toml("[pickplace]\nlrPathVel = 5.0\n", "machine file").expect("machine file");
-    let setup = pacer::load::pickplace::setup(&cartesian, &mut problems).expect("a setup");
+    let setup = pacer::config::pickplace::setup(&cartesian, &mut problems).expect("a setup");
     assert!(problems.is_empty(), "{problems:#?}");
     assert_eq!(setup.kinematics, Kinematics::Cartesian);
     assert_eq!(setup.start, [0.0; 3]);
@@ -428,8 +428,8 @@ fn machine_problems(toml: &str) -> Vec<(String, String, String, String)> {
         Ok(m) => m,
         Err(p) => panic!("the file should parse: {p:?}"),
     };
-    let (_, mut problems) = Registry::build_reporting(&machine, &[0]);
-    pacer::load::pickplace::setup(&machine, &mut problems);
+    let mut problems = Vec::new();
+    pacer::config::machine(&machine, &[0], &[], &mut problems);
     problems
         .into_iter()
         .map(|p| {
@@ -791,9 +791,9 @@ fn motionbasic_variables_named_belt_dot_something_stay_variables() {
 fn a_machine_without_pickplace_has_no_module_slots() {
     let plain: MachineFile = parse_toml(PLAIN, "machine file").expect("machine file");
     let with: MachineFile = parse_toml(MACHINE, "machine file").expect("machine file");
-    let (plain_reg, p) = Registry::build_reporting(&plain, &[0]);
+    let (plain_reg, p) = pacer::config::registry(&plain, &[0], &[]);
     assert!(p.is_empty(), "{p:#?}");
-    let (with_reg, p) = Registry::build_reporting(&with, &[0]);
+    let (with_reg, p) = pacer::config::registry(&with, &[0], &[]);
     assert!(p.is_empty(), "{p:#?}");
     let module = |r: &Registry| {
         r.slots

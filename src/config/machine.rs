@@ -51,10 +51,10 @@ pub struct MachineFile {
     pub axis: IndexMap<String, Spanned<AxisSetup>>,
     /// The Track Pick & Place module (`[pickplace]`): its kinematics and limits, its members'
     /// initial values by the manual's names, and its belts (`[pickplace.belt.N]`). Checked by
-    /// the registry (members) and `load::pickplace::setup` (the rest).
+    /// `config::pickplace` (members and set-up).
     pub pickplace: Option<Spanned<TomlTable>>,
     /// Real I/O over Modbus TCP (`[modbus]` and its `[[modbus.map]]` entries). Checked by
-    /// `io::map::validate` against the registry; the simulator ignores it.
+    /// `config::modbus` against the registry; the simulator ignores it.
     pub modbus: Option<Spanned<ModbusSection>>,
 }
 

@@ -329,7 +329,7 @@ impl LivePlot {
         })?;
         let plan = Plan { preset, from, to };
         let mut recorder = Recorder::new(plan, image.tick_ns as f64 / 1e9);
-        recorder.set_machine(&image.name, &registry.units.motor, &registry.units.master);
+        recorder.set_machine(&image.name, &image.units.motor, &image.units.master);
         let mut samples = Vec::new();
         for (i, info) in registry.slots.iter().enumerate() {
             if info.ty.is_bit() {

@@ -371,7 +371,7 @@ mod tests {
     use crate::config::machine::MachineFile;
 
     fn vocab(dialect: Dialect) -> Vocabulary {
-        let (registry, problems) = Registry::build_with_basic(
+        let (registry, problems) = crate::config::registry(
             &MachineFile::default(),
             &[0, 1],
             &[("SPEED&".into(), crate::registry::ValueType::Fixed(0))],

@@ -161,7 +161,7 @@ mod tests {
     use crate::registry::ValueType;
 
     fn registry() -> Registry {
-        let (r, problems) = Registry::build_with_basic(
+        let (r, problems) = crate::config::registry(
             &MachineFile::default(),
             &[0],
             &[("X&".into(), ValueType::Fixed(0))],

@@ -20,7 +20,7 @@ use crate::devices::command::StartRef;
 use crate::devices::{ActOutcome, Device, Devices, Now, Target, When};
 use crate::io::supervisor::LinkEvent;
 use crate::io::{IoBackend, IoFault, IoStats, Simulator};
-use crate::registry::{Access, Hook, Registry, Resolved, SlotId};
+use crate::registry::{Access, Hook, Registry, SlotId};
 use crate::trace::{Event, Origin, ProgramEvent, Trace, Value};
 use crate::world::{Edge, InputActivity, World};
 use exec::{Ctx, Exit};
@@ -29,7 +29,7 @@ pub use stop::StopReason;
 use task::{Frame, Task, TaskState};
 
 /// Instructions a task may run in one update unless machine.toml says otherwise.
-pub const DEFAULT_BUDGET: u64 = 10_000;
+pub const DEFAULT_BUDGET: u64 = crate::config::DEFAULT_BUDGET;
 
 /// Deepest nesting of `Call Program.N`.
 pub const MAX_CALL_DEPTH: usize = 16;
@@ -40,17 +40,7 @@ pub const DEFAULT_MAX_SECONDS: u64 = 3600;
 /// The program number of chunks typed at the REPL (no program has it: numbers come from files).
 pub const REPL_PROGRAM: u32 = u32::MAX;
 
-/// An assignment: a bit source drives a destination member every update.
-#[derive(Debug, Clone)]
-pub struct Assignment {
-    /// Source slots (bits) with their polarity (Active Off: on while the source is off). Several
-    /// sources assigned to one destination are ORed, as on the drive.
-    pub sources: Vec<(SlotId, bool)>,
-    /// The destination member.
-    pub dest: Resolved,
-    /// A source latches in hardware (a module input): its edges carry exact times.
-    pub latched: bool,
-}
+pub use crate::config::desc::Assignment;
 
 /// Everything a run needs, loaded and compiled.
 pub struct MachineImage {
@@ -62,6 +52,8 @@ pub struct MachineImage {
     pub budget: u64,
     /// Number of tasks.
     pub tasks: usize,
+    /// The user units of the drive's axis and the master.
+    pub units: crate::devices::drive::setup::Units,
     /// The objects.
     pub registry: Registry,
     /// Initial values of the whole value array.
@@ -420,7 +412,7 @@ impl Machine {
 
     fn trace_start(&mut self, tick: u64) {
         let tick_ns = self.image.tick_ns;
-        let units = &self.image.registry.units;
+        let units = &self.image.units;
         self.trace.emit(
             tick,
             &Event::Start {

@@ -1,7 +1,8 @@
 //! What the integration tests share: an in-memory trace, and running a loaded machine to the end.
 #![allow(dead_code)]
 
-use pacer::load::{load, LoadRequest, Loaded};
+use pacer::config::files::Memory;
+use pacer::load::{load_from, LoadOptions, LoadRequest, Loaded};
 use pacer::trace::Trace;
 use pacer::vm::{Machine, RunSummary};
 use serde_json::Value;
@@ -75,9 +76,10 @@ pub fn project(name: &str, files: &[(&str, &str)]) -> PathBuf {
     dir
 }
 
-/// Load a one-program project (program, machine file, scenario) and run it to its duration.
+/// Load a one-program project (program, machine file, scenario), held in memory, and run it to
+/// its duration.
 pub fn run_project(name: &str, program: &str, machine: &str, scenario: &str) -> Run {
-    let dir = project(
+    let loaded = load_memory(
         name,
         &[
             ("program0.pt", program),
@@ -85,26 +87,30 @@ pub fn run_project(name: &str, program: &str, machine: &str, scenario: &str) -> 
             ("scenario.toml", scenario),
         ],
     );
-    let loaded = load(&LoadRequest {
-        paths: vec![dir.clone()],
-        ..Default::default()
-    });
-    let _ = std::fs::remove_dir_all(&dir);
     match loaded {
         Ok(l) => run_loaded(l),
         Err(d) => panic!("{}", d.render_plain()),
     }
 }
 
+/// Load the project folder `name` made of `files`, held in memory (no folder on disk).
+pub fn load_memory(name: &str, files: &[(&str, &str)]) -> Result<Loaded, pacer::diag::Diagnostics> {
+    let memory = files.iter().fold(Memory::new(), |m, (file, text)| {
+        m.file(std::path::Path::new(name).join(file), *text)
+    });
+    load_from(
+        &memory,
+        &LoadRequest {
+            paths: vec![PathBuf::from(name)],
+            ..Default::default()
+        },
+        &LoadOptions::default(),
+    )
+}
+
 /// Load a project of `files` that must be refused; its diagnostics.
 pub fn load_error(name: &str, files: &[(&str, &str)]) -> pacer::diag::Diagnostics {
-    let dir = project(name, files);
-    let result = load(&LoadRequest {
-        paths: vec![dir.clone()],
-        ..Default::default()
-    });
-    let _ = std::fs::remove_dir_all(&dir);
-    match result {
+    match load_memory(name, files) {
         Ok(_) => panic!("{name}: the project should have been refused"),
         Err(d) => d,
     }

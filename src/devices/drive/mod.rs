@@ -9,6 +9,7 @@ mod marks;
 pub mod motion;
 mod objects;
 pub mod queue;
+pub mod setup;
 mod start;
 pub mod timer;
 
@@ -16,7 +17,7 @@ pub use marks::AxisMarks;
 
 use super::command::{Domain, StartRef};
 use super::{ActOutcome, Device, Now, Profiles, Target, When};
-use crate::registry::{Hook, Kind, QueueSource, Registry, SlotId, Units};
+use crate::registry::{Hook, Kind, Registry, SlotId};
 use crate::trace::{self, MotionPhase};
 use crate::world::Edge;
 use capture::{Capture, Positions};
@@ -26,6 +27,7 @@ use objects::{
     AxisSlots, GearSlots, HomeObject, IndexObject, JogGlobals, JogSlots, PlsObject, ProfileSlots,
 };
 use queue::Queue;
+use setup::{DriveSetup, QueueSource, Units};
 use timer::Timer;
 
 /// The drive's objects, each with its set-up and slots.
@@ -92,16 +94,26 @@ pub struct Drive {
 }
 
 impl Drive {
-    /// The drive of a machine: every object instance in the registry, with the scenario's
-    /// sensors on the axis.
-    pub fn new(registry: &Registry, marks: Vec<AxisMarks>) -> Drive {
+    /// The drive of a machine: every object instance in the registry, set up as `setup` says,
+    /// with the scenario's sensors on the axis.
+    pub fn new(registry: &Registry, setup: &DriveSetup, marks: Vec<AxisMarks>) -> Drive {
         let count = |k: Kind| registry.of(k).count;
         Drive {
             objects: Objects {
                 queues: (0..count(Kind::Queue))
-                    .map(|i| Queue::new(registry, i))
+                    .map(|i| {
+                        let size = setup.queues.get(i as usize).map_or(8, |q| q.size);
+                        Queue::new(registry, i, size as usize)
+                    })
                     .collect(),
-                queue_sources: registry.queue_sources.clone(),
+                queue_sources: (0..count(Kind::Queue) as usize)
+                    .map(|i| {
+                        setup
+                            .queues
+                            .get(i)
+                            .map_or(QueueSource::Master, |q| q.source)
+                    })
+                    .collect(),
                 captures: (0..count(Kind::Capture))
                     .map(|i| Capture::new(registry, i))
                     .collect(),
@@ -109,16 +121,25 @@ impl Drive {
                     .map(|i| Timer::new(registry, i))
                     .collect(),
                 indexes: (0..count(Kind::Index))
-                    .map(|i| IndexObject::new(registry, i))
+                    .map(|i| {
+                        let config = setup.indexes.get(i as usize).copied().unwrap_or_default();
+                        IndexObject::new(registry, i, config)
+                    })
                     .collect(),
                 homes: (0..count(Kind::Home))
-                    .map(|i| HomeObject::new(registry, i))
+                    .map(|i| {
+                        let config = setup.homes.get(i as usize).copied().unwrap_or_default();
+                        HomeObject::new(registry, i, config)
+                    })
                     .collect(),
                 jogs: (0..count(Kind::Jog))
                     .map(|i| JogSlots::of(registry, i))
                     .collect(),
                 plss: (0..count(Kind::Pls))
-                    .map(|i| PlsObject::new(registry, i))
+                    .map(|i| {
+                        let config = setup.plss.get(i as usize).copied().unwrap_or_default();
+                        PlsObject::new(registry, i, config)
+                    })
                     .collect(),
             },
             slots: DriveSlots {
@@ -138,8 +159,8 @@ impl Drive {
             },
             events: Vec::new(),
             armed: vec![false; count(Kind::Index) as usize],
-            rollover: registry.axis_rollover,
-            units: registry.units.clone(),
+            rollover: setup.rollover,
+            units: setup.units.clone(),
             edge_start: None,
         }
     }

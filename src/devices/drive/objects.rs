@@ -2,10 +2,11 @@
 //! from `machine.toml` and the slots of its members, bound by name when pacer is compiled.
 
 use super::motion::trapezoid::Phase;
+use super::setup::{HomeConfig, IndexConfig, PlsConfig};
 use crate::registry::catalog::{
     GEAR_TYPE, HOME_TYPE, INDEX_TYPE, JOG_TYPE, MOTION_TYPE, PLS_TYPE, PROFILE_TYPE,
 };
-use crate::registry::{HomeConfig, IndexConfig, PlsConfig, Registry, SlotId};
+use crate::registry::{Registry, SlotId};
 
 crate::bind_slots! {
     /// The slots of one index's settings and status.
@@ -127,14 +128,10 @@ pub struct IndexObject {
 }
 
 impl IndexObject {
-    /// Index `i` of the registry.
-    pub fn new(registry: &Registry, i: u32) -> IndexObject {
+    /// Index `i` of the registry, set up as `config` says.
+    pub fn new(registry: &Registry, i: u32, config: IndexConfig) -> IndexObject {
         IndexObject {
-            config: registry
-                .index_setups
-                .get(i as usize)
-                .copied()
-                .unwrap_or_default(),
+            config,
             s: IndexSlots::of(registry, i),
         }
     }
@@ -159,14 +156,10 @@ pub struct HomeObject {
 }
 
 impl HomeObject {
-    /// Home `i` of the registry.
-    pub fn new(registry: &Registry, i: u32) -> HomeObject {
+    /// Home `i` of the registry, set up as `config` says.
+    pub fn new(registry: &Registry, i: u32, config: HomeConfig) -> HomeObject {
         HomeObject {
-            config: registry
-                .home_setups
-                .get(i as usize)
-                .copied()
-                .unwrap_or_default(),
+            config,
             s: HomeSlots::of(registry, i),
         }
     }
@@ -190,14 +183,10 @@ pub struct PlsObject {
 }
 
 impl PlsObject {
-    /// PLS `i` of the registry.
-    pub fn new(registry: &Registry, i: u32) -> PlsObject {
+    /// PLS `i` of the registry, set up as `config` says.
+    pub fn new(registry: &Registry, i: u32, config: PlsConfig) -> PlsObject {
         PlsObject {
-            config: registry
-                .pls_setups
-                .get(i as usize)
-                .copied()
-                .unwrap_or_default(),
+            config,
             s: PlsSlots::of(registry, i),
         }
     }

@@ -31,9 +31,8 @@ pub struct Queue {
 }
 
 impl Queue {
-    /// Queue `index` as set up in the registry.
-    pub fn new(registry: &Registry, index: u32) -> Queue {
-        let size = registry.queue_sizes.get(index as usize).map_or(8, |s| s.0) as usize;
+    /// Queue `index` of the registry, holding at most `size` entries.
+    pub fn new(registry: &Registry, index: u32, size: usize) -> Queue {
         Queue {
             index,
             entries: VecDeque::with_capacity(size),

@@ -4,8 +4,8 @@
 
 use super::motion::trapezoid::{Phase, Trapezoid};
 use super::motion::{Motion, Owner, Plan};
+use super::setup::IndexType;
 use super::{ActOutcome, Domain, Drive, Now, StartRef};
-use crate::registry::IndexType;
 
 impl Drive {
     /// Where a motion in `domain` starts: now, at the end of the last motion on its profile,

@@ -35,6 +35,17 @@ pub struct MarkTrack {
     pub width: f64,
 }
 
+/// One DSP axis as the machine sets it up.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AxisSetUp {
+    /// Its motion set-up.
+    pub config: DspAxisConfig,
+    /// What MOVE TO/FOR use without AT or IN.
+    pub defaults: MoveDefaults,
+    /// The input wired to its fast input (REGIST), if any.
+    pub fast_input: Option<SlotId>,
+}
+
 /// What MOVE TO / MOVE FOR use when the statement gives no speed or time.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct MoveDefaults {
@@ -99,14 +110,14 @@ impl Orion {
     /// positions. `strings` are the programs' string literals (SENS.MODE@ values).
     pub fn new(
         registry: &Registry,
-        configs: Vec<(DspAxisConfig, MoveDefaults)>,
+        axes_set_up: &[AxisSetUp],
         marks: &[MarkTrack],
         strings: Vec<String>,
         servo_update: f64,
     ) -> Result<Orion, String> {
         let axes = registry.of(Kind::Axis);
-        let (configs, defaults): (Vec<DspAxisConfig>, Vec<MoveDefaults>) =
-            configs.into_iter().unzip();
+        let configs: Vec<DspAxisConfig> = axes_set_up.iter().map(|a| a.config.clone()).collect();
+        let defaults: Vec<MoveDefaults> = axes_set_up.iter().map(|a| a.defaults).collect();
         let mut dsp = DspAxes::new(&configs).map_err(|e| e.0)?;
         let mut fast = Vec::new();
         for m in marks {
@@ -125,7 +136,12 @@ impl Orion {
                 }
             }
         }
-        let regist = RegistAxes::new(&configs, fast, servo_update)?;
+        let mut regist = RegistAxes::new(&configs, fast, servo_update)?;
+        for a in axes_set_up {
+            if let Some(slot) = a.fast_input {
+                regist.wire_fast_input(a.config.number, slot)?;
+            }
+        }
         Ok(Orion {
             dsp,
             configs,
@@ -138,11 +154,6 @@ impl Orion {
             after: Vec::new(),
             regist,
         })
-    }
-
-    /// Wire input `slot` to the fast input of axis `n` (its edges keep their exact times).
-    pub fn wire_fast_input(&mut self, n: u32, slot: SlotId) -> Result<(), String> {
-        self.regist.wire_fast_input(n, slot)
     }
 
     /// The position axis `i` reports: continuous, re-referenced, rolled over at POS.MOD@.

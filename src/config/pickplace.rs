@@ -1,14 +1,19 @@
-//! `[pickplace]` in machine.toml: what it sets up beyond the module's members — the kinematics,
-//! the tool's start position, the real axes' limits, the software limit positions and the belt
-//! drives' limits. The members' initial values (`lrPathVel = 2000.0`, `[pickplace.belt.N]
-//! lrZDistBelt = 40.0`) are the registry's, which also reports unknown keys and bad belt
-//! numbers; this module reports every problem of the keys it reads.
+//! `[pickplace]` in machine.toml: the module's set-up — the kinematics, the tool's start
+//! position, the real axes' limits, the software limit positions and the belt drives' limits —
+//! and the initial values of the members it names (`lrPathVel = 2000.0`, `[pickplace.belt.N]
+//! lrZDistBelt = 40.0`), every key checked.
 
-use crate::config::machine::{MachineFile, TomlTable, TomlValue, BELT_SETUP_KEYS};
+use super::desc::ObjectsDesc;
+use crate::config::machine::{
+    MachineFile, TomlTable, TomlValue, BELT_SETUP_KEYS, PICKPLACE_SETUP_KEYS,
+};
 use crate::config::span_of;
 use crate::devices::pickplace::kinematics::delta3::Delta3;
 use crate::devices::pickplace::setup::{AxisLimit, BeltSetup, Kinematics, PickPlaceSetup};
 use crate::diag::{nearest, Problem};
+use crate::registry::catalog::{
+    self, Access, Kind, MemberDef, TypeDef, ValueType, BELT_TYPE, MAX_BELTS, PICK_PLACE_TYPE,
+};
 use toml::Spanned;
 
 const CODE: &str = "pacer::machine::pickplace";
@@ -42,7 +47,7 @@ pub fn setup(machine: &MachineFile, problems: &mut Vec<Problem>) -> Option<PickP
     let sw_limits = table
         .get("sw_limit")
         .map_or([None; 13], |v| sw_limits(v, problems));
-    let belts = crate::registry::belt_sections(machine, None)
+    let belts = belt_sections(machine, None)
         .into_iter()
         .map(|(number, t)| BeltSetup {
             number,
@@ -421,4 +426,324 @@ fn unknown(key: &Spanned<String>, valid: &[&str], what: &str, help: &str) -> Pro
         Some(n) => format!("did you mean `{n}`? ({help})"),
         None => help.to_string(),
     })
+}
+
+/// The belt sections `[pickplace.belt.N]`, checked: the valid ones, number and table.
+pub fn belt_sections<'m>(
+    machine: &'m MachineFile,
+    mut problems: Option<&mut Vec<Problem>>,
+) -> Vec<(u32, &'m TomlTable)> {
+    let mut belts = Vec::new();
+    let Some(pp) = &machine.pickplace else {
+        return belts;
+    };
+    let Some(value) = pp.get_ref().get("belt") else {
+        return belts;
+    };
+    let TomlValue::Table(table) = value.get_ref() else {
+        if let Some(p) = problems.as_deref_mut() {
+            p.push(
+                Problem::error(
+                    CODE,
+                    span_of(value),
+                    format!(
+                        "`belt` is {}, not a table of belts",
+                        value.get_ref().describe()
+                    ),
+                    "not a table",
+                )
+                .with_help("give each belt a section: [pickplace.belt.1]"),
+            );
+        }
+        return belts;
+    };
+    for (key, section) in &table.entries {
+        let number = key
+            .get_ref()
+            .parse::<u32>()
+            .ok()
+            .filter(|n| (1..=MAX_BELTS).contains(n));
+        let Some(n) = number else {
+            if let Some(p) = problems.as_deref_mut() {
+                p.push(
+                    Problem::error(
+                        CODE,
+                        span_of(key),
+                        format!("[pickplace.belt.{}]: no such belt", key.get_ref()),
+                        "not a belt number",
+                    )
+                    .with_help(format!(
+                        "belts are numbered 1 to {} (CV1 … CV{})",
+                        MAX_BELTS, MAX_BELTS
+                    )),
+                );
+            }
+            continue;
+        };
+        if belts.iter().any(|(m, _)| *m == n) {
+            if let Some(p) = problems.as_deref_mut() {
+                p.push(Problem::error(
+                    CODE,
+                    span_of(key),
+                    format!("belt {n} is set up twice"),
+                    "again",
+                ));
+            }
+            continue;
+        }
+        match section.get_ref() {
+            TomlValue::Table(t) => belts.push((n, t)),
+            other => {
+                if let Some(p) = problems.as_deref_mut() {
+                    p.push(
+                        Problem::error(
+                            CODE,
+                            span_of(section),
+                            format!("belt {n} is {}, not a table", other.describe()),
+                            "not a table",
+                        )
+                        .with_help(format!("write its settings under [pickplace.belt.{n}]")),
+                    );
+                }
+            }
+        }
+    }
+    belts.sort_by_key(|(n, _)| *n);
+    belts
+}
+
+/// The number of belts: the highest `[pickplace.belt.N]`; reports bad belt numbers.
+pub fn belt_count(machine: &MachineFile, problems: &mut Vec<Problem>) -> u32 {
+    belt_sections(machine, Some(problems))
+        .iter()
+        .map(|(n, _)| *n)
+        .max()
+        .unwrap_or(0)
+}
+
+/// `[pickplace]` and `[pickplace.belt.N]`: the initial values of the members they name. The
+/// other keys (kinematics, limits) are [`setup`]'s.
+pub fn initials(machine: &MachineFile, d: &mut ObjectsDesc, problems: &mut Vec<Problem>) {
+    let Some(pp) = &machine.pickplace else {
+        return;
+    };
+    for (key, value) in &pp.get_ref().entries {
+        if !PICKPLACE_SETUP_KEYS.contains(&key.get_ref().as_str()) {
+            member_initial(d, &PICK_PLACE_TYPE, 0, key, value, problems);
+        }
+    }
+    for (n, table) in belt_sections(machine, None) {
+        for (key, value) in &table.entries {
+            if !BELT_SETUP_KEYS.contains(&key.get_ref().as_str()) {
+                member_initial(d, &BELT_TYPE, n - 1, key, value, problems);
+            }
+        }
+    }
+}
+
+/// One `key = value` of a pick & place section: a member, an element (`"alrStopDec[2]"`) or a
+/// whole array (`alrStopDec = [ … ]`).
+fn member_initial(
+    d: &mut ObjectsDesc,
+    ty: &TypeDef,
+    instance: u32,
+    key: &toml::Spanned<String>,
+    value: &toml::Spanned<TomlValue>,
+    problems: &mut Vec<Problem>,
+) {
+    {
+        let kind = ty.kind;
+        let members = ty.members;
+        let (section, setup_keys) = if kind == Kind::Belt {
+            (
+                format!("[pickplace.belt.{}]", instance + 1),
+                BELT_SETUP_KEYS,
+            )
+        } else {
+            ("[pickplace]".to_string(), PICKPLACE_SETUP_KEYS)
+        };
+        let name = key.get_ref().as_str();
+        let (first, len, array) = match catalog::member_position(members, name) {
+            Some(i) => (i, 1, false),
+            None => match catalog::find_array(members, name) {
+                Some((first, len)) => (first, len, true),
+                None => {
+                    problems.push(unknown_key(key, members, setup_keys, &section));
+                    return;
+                }
+            },
+        };
+        let def = &members[first];
+        if def.access != Access::ReadWrite {
+            let what = if kind == Kind::Belt {
+                "a status of the belt"
+            } else {
+                "an output of the module"
+            };
+            problems.push(
+                Problem::error(
+                    CODE,
+                    span_of(key),
+                    format!(
+                        "{section}: `{}` is {what}; it cannot be given a value",
+                        base_name(def.name, array)
+                    ),
+                    "read-only",
+                )
+                .with_help("only inputs and parameters take values here"),
+            );
+            return;
+        }
+        if !array {
+            if let Some(x) = member_value(def, value, &section, problems) {
+                d.initial(ty, instance, first, x);
+            }
+            return;
+        }
+        let base = base_name(def.name, true);
+        let TomlValue::Array(items) = value.get_ref() else {
+            problems.push(
+                Problem::error(
+                    CODE,
+                    span_of(value),
+                    format!(
+                        "{section}: `{base}` is an array of {len}: it takes {len} values, not {}",
+                        value.get_ref().describe()
+                    ),
+                    "not an array",
+                )
+                .with_help(format!(
+                    "give all {len} values in [ ], or one element as \"{base}[1]\" = …"
+                )),
+            );
+            return;
+        };
+        if items.len() != len {
+            problems.push(
+                Problem::error(
+                    CODE,
+                    span_of(value),
+                    format!(
+                        "{section}: `{base}` has {len} elements, not {}",
+                        items.len()
+                    ),
+                    format!("{} values", items.len()),
+                )
+                .with_help(format!(
+                    "give exactly {len} values, or set single elements as \"{base}[k]\" = …"
+                )),
+            );
+            return;
+        }
+        for (i, item) in items.iter().enumerate() {
+            if let Some(x) = member_value(&members[first + i], item, &section, problems) {
+                d.initial(ty, instance, first + i, x);
+            }
+        }
+    }
+}
+
+/// `alrStopDec[1]` → `alrStopDec` for an array's element.
+fn base_name(name: &str, array: bool) -> &str {
+    match catalog::split_index(name) {
+        Some((base, _)) if array => base,
+        _ => name,
+    }
+}
+
+/// The problem for a key of a pick & place section that names nothing.
+fn unknown_key(
+    key: &toml::Spanned<String>,
+    members: &'static [MemberDef],
+    setup_keys: &[&'static str],
+    section: &str,
+) -> Problem {
+    let name = key.get_ref();
+    let span = span_of(key);
+    if let Some((base, index)) = catalog::split_index(name) {
+        if let Some((_, len)) = catalog::find_array(members, base) {
+            return Problem::error(
+                CODE,
+                span,
+                format!("{section}: `{name}`: {base} has no element {index}"),
+                "index out of range",
+            )
+            .with_help(format!("its elements are {base}[1] to {base}[{len}]"));
+        }
+    }
+    let mut candidates: Vec<&str> = setup_keys.to_vec();
+    for m in members {
+        let base = base_name(m.name, true);
+        if !candidates.contains(&base) {
+            candidates.push(base);
+        }
+    }
+    let help = match nearest(name, candidates.iter().copied()) {
+        Some(n) => format!("did you mean `{n}`?"),
+        None => format!(
+            "keys are the manual's names of the inputs and parameters, and {}",
+            setup_keys.join(", ")
+        ),
+    };
+    Problem::error(
+        CODE,
+        span,
+        format!("{section}: unknown key `{name}`"),
+        "unknown key",
+    )
+    .with_help(help)
+}
+
+/// The value `value` gives the member `def`, or a problem located on it.
+fn member_value(
+    def: &MemberDef,
+    value: &toml::Spanned<TomlValue>,
+    section: &str,
+    problems: &mut Vec<Problem>,
+) -> Option<f64> {
+    let v = value.get_ref();
+    let span = span_of(value);
+    let name = format!("{section}: `{}`", def.name);
+    let problem = |message: String, label: &str, help: &str| {
+        Problem::error(CODE, span, message, label).with_help(help)
+    };
+    let result = match (def.ty, v) {
+        (ValueType::Bit, TomlValue::Bool(b)) => Ok(f64::from(u8::from(*b))),
+        (ValueType::Bit, TomlValue::Integer(i @ (0 | 1))) => Ok(*i as f64),
+        (ValueType::Bit, _) => Err(problem(
+            format!("{name} is a bit, not {}", v.describe()),
+            "not a bit",
+            "give true or false (or 1 or 0)",
+        )),
+        (_, TomlValue::Float(x)) if !x.is_finite() => Err(problem(
+            format!("{name} must be a finite number, not {x}"),
+            "not finite",
+            "give a finite number",
+        )),
+        (ValueType::Integer | ValueType::Fixed(_), _) => match v.as_number() {
+            Some(x)
+                if x.fract() == 0.0 && (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) =>
+            {
+                Ok(x)
+            }
+            Some(x) => Err(problem(
+                format!("{name} is an integer: {x} is not one"),
+                "not an integer",
+                "give a whole number",
+            )),
+            None => Err(problem(
+                format!("{name} takes an integer, not {}", v.describe()),
+                "not an integer",
+                "give a whole number",
+            )),
+        },
+        (ValueType::Real, _) => v.as_number().ok_or_else(|| {
+            problem(
+                format!("{name} takes a number, not {}", v.describe()),
+                "not a number",
+                "give a number, e.g. 100.0",
+            )
+        }),
+    };
+    result.map_err(|p| problems.push(p)).ok()
 }

@@ -1,7 +1,7 @@
 //! The scenario's world: input edges from levels, presses, pulse trains and product streams,
 //! and the master axis, each checked with errors that point into `scenario.toml`.
 
-use super::resolve_text;
+use super::links::resolve_text;
 use crate::config::scenario::ScenarioFile;
 use crate::config::span_of;
 use crate::devices::drive::AxisMarks;

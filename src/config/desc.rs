@@ -1,0 +1,148 @@
+//! The typed description of a machine and its world, as the configuration stage leaves it:
+//! every value checked, every name resolved. The registry and the devices are built from it
+//! and cannot fail.
+
+use crate::devices::drive::setup::DriveSetup;
+use crate::devices::drive::AxisMarks;
+use crate::devices::orion::MarkTrack;
+use crate::devices::pickplace::setup::PickPlaceSetup;
+use crate::io::map::IoMap;
+use crate::registry::{Kind, Resolved, SlotId};
+use crate::world::belt::BeltProfile;
+use crate::world::master::MasterProfile;
+use crate::world::products::Product;
+use crate::world::workpieces::WorkpieceFeed;
+use crate::world::Edge;
+use indexmap::IndexMap;
+
+/// The objects of a machine: how many of each, its variables and bits, and the members'
+/// initial values.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct ObjectsDesc {
+    /// Instance counts `[io]` and `[objects]` set, by type name.
+    pub counts: IndexMap<&'static str, u32>,
+    /// One more than the highest program number loaded.
+    pub programs: u32,
+    /// The highest DSP axis number.
+    pub axes: u32,
+    /// The machine has the pick & place module.
+    pub pickplace: bool,
+    /// The number of pick & place belts (the highest belt number).
+    pub belts: u32,
+    /// User variables, in file order.
+    pub variables: Vec<VarDesc>,
+    /// User bits.
+    pub bits: BitsDesc,
+    /// Members that start the run at other than their default, in the order set (a later one
+    /// wins).
+    pub initials: Vec<Initial>,
+}
+
+/// A user variable (`[variables.NAME]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct VarDesc {
+    /// Its name as written.
+    pub name: String,
+    /// Decimal places kept.
+    pub decimals: u8,
+    /// Its value at the start, rounded to its places.
+    pub initial: f64,
+}
+
+/// The user bits (`[bits]`).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BitsDesc {
+    /// How many: `Bit.0` … `Bit.(count-1)`.
+    pub count: u32,
+    /// Names given to bits, in file order.
+    pub names: Vec<(String, u32)>,
+    /// Bits that start ON.
+    pub on: Vec<u32>,
+}
+
+/// A member's initial value.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Initial {
+    /// Its object type.
+    pub kind: Kind,
+    /// The instance (0-based).
+    pub instance: u32,
+    /// The member's index in its type.
+    pub member: usize,
+    /// The value.
+    pub value: f64,
+}
+
+/// One DSP axis (`[axis.N]`).
+pub type DspAxisDesc = crate::devices::orion::AxisSetUp;
+
+/// An assignment: a bit source drives a destination member every update.
+#[derive(Debug, Clone)]
+pub struct Assignment {
+    /// Source slots (bits) with their polarity (Active Off: on while the source is off). Several
+    /// sources assigned to one destination are ORed, as on the drive.
+    pub sources: Vec<(SlotId, bool)>,
+    /// The destination member.
+    pub dest: Resolved,
+    /// A source latches in hardware (a module input): its edges carry exact times.
+    pub latched: bool,
+}
+
+/// A program `machine.toml` lists (`[[program]]`).
+#[derive(Debug, Clone, PartialEq)]
+pub struct ProgramDesc {
+    /// Its number.
+    pub number: u32,
+    /// Its file, as written (relative to the machine file).
+    pub file: String,
+    /// It starts with the run.
+    pub autostart: bool,
+    /// Where the entry names the file.
+    pub span: crate::syntax::span::Span,
+}
+
+/// A machine, checked.
+#[derive(Debug, Clone)]
+pub struct MachineDesc {
+    /// Its name, if the file gives one.
+    pub name: Option<String>,
+    /// Update period, ns.
+    pub update_ns: u64,
+    /// Instructions per task turn.
+    pub budget: u64,
+    /// Number of tasks.
+    pub tasks: usize,
+    /// Its objects.
+    pub objects: ObjectsDesc,
+    /// The drive's set-up.
+    pub drive: DriveSetup,
+    /// The DSP axes, in file order.
+    pub dsp: Vec<DspAxisDesc>,
+    /// The pick & place module's set-up, when it has one.
+    pub pickplace: Option<PickPlaceSetup>,
+    /// Assignments in file order (several sources of one destination merged).
+    pub assignments: Vec<Assignment>,
+    /// The Modbus map, when `[modbus]` gives one.
+    pub io_map: Option<IoMap>,
+}
+
+/// A scenario, checked: the world the machine runs in.
+#[derive(Debug, Clone, Default)]
+pub struct ScenarioDesc {
+    /// Input edges.
+    pub edges: Vec<Edge>,
+    /// The master axis.
+    pub master: MasterProfile,
+    /// Sensors tied to the servo axis.
+    pub axis_marks: Vec<AxisMarks>,
+    /// The products, per stream: the sensor slot and the products.
+    pub products: Vec<(SlotId, Vec<Product>)>,
+    /// Marks on the DSP axes.
+    pub mark_tracks: Vec<MarkTrack>,
+    /// The pick & place belts' speed profiles, by belt number.
+    pub belt_profiles: IndexMap<u32, BeltProfile>,
+    /// The workpieces the belts bring.
+    pub feeds: Vec<WorkpieceFeed>,
+    /// The run's duration, if the scenario sets one.
+    pub duration_ns: Option<u64>,
+}

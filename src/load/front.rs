@@ -1,0 +1,109 @@
+//! The programs through the front end: read and parsed (before the registry exists, since
+//! MotionBASIC programs declare their variables by use), then checked against the registry and
+//! compiled to bytecode.
+
+use super::project::ProgramFile;
+use crate::check::basic::Variables;
+use crate::check::{check_program, CheckEnv};
+use crate::compile::{compile as compile_program, Chunk, Layout};
+use crate::config::files::Files;
+use crate::diag::{Diagnostics, Problem, SourceFile};
+use crate::registry::Registry;
+use crate::syntax::ast::ProgramAst;
+use crate::syntax::Dialect;
+use indexmap::IndexMap;
+
+/// The programs parsed.
+pub struct Parsed {
+    /// Each program's source, by number.
+    pub sources: IndexMap<u32, SourceFile>,
+    /// Each program: number, dialect, tree and its syntax problems.
+    pub programs: Vec<(u32, Dialect, ProgramAst, Vec<Problem>)>,
+    /// The MotionBASIC variables of every MotionBASIC program.
+    pub variables: Variables,
+}
+
+/// Read and parse every program; a file that cannot be read is a problem of the machine file
+/// (`problems`), at its `[[program]]` entry.
+pub fn parse(files: &dyn Files, programs: &[ProgramFile], problems: &mut Vec<Problem>) -> Parsed {
+    let mut out = Parsed {
+        sources: IndexMap::new(),
+        programs: Vec::new(),
+        variables: Variables::default(),
+    };
+    for p in programs {
+        let text = match files.read(&p.path) {
+            Ok(t) => t,
+            Err(e) => {
+                problems.push(Problem::error(
+                    "pacer::load::read",
+                    p.span.unwrap_or_default(),
+                    format!("cannot read {}: {e}", p.path.display()),
+                    "this program file",
+                ));
+                continue;
+            }
+        };
+        let dialect = Dialect::of_path(&p.path).unwrap_or_default();
+        let file = SourceFile::new(p.path.display().to_string(), text.as_str());
+        let mut syntax = Vec::new();
+        let ast = crate::syntax::parse_program_as(&text, dialect, &mut syntax);
+        if dialect == Dialect::MotionBasic {
+            out.variables.collect(&ast);
+        }
+        out.sources.insert(p.number, file);
+        out.programs.push((p.number, dialect, ast, syntax));
+    }
+    out
+}
+
+/// Check every program against the registry; each program's problems go with its file.
+pub fn check(parsed: &Parsed, registry: &Registry, numbers: &[u32], diags: &mut Diagnostics) {
+    for (number, dialect, ast, syntax) in &parsed.programs {
+        let mut problems = syntax.clone();
+        match dialect {
+            Dialect::PowerTools => {
+                let env = CheckEnv {
+                    registry,
+                    loaded_programs: numbers,
+                };
+                problems.extend(check_program(ast, &env));
+            }
+            Dialect::MotionBasic => {
+                problems.extend(crate::check::basic::check(ast, registry, &parsed.variables));
+            }
+        }
+        if let Some(file) = parsed.sources.get(number) {
+            diags.extend_file(file, problems);
+        }
+    }
+}
+
+/// Compile every program (they checked without errors): the chunks, each program's chunk, and
+/// the value array's layout.
+pub fn compile(
+    parsed: &Parsed,
+    registry: &Registry,
+    diags: &mut Diagnostics,
+) -> (Vec<(u32, Chunk)>, Layout) {
+    let mut layout = Layout::new(registry);
+    let mut chunks = Vec::new();
+    for (number, dialect, ast, _) in &parsed.programs {
+        let Some(file) = parsed.sources.get(number) else {
+            continue;
+        };
+        match compile_program(
+            ast,
+            &file.text,
+            &file.name,
+            *number,
+            registry,
+            &mut layout,
+            *dialect,
+        ) {
+            Ok(chunk) => chunks.push((*number, chunk)),
+            Err(problems) => diags.extend_file(file, problems),
+        }
+    }
+    (chunks, layout)
+}
