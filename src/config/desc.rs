@@ -7,7 +7,7 @@ use crate::devices::drive::AxisMarks;
 use crate::devices::orion::MarkTrack;
 use crate::devices::pickplace::setup::PickPlaceSetup;
 use crate::io::map::IoMap;
-use crate::registry::{Kind, Resolved, SlotId};
+use crate::registry::{Resolved, SlotId};
 use crate::world::belt::BeltProfile;
 use crate::world::master::MasterProfile;
 use crate::world::products::Product;
@@ -15,63 +15,7 @@ use crate::world::workpieces::WorkpieceFeed;
 use crate::world::Edge;
 use indexmap::IndexMap;
 
-/// The objects of a machine: how many of each, its variables and bits, and the members'
-/// initial values.
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct ObjectsDesc {
-    /// Instance counts `[io]` and `[objects]` set, by type name.
-    pub counts: IndexMap<&'static str, u32>,
-    /// One more than the highest program number loaded.
-    pub programs: u32,
-    /// The highest DSP axis number.
-    pub axes: u32,
-    /// The machine has the pick & place module.
-    pub pickplace: bool,
-    /// The number of pick & place belts (the highest belt number).
-    pub belts: u32,
-    /// User variables, in file order.
-    pub variables: Vec<VarDesc>,
-    /// User bits.
-    pub bits: BitsDesc,
-    /// Members that start the run at other than their default, in the order set (a later one
-    /// wins).
-    pub initials: Vec<Initial>,
-}
-
-/// A user variable (`[variables.NAME]`).
-#[derive(Debug, Clone, PartialEq)]
-pub struct VarDesc {
-    /// Its name as written.
-    pub name: String,
-    /// Decimal places kept.
-    pub decimals: u8,
-    /// Its value at the start, rounded to its places.
-    pub initial: f64,
-}
-
-/// The user bits (`[bits]`).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct BitsDesc {
-    /// How many: `Bit.0` … `Bit.(count-1)`.
-    pub count: u32,
-    /// Names given to bits, in file order.
-    pub names: Vec<(String, u32)>,
-    /// Bits that start ON.
-    pub on: Vec<u32>,
-}
-
-/// A member's initial value.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Initial {
-    /// Its object type.
-    pub kind: Kind,
-    /// The instance (0-based).
-    pub instance: u32,
-    /// The member's index in its type.
-    pub member: usize,
-    /// The value.
-    pub value: f64,
-}
+pub use crate::registry::objects::{BitsDesc, Initial, ObjectsDesc, VarDesc};
 
 /// One DSP axis (`[axis.N]`).
 pub type DspAxisDesc = crate::devices::orion::AxisSetUp;

@@ -4,7 +4,7 @@
 //! and the devices are built from (a value in error is left at its default, so the rest of the
 //! file and the programs can still be checked).
 
-use super::desc::{BitsDesc, DspAxisDesc, Initial, ObjectsDesc, VarDesc};
+use super::desc::{BitsDesc, DspAxisDesc, ObjectsDesc, VarDesc};
 use super::machine::MachineFile;
 use super::span_of;
 use crate::devices::drive::setup::{
@@ -14,7 +14,7 @@ use crate::devices::orion::dsp::DspAxisConfig;
 use crate::devices::orion::MoveDefaults;
 use crate::diag::{nearest, Problem};
 use crate::fixed::round_to;
-use crate::registry::catalog::{self, Instances, Kind, TypeDef};
+use crate::registry::catalog::{self, Instances, Kind};
 use crate::syntax::span::Span;
 
 /// Highest instance count accepted for any type (also keeps instance numbers within u16 in
@@ -744,38 +744,4 @@ fn section_instance(
         ));
     }
     n
-}
-
-impl ObjectsDesc {
-    /// The number of instances of `ty` the machine has.
-    pub fn count_of(&self, ty: &TypeDef) -> u32 {
-        let set = match ty.instances {
-            Instances::Global => 1,
-            Instances::Numbered { default_count, .. } => {
-                self.counts.get(ty.name).copied().unwrap_or(default_count)
-            }
-            Instances::Named => 0,
-        };
-        match ty.kind {
-            Kind::Program => set.max(self.programs),
-            Kind::Axis => self.axes,
-            // A machine without [pickplace] has no slots for the module at all: every slot
-            // is scanned every update.
-            Kind::PickPlace => u32::from(self.pickplace),
-            Kind::Belt => self.belts,
-            Kind::Var => self.variables.len() as u32,
-            Kind::Bit => self.bits.count,
-            _ => set,
-        }
-    }
-
-    /// Member `member` of instance `instance` of `ty` starts the run at `value`.
-    pub fn initial(&mut self, ty: &TypeDef, instance: u32, member: usize, value: f64) {
-        self.initials.push(Initial {
-            kind: ty.kind,
-            instance,
-            member,
-            value,
-        });
-    }
 }

@@ -1,6 +1,6 @@
 //! I/O backends: where a machine's inputs come from and its outputs go.
 //!
-//! The kernel talks to one [`IoBackend`] per run. The simulated world (scenario edges, the
+//! The machine talks to one [`IoBackend`] per run. The simulated world (scenario edges, the
 //! master profile) is the default backend, [`Simulator`]; the real backend (Modbus TCP against a remote-I/O coupler) is described
 //! by [`map`] (what is wired where, validated from `machine.toml`) and [`plan`] (the requests
 //! one update costs). [`memory`] executes a plan against an in-memory device, the model the

@@ -3,13 +3,14 @@
 //! to slots here, once, at compile time.
 
 pub mod catalog;
+pub mod objects;
 mod resolve;
 
 pub use catalog::{Access, Hook, Instances, Kind, MemberDef, TypeDef, ValueType};
 pub use resolve::Resolved;
 
-use crate::config::desc::ObjectsDesc;
 use indexmap::IndexMap;
+use objects::ObjectsDesc;
 
 /// Default update period: 1 ms.
 pub const DEFAULT_UPDATE_NS: u64 = 1_000_000;

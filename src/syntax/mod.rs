@@ -1,4 +1,5 @@
-//! The front end: tokens, grammar, AST, block structure.
+//! The front end's first half: program text to a tree. Each dialect's tokens, the grammar,
+//! the syntax tree both dialects share, and the block structure assembled from the lines.
 
 pub mod ast;
 pub mod blocks;

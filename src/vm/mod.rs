@@ -1,10 +1,11 @@
-//! The machine at run time: the value array, kernel objects, world, tasks and the per-update
-//! schedule.
+//! The machine at run time: the value array, the devices, the world, the tasks and the
+//! per-update schedule.
 //!
 //! Each update, in this fixed order: the world advances (master position, inputs sampled, edges
-//! timed) → assignments (captures latch at the exact edge) → the control loop: motion generators
-//! (both profiles of the axis), derived status (queue compares), timers → blocked tasks
-//! re-examined (`Wait For` conditions evaluated every update, timed waits, motion waits) → one
+//! timed) → assignments (captures latch at the exact edge) → the control loop: every device
+//! moves to this update in the machine's order (the drive's profiles, the DSP axes, pick &
+//! place), then every device derives its status (queue compares, PLS windows, timers) → blocked
+//! tasks re-examined (`Wait For` conditions evaluated every update, timed waits, motion waits) → one
 //! task runs, round robin over the tasks that are not blocked, until it blocks, ends or spends
 //! its instruction budget → the changes of the update are traced. The spec puts the task after
 //! the control loop ("each update, after the control loop, one task runs").
