@@ -93,6 +93,12 @@ pub struct SourceFile {
     index: Arc<LineIndex>,
 }
 
+impl PartialEq for SourceFile {
+    fn eq(&self, other: &SourceFile) -> bool {
+        self.name == other.name && self.text == other.text
+    }
+}
+
 impl SourceFile {
     /// A named source.
     pub fn new(name: impl Into<String>, text: impl Into<Arc<str>>) -> SourceFile {
@@ -257,12 +263,7 @@ impl Diagnostics {
 
     /// Render all problems; with colour when asked.
     pub fn render(&self, color: bool) -> String {
-        let theme = if color {
-            miette::GraphicalTheme::unicode()
-        } else {
-            miette::GraphicalTheme::unicode_nocolor()
-        };
-        let handler = miette::GraphicalReportHandler::new_themed(theme).with_width(100);
+        let handler = handler(color);
         let mut out = String::new();
         for (i, d) in self.items.iter().enumerate() {
             let (line, col) = d.file.line_col(d.problem.span);
@@ -289,6 +290,32 @@ impl Diagnostics {
         }
         out
     }
+}
+
+/// The report handler every diagnostic is drawn with: 100 columns, colour when asked.
+fn handler(color: bool) -> miette::GraphicalReportHandler {
+    let theme = if color {
+        miette::GraphicalTheme::unicode()
+    } else {
+        miette::GraphicalTheme::unicode_nocolor()
+    };
+    miette::GraphicalReportHandler::new_themed(theme).with_width(100)
+}
+
+/// One problem of `file` drawn as the compile-time ones are — `file:line:column: heading`, then
+/// the snippet with the span underlined — for a problem found while running (a run-time error
+/// in a program).
+pub fn render_located(file: &SourceFile, problem: &Problem, heading: &str, color: bool) -> String {
+    let (line, col) = file.line_col(problem.span);
+    let mut out = format!("{}:{}:{}: {heading}\n", file.name, line, col);
+    let located = Located {
+        problem: problem.clone(),
+        file: file.clone(),
+    };
+    if file.wide_around(problem.span) || handler(color).render_report(&mut out, &located).is_err() {
+        out.push_str(&format!("  {}\n", problem.message));
+    }
+    out
 }
 
 /// The closest candidate to `name` (case-insensitive), if close enough to be a likely slip.

@@ -348,7 +348,7 @@ fn execute(
     let RunOptions {
         trace,
         quiet,
-        color: _,
+        color,
         ..
     } = options;
     let sink: Option<Box<dyn std::io::Write>> = match &trace {
@@ -460,7 +460,7 @@ fn execute(
     }
     match summary.error {
         Some(e) => {
-            warn!("error: {e}");
+            warn_raw!("{}", e.render(color));
             ExitCode::from(EXIT_RUNTIME)
         }
         None => match realtime.and_then(|r| r.overrun_fault) {

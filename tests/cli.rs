@@ -86,14 +86,45 @@ fn a_runtime_error_names_task_program_and_line_and_keeps_the_trace() {
     ]);
     assert_eq!(o.status.code(), Some(2), "{}", text(&o));
     let t = text(&o);
+    // Located as compile-time problems are: file:line:column, the line, the divisor's
+    // expression underlined.
     assert!(
-        t.contains("task 0, Program.0") && t.contains("line 3") && t.contains("division by zero"),
+        t.contains("program0.pt:3:9: run-time error at t=0 s in Program.0 (task 0)")
+            && t.contains("division by zero"),
         "{t}"
     );
+    let shown = t
+        .lines()
+        .position(|l| l.ends_with("│ Var.A = Var.A / Var.B"))
+        .unwrap_or_else(|| panic!("the line is shown: {t}"));
+    // In characters: the underline starts under the `Var.A / Var.B` after `Var.A = ` and is
+    // as long as it.
+    let underline: Vec<char> = t.lines().nth(shown + 1).unwrap_or("").chars().collect();
+    let code: Vec<char> = t.lines().nth(shown).unwrap_or("").chars().collect();
+    let start = code.iter().position(|&c| c == 'V').unwrap_or(0) + "Var.A = ".len();
+    let marks = |c: &char| matches!(c, '─' | '┬');
+    let first = underline.iter().position(marks).unwrap_or(0);
+    assert_eq!(
+        (first, underline.iter().filter(|c| marks(c)).count()),
+        (start, "Var.A / Var.B".len()),
+        "`Var.A / Var.B` is underlined: {t}"
+    );
     let lines = std::fs::read_to_string(&trace).expect("trace");
+    let error = lines
+        .lines()
+        .find(|l| l.contains("\"kind\":\"error\""))
+        .unwrap_or_else(|| panic!("an error event: {lines}"));
+    let e: serde_json::Value = serde_json::from_str(error).expect("JSON");
+    assert_eq!(e["message"], "division by zero");
     assert!(
-        lines.contains("\"kind\":\"error\"") && lines.contains("division by zero"),
-        "{lines}"
+        e["file"]
+            .as_str()
+            .is_some_and(|f| f.ends_with("program0.pt")),
+        "{e}"
+    );
+    assert_eq!(
+        (e["line"].as_u64(), e["column"].as_u64()),
+        (Some(3), Some(9))
     );
     assert!(
         lines

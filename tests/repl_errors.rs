@@ -246,3 +246,53 @@ fn a_wait_nothing_can_end_is_given_up_not_hung() {
     // The REPL task is free again: the next lines run.
     assert!(said.trim_end().ends_with("\nON"), "{said}");
 }
+
+#[test]
+fn a_run_time_error_of_a_typed_line_is_shown_in_the_line_and_traced_with_its_place() {
+    let mut s = empty(Dialect::MotionBasic);
+    let dir = std::env::temp_dir().join(format!("pacer-repl-error-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("a scratch folder");
+    let trace = dir.join("t.jsonl");
+    let mut out = Vec::new();
+    s.trace_to(&trace, &mut out);
+    assert_eq!(enter(&mut s, "Z = 0").0, Ran::Done);
+    let (ran, said) = enter(&mut s, "R = 10 + 1 / Z");
+    assert_eq!(ran, Ran::Failed, "{said}");
+    // `typed line:1:10`: the division, not the line, is where it failed; it is underlined.
+    assert!(
+        said.starts_with("typed line:1:10: run-time error at t=0 s in the typed line"),
+        "{said}"
+    );
+    let lines: Vec<&str> = said.lines().collect();
+    let shown = lines
+        .iter()
+        .position(|l| l.ends_with("│ R = 10 + 1 / Z"))
+        .unwrap_or_else(|| panic!("the typed line is shown: {said}"));
+    let code: Vec<char> = lines[shown].chars().collect();
+    let underline: Vec<char> = lines[shown + 1].chars().collect();
+    let start = code.iter().position(|&c| c == 'R').unwrap_or(0) + "R = 10 + ".len();
+    let marks = |c: &char| matches!(c, '─' | '┬');
+    assert_eq!(
+        (
+            underline.iter().position(marks),
+            underline.iter().filter(|c| marks(c)).count()
+        ),
+        (Some(start), "1 / Z".len()),
+        "{said}"
+    );
+    s.trace_off(pacer::vm::StopReason::TraceOff, &mut out);
+    let text = std::fs::read_to_string(&trace).expect("the trace");
+    let error: serde_json::Value = text
+        .lines()
+        .filter_map(|l| serde_json::from_str(l).ok())
+        .find(|e: &serde_json::Value| e["kind"] == "error")
+        .unwrap_or_else(|| panic!("an error event: {text}"));
+    assert_eq!(error["program"], serde_json::Value::Null);
+    assert_eq!(error["file"], "typed line");
+    assert_eq!(
+        (error["line"].as_u64(), error["column"].as_u64()),
+        (Some(1), Some(10))
+    );
+    assert_eq!(error["message"], "division by zero");
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -5,7 +5,8 @@ use super::{Chunk, Layout};
 use crate::registry::Registry;
 use std::fmt::Write;
 
-/// Render a chunk: one instruction a line, with its source line and operand names.
+/// Render a chunk: one instruction a line, with its source line, its operands' names and,
+/// after `;`, the line and column of the expression or statement it evaluates.
 pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> String {
     let r = |x: u32| layout.describe(x, registry);
     let mut out = String::new();
@@ -197,7 +198,12 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::Return => "return".to_string(),
             Op::End => "end".to_string(),
         };
-        let _ = writeln!(out, "{line_col} @{pc:<4} {text}");
+        // Where in the source the instruction's expression or statement starts.
+        let (l, c) = chunk
+            .spans
+            .get(pc)
+            .map_or((0, 0), |s| chunk.source.line_col(*s));
+        let _ = writeln!(out, "{line_col} @{pc:<4} {text:<48} ; {l}:{c}");
     }
     out
 }

@@ -5,7 +5,7 @@ pub mod disasm;
 
 use crate::check::basic::{self, BasicTy};
 use crate::check::{expr_type, functions, Ty};
-use crate::diag::Problem;
+use crate::diag::{Problem, SourceFile};
 use crate::registry::{Access, Hook, Kind, Registry, ValueType};
 use crate::syntax::ast::{
     BinOp, Expr, ExprKind, GearForm, MoveForm, Name, ProgramAst, Stmt, StmtKind, UnOp, Using,
@@ -125,6 +125,11 @@ pub struct Chunk {
     pub ops: Vec<Op>,
     /// Source line of each instruction.
     pub lines: Vec<u32>,
+    /// The source each instruction evaluates: an operator's whole expression, a call, a
+    /// statement (a store, an action, a wait).
+    pub spans: Vec<Span>,
+    /// The program's text, for run-time errors shown in place.
+    pub source: SourceFile,
 }
 
 /// Compile a program that checked without errors.
@@ -145,7 +150,9 @@ pub fn compile(
         lines_of: LineIndex::new(src),
         ops: Vec::new(),
         lines: Vec::new(),
+        spans: Vec::new(),
         line: 1,
+        span: Span::new(0, 0),
         temp_top: 0,
         stmt_start: 0,
         labels: IndexMap::new(),
@@ -183,6 +190,8 @@ pub fn compile(
             file: file.to_string(),
             ops: c.ops,
             lines: c.lines,
+            spans: c.spans,
+            source: SourceFile::new(file, src),
         })
     } else {
         Err(c.problems)
@@ -193,6 +202,7 @@ pub fn compile(
 /// fresh hidden register of `layout`, returned with the chunk.
 pub fn compile_expr(
     expr: &Expr,
+    src: &str,
     file: &str,
     program: u32,
     registry: &Registry,
@@ -204,10 +214,12 @@ pub fn compile_expr(
         dialect,
         basic_labels: Vec::new(),
         layout,
-        lines_of: LineIndex::new(""),
+        lines_of: LineIndex::new(src),
         ops: Vec::new(),
         lines: Vec::new(),
+        spans: Vec::new(),
         line: 1,
+        span: Span::new(0, 0),
         temp_top: 0,
         stmt_start: 0,
         labels: IndexMap::new(),
@@ -224,6 +236,8 @@ pub fn compile_expr(
             file: file.to_string(),
             ops: c.ops,
             lines: c.lines,
+            spans: c.spans,
+            source: SourceFile::new(file, src),
         };
         Ok((chunk, dst))
     } else {
@@ -246,7 +260,10 @@ struct Compiler<'a> {
     lines_of: LineIndex,
     ops: Vec<Op>,
     lines: Vec<u32>,
+    spans: Vec<Span>,
     line: u32,
+    /// The source span the next instructions evaluate.
+    span: Span,
     temp_top: u32,
     stmt_start: usize,
     labels: IndexMap<String, u32>,
@@ -258,6 +275,7 @@ impl Compiler<'_> {
     fn emit(&mut self, op: Op) -> usize {
         self.ops.push(op);
         self.lines.push(self.line);
+        self.spans.push(self.span);
         self.ops.len() - 1
     }
 
@@ -304,6 +322,7 @@ impl Compiler<'_> {
     fn block(&mut self, body: &[Stmt]) {
         for s in body {
             self.line = self.lines_of.line(s.span.start) as u32;
+            self.span = s.span;
             self.temp_top = 0;
             self.stmt_start = self.ops.len();
             self.stmt(s);
@@ -415,6 +434,8 @@ impl Compiler<'_> {
                         self.patch_all(to_else, end);
                     }
                     Some(else_body) => {
+                        self.line = self.lines_of.line(s.span.start) as u32;
+                        self.span = s.span;
                         let to_end = self.emit(Op::Jump { target: 0 });
                         let else_start = self.here();
                         self.patch_all(to_else, else_start);
@@ -429,6 +450,7 @@ impl Compiler<'_> {
                 let exit = self.cond_jump(cond);
                 self.block(body);
                 self.line = self.lines_of.line(s.span.start) as u32;
+                self.span = s.span;
                 self.emit(Op::Loop { target: top });
                 let end = self.here();
                 self.patch_all(exit, end);
@@ -467,6 +489,7 @@ impl Compiler<'_> {
                 });
                 self.block(body);
                 self.line = self.lines_of.line(s.span.start) as u32;
+                self.span = s.span;
                 self.temp_top = 0;
                 let decimals = match r.ty {
                     ValueType::Fixed(d) => d,
@@ -642,6 +665,14 @@ impl Compiler<'_> {
 
     /// An axis-set value: axis numbers become sets, sets are joined.
     fn axis_set(&mut self, e: &Expr) -> Reg {
+        let outer = std::mem::replace(&mut self.span, e.span);
+        let r = self.axis_set_at(e);
+        self.span = outer;
+        r
+    }
+
+    /// [`Compiler::axis_set`], with `e`'s span current.
+    fn axis_set_at(&mut self, e: &Expr) -> Reg {
         match &e.kind {
             ExprKind::Paren(inner) => self.axis_set(inner),
             ExprKind::AxisSet(items) => {
@@ -737,6 +768,7 @@ impl Compiler<'_> {
                 if checked == src {
                     self.ops.pop();
                     self.lines.pop();
+                    self.spans.pop();
                 }
             }
             self.emit(Op::StoreLong { dst: r.slot, src });
@@ -749,6 +781,7 @@ impl Compiler<'_> {
             if checked == src && self.ops.len() > self.stmt_start {
                 self.ops.pop();
                 self.lines.pop();
+                self.spans.pop();
             }
         }
         if let (Hook::Store, ValueType::Fixed(_) | ValueType::Integer) = (r.hook, r.ty) {
@@ -832,6 +865,14 @@ impl Compiler<'_> {
 
     /// Jumps taken when `cond` equals `when`.
     fn jumps(&mut self, cond: &Expr, when: bool) -> Vec<usize> {
+        let outer = std::mem::replace(&mut self.span, cond.span);
+        let j = self.jumps_at(cond, when);
+        self.span = outer;
+        j
+    }
+
+    /// [`Compiler::jumps`], with the condition's span current.
+    fn jumps_at(&mut self, cond: &Expr, when: bool) -> Vec<usize> {
         match &cond.kind {
             ExprKind::Bool(b) => {
                 if *b == when {
@@ -903,7 +944,17 @@ impl Compiler<'_> {
         }
     }
 
+    /// The register holding the value of `e`; its instructions carry the span of the
+    /// (sub)expression each evaluates.
     fn expr(&mut self, e: &Expr) -> Reg {
+        let outer = std::mem::replace(&mut self.span, e.span);
+        let r = self.expr_at(e);
+        self.span = outer;
+        r
+    }
+
+    /// [`Compiler::expr`], with `e`'s span current.
+    fn expr_at(&mut self, e: &Expr) -> Reg {
         match &e.kind {
             ExprKind::Number(v) => self.layout.constant(*v),
             ExprKind::Bool(b) => {

@@ -202,13 +202,10 @@ impl Session {
         self.machine.cancel_line();
     }
 
-    /// A run-time error as the REPL says it.
+    /// A run-time error as the REPL says it: shown in its line, the failing expression
+    /// underlined (in the typed line, or in the program's file).
     pub fn error_text(&self, e: &RunError) -> String {
-        if e.program == REPL_PROGRAM {
-            format!("error at t={} s in the typed line: {}", e.time, e.message)
-        } else {
-            format!("error: {e}")
-        }
+        e.render(self.color).trim_end().to_string()
     }
 
     /// Run a typed line (statements or an expression) now, at the time of the last update.
@@ -255,6 +252,7 @@ impl Session {
             Parsed::Expression(e) => {
                 match compile_expr(
                     e,
+                    text,
                     TYPED,
                     REPL_PROGRAM,
                     registry,

@@ -50,7 +50,21 @@ impl Value {
 /// Who a `warning` or `error` is about.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(untagged)]
-pub enum Origin {
+pub enum Origin<'a> {
+    /// A place in a program: the task, the program (null for a line typed at the REPL), its
+    /// file, and the line and column (in characters) of the expression or statement.
+    At {
+        /// The task it ran on.
+        task: usize,
+        /// The program number (null for a typed line).
+        program: Option<u32>,
+        /// The program's file.
+        file: Text<'a>,
+        /// Source line.
+        line: u32,
+        /// Source column.
+        column: u32,
+    },
     /// A program line: the task, the program (null for a line typed at the REPL) and the line.
     Program {
         /// The task it ran on.
@@ -266,7 +280,7 @@ pub enum Event<'a> {
     Warning {
         /// Who it is about.
         #[serde(flatten)]
-        origin: Origin,
+        origin: Origin<'a>,
         /// What.
         message: Text<'a>,
     },
@@ -274,7 +288,7 @@ pub enum Event<'a> {
     Error {
         /// Who it is about.
         #[serde(flatten)]
-        origin: Origin,
+        origin: Origin<'a>,
         /// What.
         message: Text<'a>,
     },
@@ -589,7 +603,13 @@ impl Event<'_> {
                 message: "GEAR FOR over a pacer distance of 0: applied at once".into(),
             },
             EventKind::Error => Event::Error {
-                origin: program,
+                origin: Origin::At {
+                    task: 0,
+                    program: Some(1),
+                    file: "program1.pt".into(),
+                    line: 12,
+                    column: 9,
+                },
                 message: "division by zero".into(),
             },
             EventKind::PpState => Event::PpState {

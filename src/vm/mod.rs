@@ -10,6 +10,7 @@
 //! its instruction budget → the changes of the update are traced. The spec puts the task after
 //! the control loop ("each update, after the control loop, one task runs").
 
+pub mod error;
 pub mod exec;
 pub mod live;
 pub mod realtime;
@@ -24,6 +25,7 @@ use crate::io::{IoBackend, IoFault, IoStats, Simulator};
 use crate::registry::{Access, Hook, Registry, SlotId};
 use crate::trace::{Event, Origin, ProgramEvent, Trace, Value};
 use crate::world::{Edge, InputActivity, World};
+pub use error::RunError;
 use exec::{Ctx, Exit};
 use indexmap::IndexMap;
 pub use stop::StopReason;
@@ -111,33 +113,6 @@ macro_rules! now {
             trace: &mut $m.trace,
         }
     };
-}
-
-/// A run-time error in a program.
-#[derive(Debug, Clone, PartialEq)]
-pub struct RunError {
-    /// Task number.
-    pub task: usize,
-    /// Program number.
-    pub program: u32,
-    /// Program file.
-    pub file: String,
-    /// Source line.
-    pub line: u32,
-    /// What went wrong.
-    pub message: String,
-    /// Time of the error, seconds.
-    pub time: f64,
-}
-
-impl std::fmt::Display for RunError {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "run-time error at t={} s: task {}, Program.{} ({}) line {}: {}",
-            self.time, self.task, self.program, self.file, self.line, self.message
-        )
-    }
 }
 
 /// How a run went.
@@ -400,12 +375,8 @@ impl Machine {
         for p in autostart {
             if let Err(message) = self.start_program(p) {
                 self.error = Some(RunError {
-                    task: 0,
                     program: p,
-                    file: String::new(),
-                    line: 0,
-                    message,
-                    time: 0.0,
+                    ..RunError::machine("", message, 0.0)
                 });
             }
         }
@@ -535,14 +506,11 @@ impl Machine {
         let updated = self.devices.update(&mut self.values, &mut now!(self));
         if let Err(e) = updated {
             self.trace.machine_error(self.tick, e.message.clone());
-            self.error = Some(RunError {
-                task: 0,
-                program: 0,
-                file: e.device.into(),
-                line: 0,
-                message: e.message,
-                time: self.tick as f64 * self.image.tick_ns as f64 / 1e9,
-            });
+            self.error = Some(RunError::machine(
+                e.device,
+                e.message,
+                self.tick as f64 * self.image.tick_ns as f64 / 1e9,
+            ));
             return;
         }
         self.devices.derive(&mut self.values, &mut now!(self));
@@ -650,14 +618,7 @@ impl Machine {
         let time = self.trace.seconds(self.tick);
         let message = format!("assignment to {}: {message}", a.dest.name);
         self.trace.machine_error(self.tick, message.clone());
-        self.error = Some(RunError {
-            task: 0,
-            program: 0,
-            file: "machine.toml".into(),
-            line: 0,
-            message,
-            time,
-        });
+        self.error = Some(RunError::machine("machine.toml", message, time));
     }
 
     /// Run an action: program control here, the rest on the devices.
@@ -847,20 +808,31 @@ impl Machine {
         exit
     }
 
+    /// A run-time error of task `ti` at instruction `pc` of `chunk`: traced and kept with the
+    /// place in the program (the expression or statement the instruction evaluates).
     fn fault(&mut self, ti: usize, chunk: usize, pc: u32, message: String) {
         let c = &self.image.chunks[chunk];
-        let line = c.lines.get(pc as usize).copied().unwrap_or(0);
         let program = c.program;
         let file = c.file.clone();
         let time = self.trace.seconds(self.tick);
+        let place = c.spans.get(pc as usize).map(|s| (c.source.clone(), *s));
+        let (line, column) = match &place {
+            Some((source, span)) => {
+                let (l, col) = source.line_col(*span);
+                (l as u32, col as u32)
+            }
+            None => (c.lines.get(pc as usize).copied().unwrap_or(0), 0),
+        };
         let program_number = (program != REPL_PROGRAM).then_some(program);
         self.trace.emit(
             self.tick,
             &Event::Error {
-                origin: Origin::Program {
+                origin: Origin::At {
                     task: ti,
                     program: program_number,
+                    file: file.as_str().into(),
                     line,
+                    column,
                 },
                 message: message.as_str().into(),
             },
@@ -870,6 +842,8 @@ impl Machine {
             program,
             file,
             line,
+            column,
+            place,
             message,
             time,
         });
