@@ -252,10 +252,11 @@ END
 
 #[test]
 fn indexed_names_are_one_token_in_both_dialects() {
-    use pacer::syntax::mb_token::{self, MbTok};
-    use pacer::syntax::token::{self, Tok};
+    use pacer::syntax::lex::lex;
+    use pacer::syntax::token::Tok;
+    use pacer::syntax::Dialect::{MotionBasic, PowerTools};
     let src = "Belt.2.ascInitialObjectPosition[1] = PickPlace.alrActPos[13]\n";
-    let names: Vec<&str> = token::lex(src)
+    let names: Vec<&str> = lex(src, PowerTools)
         .filter_map(Result::ok)
         .filter_map(|(_, t, _)| match t {
             Tok::Name(n) => Some(n),
@@ -269,10 +270,10 @@ fn indexed_names_are_one_token_in_both_dialects() {
             "PickPlace.alrActPos[13]"
         ]
     );
-    let names: Vec<&str> = mb_token::lex(src)
+    let names: Vec<&str> = lex(src, MotionBasic)
         .filter_map(Result::ok)
         .filter_map(|(_, t, _)| match t {
-            MbTok::Name(n) => Some(n),
+            Tok::Name(n) => Some(n),
             _ => None,
         })
         .collect();
@@ -285,13 +286,13 @@ fn indexed_names_are_one_token_in_both_dialects() {
     );
     // Not an index: a bracket after a plain name, a space, or something other than digits.
     for src in ["X[1]", "A.B [1]", "A.B[I]", "A.B&[1]"] {
-        let toks: Vec<MbTok> = mb_token::lex(src)
+        let toks: Vec<Tok> = lex(src, MotionBasic)
             .filter_map(Result::ok)
             .map(|t| t.1)
             .collect();
-        assert!(toks.contains(&MbTok::LBracket), "{src}: {toks:?}");
+        assert!(toks.contains(&Tok::LBracket), "{src}: {toks:?}");
     }
-    let toks: Vec<Tok> = token::lex("Var.x[a]")
+    let toks: Vec<Tok> = lex("Var.x[a]", PowerTools)
         .filter_map(Result::ok)
         .map(|t| t.1)
         .collect();

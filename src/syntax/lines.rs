@@ -59,3 +59,12 @@ pub fn bin(op: BinOp, a: Expr, b: Expr, l: usize, r: usize) -> Expr {
         span: Span::new(l, r),
     }
 }
+
+/// A numeric literal spanning `l..r` (a literal too large for a double is infinite; the checker
+/// reports it).
+pub fn number(text: &str, l: usize, r: usize) -> Expr {
+    Expr {
+        kind: ExprKind::Number(text.parse::<f64>().unwrap_or(f64::NAN)),
+        span: Span::new(l, r),
+    }
+}

@@ -3,18 +3,14 @@
 
 pub mod ast;
 pub mod blocks;
+pub mod lex;
 pub mod lines;
-pub mod mb_token;
 pub mod span;
 pub mod token;
 
 lalrpop_util::lalrpop_mod!(
     #[allow(clippy::all, clippy::pedantic, unused_parens, missing_docs)]
-    powertools
-);
-lalrpop_util::lalrpop_mod!(
-    #[allow(clippy::all, clippy::pedantic, unused_parens, missing_docs)]
-    motionbasic
+    program
 );
 
 /// The program languages pacer reads.
@@ -53,20 +49,25 @@ use lalrpop_util::{ErrorRecovery, ParseError};
 use span::Span;
 use token::{LexError, Tok};
 
-/// Parse a PowerTools program. Syntax problems are appended to `problems`; the returned tree
-/// holds every line that parsed, so later passes can report their problems too.
-pub fn parse_powertools(src: &str, problems: &mut Vec<Problem>) -> ProgramAst {
+/// Parse a program of `dialect` (no line-length check: see [`parse_program_as`]). Syntax
+/// problems are appended to `problems`; the returned tree holds every line that parsed, so
+/// later passes can report their problems too.
+fn parse_file(src: &str, dialect: Dialect, problems: &mut Vec<Problem>) -> ProgramAst {
     let mut recovered: Vec<ErrorRecovery<usize, Tok<'_>, LexError>> = Vec::new();
-    let result = powertools::FileParser::new().parse(&mut recovered, token::lex(src));
+    let tokens = lex::lex(src, dialect);
+    let result = match dialect {
+        Dialect::PowerTools => program::PtFileParser::new().parse(&mut recovered, tokens),
+        Dialect::MotionBasic => program::MbFileParser::new().parse(&mut recovered, tokens),
+    };
     for r in recovered {
-        problems.push(syntax_problem(r.error, src));
+        problems.push(syntax_problem(r.error, src, dialect));
     }
     match result {
         Ok(lines) => ProgramAst {
-            body: blocks::assemble(lines, src, problems, Dialect::PowerTools.words()),
+            body: blocks::assemble(lines, src, problems, dialect.words()),
         },
         Err(e) => {
-            problems.push(syntax_problem(e, src));
+            problems.push(syntax_problem(e, src, dialect));
             ProgramAst::default()
         }
     }
@@ -75,24 +76,6 @@ pub fn parse_powertools(src: &str, problems: &mut Vec<Problem>) -> ProgramAst {
 /// Longest line accepted, in tokens: bounds expression depth, so no input can exhaust the stack.
 pub const MAX_LINE_TOKENS: usize = 512;
 
-/// Parse a MotionBASIC program. Syntax problems are appended to `problems`.
-pub fn parse_motionbasic(src: &str, problems: &mut Vec<Problem>) -> ProgramAst {
-    let mut recovered: Vec<ErrorRecovery<usize, mb_token::MbTok<'_>, LexError>> = Vec::new();
-    let result = motionbasic::FileParser::new().parse(&mut recovered, mb_token::lex(src));
-    for r in recovered {
-        problems.push(syntax_problem(r.error, src));
-    }
-    match result {
-        Ok(lines) => ProgramAst {
-            body: blocks::assemble(lines, src, problems, Dialect::MotionBasic.words()),
-        },
-        Err(e) => {
-            problems.push(syntax_problem(e, src));
-            ProgramAst::default()
-        }
-    }
-}
-
 /// Parse a PowerTools program, after checking that no line is absurdly long.
 pub fn parse_program(src: &str, problems: &mut Vec<Problem>) -> ProgramAst {
     parse_program_as(src, Dialect::PowerTools, problems)
@@ -100,18 +83,9 @@ pub fn parse_program(src: &str, problems: &mut Vec<Problem>) -> ProgramAst {
 
 /// Parse a program of `dialect`, after checking that no line is absurdly long.
 pub fn parse_program_as(src: &str, dialect: Dialect, problems: &mut Vec<Problem>) -> ProgramAst {
-    let newlines: Box<dyn Iterator<Item = (usize, bool, usize)>> = match dialect {
-        Dialect::PowerTools => Box::new(
-            token::lex(src)
-                .filter_map(Result::ok)
-                .map(|(l, t, r)| (l, matches!(t, Tok::Newline), r)),
-        ),
-        Dialect::MotionBasic => Box::new(
-            mb_token::lex(src)
-                .filter_map(Result::ok)
-                .map(|(l, t, r)| (l, matches!(t, mb_token::MbTok::Newline), r)),
-        ),
-    };
+    let newlines = lex::lex(src, dialect)
+        .filter_map(Result::ok)
+        .map(|(l, t, r)| (l, matches!(t, Tok::Newline), r));
     let mut count = 0usize;
     let mut line_start = 0usize;
     for (l, newline, r) in newlines {
@@ -135,51 +109,24 @@ pub fn parse_program_as(src: &str, dialect: Dialect, problems: &mut Vec<Problem>
             return ProgramAst::default();
         }
     }
-    match dialect {
-        Dialect::PowerTools => parse_powertools(src, problems),
-        Dialect::MotionBasic => parse_motionbasic(src, problems),
-    }
+    parse_file(src, dialect, problems)
 }
 
 /// Parse one expression (for tests and the REPL).
 pub fn parse_expr(src: &str) -> Result<ast::Expr, Problem> {
     let mut recovered = Vec::new();
-    let r = powertools::ExprParser::new().parse(&mut recovered, token::lex(src));
+    let tokens = lex::lex(src, Dialect::PowerTools);
+    let r = program::PtExprParser::new().parse(&mut recovered, tokens);
+    let d = Dialect::PowerTools;
     match (r, recovered.into_iter().next()) {
         (Ok(e), None) => Ok(e),
-        (_, Some(rec)) => Err(syntax_problem(rec.error, src)),
-        (Err(e), None) => Err(syntax_problem(e, src)),
+        (_, Some(rec)) => Err(syntax_problem(rec.error, src, d)),
+        (Err(e), None) => Err(syntax_problem(e, src, d)),
     }
 }
 
-/// What the error reporter needs to know about a dialect's tokens.
-trait SyntaxToken: std::fmt::Display {
-    /// The dialect writes its keywords in capitals (MotionBASIC).
-    const UPPER_KEYWORDS: bool = false;
-    fn is_newline(&self) -> bool;
-    fn is_bad(&self) -> bool;
-}
-
-impl SyntaxToken for Tok<'_> {
-    fn is_newline(&self) -> bool {
-        matches!(self, Tok::Newline)
-    }
-    fn is_bad(&self) -> bool {
-        matches!(self, Tok::Bad(_))
-    }
-}
-
-impl SyntaxToken for mb_token::MbTok<'_> {
-    const UPPER_KEYWORDS: bool = true;
-    fn is_newline(&self) -> bool {
-        matches!(self, mb_token::MbTok::Newline)
-    }
-    fn is_bad(&self) -> bool {
-        matches!(self, mb_token::MbTok::Bad(_))
-    }
-}
-
-fn syntax_problem<T: SyntaxToken>(e: ParseError<usize, T, LexError>, src: &str) -> Problem {
+fn syntax_problem(e: ParseError<usize, Tok<'_>, LexError>, src: &str, dialect: Dialect) -> Problem {
+    let upper = dialect == Dialect::MotionBasic;
     const CODE: &str = "pacer::syntax";
     match e {
         ParseError::InvalidToken { location } => Problem::error(
@@ -194,35 +141,37 @@ fn syntax_problem<T: SyntaxToken>(e: ParseError<usize, T, LexError>, src: &str) 
             "the file ends in the middle of a statement",
             "statement incomplete",
         )
-        .with_help_opt(expected_help(&expected, T::UPPER_KEYWORDS)),
+        .with_help_opt(expected_help(&expected, upper)),
         ParseError::UnrecognizedToken {
             token: (l, tok, r),
             expected,
         } => {
-            let span = if tok.is_newline() {
+            let newline = matches!(tok, Tok::Newline);
+            let bad = matches!(tok, Tok::Bad(_));
+            let span = if newline {
                 Span::new(l, l)
             } else {
                 Span::new(l, r)
             };
-            let message = if tok.is_bad() {
-                format!("{tok}")
-            } else if tok.is_newline() {
+            let message = if bad {
+                tok.describe(dialect).into_owned()
+            } else if newline {
                 "the line ends too early".to_string()
             } else {
-                format!("unexpected {tok}")
+                format!("unexpected {}", tok.describe(dialect))
             };
-            let label = if tok.is_bad() {
+            let label = if bad {
                 "not part of the language"
             } else {
                 "not expected here"
             };
             Problem::error(CODE, span, message, label)
-                .with_help_opt(expected_help(&expected, T::UPPER_KEYWORDS))
+                .with_help_opt(expected_help(&expected, upper))
         }
         ParseError::ExtraToken { token: (l, tok, r) } => Problem::error(
             CODE,
             Span::new(l, r),
-            format!("unexpected {tok}"),
+            format!("unexpected {}", tok.describe(dialect)),
             "extra token",
         ),
         ParseError::User { error: LexError } => Problem::error(

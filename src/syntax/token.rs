@@ -1,195 +1,173 @@
-//! The PowerTools token set (logos). Newlines are tokens: a newline ends a statement.
+//! The tokens the grammar reads, for both dialects: each dialect's lexer (`lex/`) makes them
+//! from its own keywords, so a token a dialect does not have is simply never made by its lexer.
+//! Messages name a token as its dialect writes it ([`Tok::describe`]).
 
-use logos::Logos;
+use super::Dialect;
+use std::borrow::Cow;
 
-/// Raised by logos for a character that starts no token; the lexer turns it into [`Tok::Bad`]
+/// Raised by logos for a character that starts no token; the lexers turn it into [`Tok::Bad`]
 /// so the parser reports it in place and recovers.
 #[derive(Debug, Clone, PartialEq, Default)]
 pub struct LexError;
 
-/// One token of a PowerTools program.
-#[derive(Logos, Debug, Clone, Copy, PartialEq)]
-#[logos(error = LexError)]
-#[logos(skip r"[ \t\r\f\x{FEFF}]+")]
-// Comments run to the end of the line; typeset manuals show curly quotes too.
-#[logos(skip(r"['‘’][^\n]*", allow_greedy = true))]
+/// One token of a program, in either dialect.
+#[derive(Debug, Clone, Copy, PartialEq)]
+#[allow(missing_docs)]
 pub enum Tok<'s> {
-    #[token("\n")]
+    /// A newline ends a statement.
     Newline,
-    #[regex(r"[0-9]+(\.[0-9]*)?([eE][+-]?[0-9]+)?", |lex| lex.slice())]
-    #[regex(r"\.[0-9]+([eE][+-]?[0-9]+)?", |lex| lex.slice())]
     Number(&'s str),
-    /// A plain or dotted name: `Var.Count`, `Queue.0.QueueEmpty`, `MyLabel`. A segment after a
-    /// dot may end with an index in brackets, part of the name: `PickPlace.alrActPos[3]`.
-    #[regex(r"[A-Za-z_][A-Za-z0-9_]*(\.[A-Za-z0-9_]+(\[[0-9]+\])?)*", |lex| lex.slice())]
+    /// A string literal, quotes excluded (MotionBASIC).
+    Str(&'s str),
+    /// A plain or dotted name: `Var.Count`, `Queue.0.QueueEmpty`, `PLEN&`, `POS.ASEN@`.
     Name(&'s str),
-
-    #[token("wait", ignore(case))]
+    /// `NAME:` at the start of a line (MotionBASIC).
+    Label(&'s str),
     Wait,
-    #[token("for", ignore(case))]
     For,
-    #[token("time", ignore(case))]
     Time,
-    #[token("dwell", ignore(case))]
     Dwell,
-    #[token("master", ignore(case))]
     Master,
-    #[token("dist", ignore(case))]
     Dist,
-    #[token("if", ignore(case))]
     If,
-    #[token("then", ignore(case))]
     Then,
-    #[token("else", ignore(case))]
     Else,
-    #[token("endif", ignore(case))]
     Endif,
-    #[token("do", ignore(case))]
     Do,
-    #[token("while", ignore(case))]
     While,
-    #[token("loop", ignore(case))]
+    WhileTrue,
+    Wend,
     Loop,
-    #[token("end", ignore(case))]
     End,
-    #[token("using", ignore(case))]
     Using,
-    #[token("last", ignore(case))]
     Last,
-    #[token("on", ignore(case))]
     On,
-    #[token("to", ignore(case))]
     To,
-    #[token("step", ignore(case))]
     Step,
-    #[token("next", ignore(case))]
     Next,
-    #[token("goto", ignore(case))]
     Goto,
-    #[token("jump", ignore(case))]
     Jump,
-    #[token("call", ignore(case))]
     Call,
-    #[token("true", ignore(case))]
-    #[token("yes", ignore(case))]
-    #[token("set", ignore(case))]
-    #[token("enable", ignore(case))]
-    TrueWord,
-    #[token("off", ignore(case))]
-    #[token("false", ignore(case))]
-    #[token("no", ignore(case))]
-    #[token("clear", ignore(case))]
-    #[token("disable", ignore(case))]
-    FalseWord,
-    #[token("not", ignore(case))]
+    Gosub,
+    Return,
+    Gear,
+    Move,
+    At,
+    In,
+    After,
+    /// A word for ON: `TRUE` in MotionBASIC; `TRUE`, `YES`, `SET`, `ENABLE` in PowerTools.
+    True,
+    /// A word for OFF: `FALSE` in MotionBASIC; `OFF`, `FALSE`, `NO`, `CLEAR`, `DISABLE` in
+    /// PowerTools.
+    False,
     Not,
-    #[token("and", ignore(case))]
     And,
-    #[token("or", ignore(case))]
     Or,
-    #[token("xor", ignore(case))]
     Xor,
-    #[token("mod", ignore(case))]
     Mod,
-
-    #[token("=")]
     Eq,
-    #[token("<>")]
     Ne,
-    #[token("<")]
     Lt,
-    #[token("<=")]
     Le,
-    #[token(">")]
     Gt,
-    #[token(">=")]
     Ge,
-    #[token("+")]
     Plus,
-    #[token("-")]
     Minus,
-    #[token("*")]
     Star,
-    #[token("/")]
     Slash,
-    #[token("^")]
+    Backslash,
     Caret,
-    #[token("(")]
     LParen,
-    #[token(")")]
     RParen,
-    #[token(",")]
+    LBracket,
+    RBracket,
+    LBrace,
+    RBrace,
     Comma,
-    #[token(":")]
     Colon,
-    /// Text that starts no token (made by [`lex`], never by logos itself).
+    /// Text that starts no token.
     Bad(&'s str),
 }
 
-impl std::fmt::Display for Tok<'_> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let s = match self {
-            Tok::Newline => "end of line",
-            Tok::Number(s) | Tok::Name(s) => return write!(f, "`{s}`"),
-            Tok::Wait => "Wait",
-            Tok::For => "For",
-            Tok::Time => "Time",
-            Tok::Dwell => "Dwell",
-            Tok::Master => "Master",
-            Tok::Dist => "Dist",
-            Tok::If => "If",
-            Tok::Then => "Then",
-            Tok::Else => "Else",
-            Tok::Endif => "Endif",
-            Tok::Do => "Do",
-            Tok::While => "While",
-            Tok::Loop => "Loop",
-            Tok::End => "End",
-            Tok::Using => "Using",
-            Tok::Last => "Last",
-            Tok::On => "ON",
-            Tok::To => "To",
-            Tok::Step => "Step",
-            Tok::Next => "Next",
-            Tok::Goto => "Goto",
-            Tok::Jump => "Jump",
-            Tok::Call => "Call",
-            Tok::TrueWord => "a boolean word (ON/TRUE/YES/SET/ENABLE)",
-            Tok::FalseWord => "a boolean word (OFF/FALSE/NO/CLEAR/DISABLE)",
-            Tok::Not => "NOT",
-            Tok::And => "AND",
-            Tok::Or => "OR",
-            Tok::Xor => "XOR",
-            Tok::Mod => "MOD",
-            Tok::Eq => "`=`",
-            Tok::Ne => "`<>`",
-            Tok::Lt => "`<`",
-            Tok::Le => "`<=`",
-            Tok::Gt => "`>`",
-            Tok::Ge => "`>=`",
-            Tok::Plus => "`+`",
-            Tok::Minus => "`-`",
-            Tok::Star => "`*`",
-            Tok::Slash => "`/`",
-            Tok::Caret => "`^`",
-            Tok::LParen => "`(`",
-            Tok::RParen => "`)`",
-            Tok::Comma => "`,`",
-            Tok::Colon => "`:`",
-            Tok::Bad(s) => return write!(f, "unexpected character `{s}`"),
+impl Tok<'_> {
+    /// The token as messages in `dialect` name it.
+    pub fn describe(&self, dialect: Dialect) -> Cow<'static, str> {
+        let basic = dialect == Dialect::MotionBasic;
+        // Keywords: PowerTools writes them capitalized, MotionBASIC in capitals.
+        let word = |pt: &'static str| -> Cow<'static, str> {
+            if basic {
+                Cow::Owned(pt.to_ascii_uppercase())
+            } else {
+                Cow::Borrowed(pt)
+            }
         };
-        f.write_str(s)
+        match self {
+            Tok::Newline => "end of line".into(),
+            Tok::Number(s) | Tok::Name(s) => format!("`{s}`").into(),
+            Tok::Str(s) => format!("the string \"{s}\"").into(),
+            Tok::Label(s) => format!("the label `{s}:`").into(),
+            Tok::Bad(s) => format!("unexpected character `{s}`").into(),
+            Tok::Wait => word("Wait"),
+            Tok::For => word("For"),
+            Tok::Time => word("Time"),
+            Tok::Dwell => word("Dwell"),
+            Tok::Master => word("Master"),
+            Tok::Dist => word("Dist"),
+            Tok::If => word("If"),
+            Tok::Then => word("Then"),
+            Tok::Else => word("Else"),
+            Tok::Endif => word("Endif"),
+            Tok::Do => word("Do"),
+            Tok::While => word("While"),
+            Tok::WhileTrue => word("WhileTrue"),
+            Tok::Wend => word("Wend"),
+            Tok::Loop => word("Loop"),
+            Tok::End => word("End"),
+            Tok::Using => word("Using"),
+            Tok::Last => word("Last"),
+            Tok::On => "ON".into(),
+            Tok::To => word("To"),
+            Tok::Step => word("Step"),
+            Tok::Next => word("Next"),
+            Tok::Goto => word("Goto"),
+            Tok::Jump => word("Jump"),
+            Tok::Call => word("Call"),
+            Tok::Gosub => word("Gosub"),
+            Tok::Return => word("Return"),
+            Tok::Gear => word("Gear"),
+            Tok::Move => word("Move"),
+            Tok::At => word("At"),
+            Tok::In => word("In"),
+            Tok::After => word("After"),
+            Tok::True if basic => "TRUE".into(),
+            Tok::True => "a boolean word (ON/TRUE/YES/SET/ENABLE)".into(),
+            Tok::False if basic => "FALSE".into(),
+            Tok::False => "a boolean word (OFF/FALSE/NO/CLEAR/DISABLE)".into(),
+            Tok::Not => "NOT".into(),
+            Tok::And => "AND".into(),
+            Tok::Or => "OR".into(),
+            Tok::Xor => "XOR".into(),
+            Tok::Mod => "MOD".into(),
+            Tok::Eq => "`=`".into(),
+            Tok::Ne => "`<>`".into(),
+            Tok::Lt => "`<`".into(),
+            Tok::Le => "`<=`".into(),
+            Tok::Gt => "`>`".into(),
+            Tok::Ge => "`>=`".into(),
+            Tok::Plus => "`+`".into(),
+            Tok::Minus => "`-`".into(),
+            Tok::Star => "`*`".into(),
+            Tok::Slash => "`/`".into(),
+            Tok::Backslash => "`\\`".into(),
+            Tok::Caret => "`^`".into(),
+            Tok::LParen => "`(`".into(),
+            Tok::RParen => "`)`".into(),
+            Tok::LBracket => "`[`".into(),
+            Tok::RBracket => "`]`".into(),
+            Tok::LBrace => "`{`".into(),
+            Tok::RBrace => "`}`".into(),
+            Tok::Comma => "`,`".into(),
+            Tok::Colon => "`:`".into(),
+        }
     }
-}
-
-/// The token stream lalrpop consumes: `(start, token, end)` triples.
-pub fn lex(src: &str) -> impl Iterator<Item = Result<(usize, Tok<'_>, usize), LexError>> {
-    Tok::lexer(src).spanned().map(move |(res, span)| match res {
-        Ok(tok) => Ok((span.start, tok, span.end)),
-        Err(LexError) => Ok((
-            span.start,
-            Tok::Bad(src.get(span.clone()).unwrap_or("?")),
-            span.end,
-        )),
-    })
 }

@@ -1,16 +1,17 @@
-//! The MotionBASIC token set (logos). Newlines end statements; `:` separates statements on a
-//! line. Names carry their type suffix (`PLEN&`, `knife~`, `POS.ASEN@`) and may contain dots.
+//! The MotionBASIC lexer (logos): its keywords, case-insensitive, turned into the tokens both
+//! dialects' grammar reads. Newlines end statements; `:` separates statements on a line. Names
+//! carry their type suffix (`PLEN&`, `knife~`, `POS.ASEN@`) and may contain dots; `NAME:` at
+//! the start of a line is a label.
 
+use super::super::token::{LexError, Tok};
 use logos::Logos;
 
-use super::token::LexError;
-
-/// One token of a MotionBASIC program.
+/// One word of a MotionBASIC program.
 #[derive(Logos, Debug, Clone, Copy, PartialEq)]
 #[logos(error = LexError)]
 #[logos(skip r"[ \t\r\f\x{FEFF}]+")]
 #[logos(skip(r"['‘’][^\n]*", allow_greedy = true))]
-pub enum MbTok<'s> {
+enum MbLex<'s> {
     #[token("\n")]
     Newline,
     #[regex(r"[0-9]+(\.[0-9]*)?([eE][+-]?[0-9]+)?", |lex| lex.slice())]
@@ -22,8 +23,6 @@ pub enum MbTok<'s> {
     /// A name with its optional type suffix: `PLEN.TMP&`, `web~`, `POS.ASEN@`, `MP.CONFIG`.
     #[regex(r"[A-Za-z][A-Za-z0-9_.]*[&~@%!#$]?", |lex| lex.slice())]
     Name(&'s str),
-    /// `NAME:` at the start of a line (made by [`lex`] from a name and a colon).
-    Label(&'s str),
     /// A `REM` comment (dropped by [`lex`]).
     #[regex(r"(?i:rem)([ \t][^\n]*)?", priority = 10, allow_greedy = true)]
     Rem,
@@ -125,108 +124,44 @@ pub enum MbTok<'s> {
     Comma,
     #[token(":")]
     Colon,
-    /// Text that starts no token (made by [`lex`], never by logos itself).
-    Bad(&'s str),
 }
 
-impl std::fmt::Display for MbTok<'_> {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let s = match self {
-            MbTok::Newline => "end of line",
-            MbTok::Number(s) | MbTok::Name(s) => return write!(f, "`{s}`"),
-            MbTok::Str(s) => return write!(f, "the string \"{s}\""),
-            MbTok::Label(s) => return write!(f, "the label `{s}:`"),
-            MbTok::Rem => "REM",
-            MbTok::If => "IF",
-            MbTok::Then => "THEN",
-            MbTok::Else => "ELSE",
-            MbTok::Endif => "ENDIF",
-            MbTok::While => "WHILE",
-            MbTok::WhileTrue => "WHILETRUE",
-            MbTok::Wend => "WEND",
-            MbTok::For => "FOR",
-            MbTok::To => "TO",
-            MbTok::Step => "STEP",
-            MbTok::Next => "NEXT",
-            MbTok::Gosub => "GOSUB",
-            MbTok::Goto => "GOTO",
-            MbTok::Return => "RETURN",
-            MbTok::End => "END",
-            MbTok::Gear => "GEAR",
-            MbTok::Move => "MOVE",
-            MbTok::At => "AT",
-            MbTok::In => "IN",
-            MbTok::After => "AFTER",
-            MbTok::True => "TRUE",
-            MbTok::False => "FALSE",
-            MbTok::Not => "NOT",
-            MbTok::And => "AND",
-            MbTok::Or => "OR",
-            MbTok::Xor => "XOR",
-            MbTok::Mod => "MOD",
-            MbTok::Eq => "`=`",
-            MbTok::Ne => "`<>`",
-            MbTok::Lt => "`<`",
-            MbTok::Le => "`<=`",
-            MbTok::Gt => "`>`",
-            MbTok::Ge => "`>=`",
-            MbTok::Plus => "`+`",
-            MbTok::Minus => "`-`",
-            MbTok::Star => "`*`",
-            MbTok::Slash => "`/`",
-            MbTok::Backslash => "`\\`",
-            MbTok::Caret => "`^`",
-            MbTok::LParen => "`(`",
-            MbTok::RParen => "`)`",
-            MbTok::LBracket => "`[`",
-            MbTok::RBracket => "`]`",
-            MbTok::LBrace => "`{`",
-            MbTok::RBrace => "`}`",
-            MbTok::Comma => "`,`",
-            MbTok::Colon => "`:`",
-            MbTok::Bad(s) => return write!(f, "unexpected character `{s}`"),
-        };
-        f.write_str(s)
-    }
-}
-
-type Spanned<'s> = Result<(usize, MbTok<'s>, usize), LexError>;
+type Spanned<'s> = Result<(usize, Tok<'s>, usize), LexError>;
 
 /// The token stream lalrpop consumes. A name that starts a line and is followed by `:` becomes
-/// one [`MbTok::Label`] (as in QuickBASIC), so `MAIN:` is a label and `A = 1 : B = 2` is two
+/// one [`Tok::Label`] (as in QuickBASIC), so `MAIN:` is a label and `A = 1 : B = 2` is two
 /// statements.
 pub fn lex(src: &str) -> impl Iterator<Item = Spanned<'_>> {
-    let mut raw = MbTok::lexer(src)
+    let mut raw = MbLex::lexer(src)
         .spanned()
-        .map(move |(res, span)| match res {
-            Ok(tok) => (span.start, tok, span.end),
-            Err(LexError) => (
+        .filter_map(move |(res, span)| match res {
+            Ok(word) => token(word).map(|t| (span.start, t, span.end)),
+            Err(LexError) => Some((
                 span.start,
-                MbTok::Bad(src.get(span.clone()).unwrap_or("?")),
+                Tok::Bad(src.get(span.clone()).unwrap_or("?")),
                 span.end,
-            ),
+            )),
         })
-        .filter(|t| !matches!(t.1, MbTok::Rem))
         .peekable();
     let mut line_start = true;
     std::iter::from_fn(move || {
         let (l, mut tok, mut r) = raw.next()?;
         // `PickPlace.alrActPos[3]`: an index right after a dotted name is part of the name.
-        if let MbTok::Name(n) = tok {
+        if let Tok::Name(n) = tok {
             if let Some(end) = indexed_name_end(src, n, r) {
                 while raw.peek().is_some_and(|t| t.0 < end) {
                     raw.next();
                 }
-                tok = MbTok::Name(src.get(l..end).unwrap_or(n));
+                tok = Tok::Name(src.get(l..end).unwrap_or(n));
                 r = end;
             }
         }
         let at_start = line_start;
-        line_start = matches!(tok, MbTok::Newline);
-        if let (true, MbTok::Name(n)) = (at_start, tok) {
-            if let Some(&(_, MbTok::Colon, cr)) = raw.peek() {
+        line_start = matches!(tok, Tok::Newline);
+        if let (true, Tok::Name(n)) = (at_start, tok) {
+            if let Some(&(_, Tok::Colon, cr)) = raw.peek() {
                 raw.next();
-                return Some(Ok((l, MbTok::Label(n), cr)));
+                return Some(Ok((l, Tok::Label(n), cr)));
             }
         }
         Some(Ok((l, tok, r)))
@@ -243,4 +178,62 @@ fn indexed_name_end(src: &str, n: &str, r: usize) -> Option<usize> {
     let rest = src.get(r..)?.strip_prefix('[')?;
     let digits = rest.bytes().take_while(u8::is_ascii_digit).count();
     (digits > 0 && rest[digits..].starts_with(']')).then_some(r + digits + 2)
+}
+
+/// The token a MotionBASIC word is; none for a `REM` comment.
+fn token(word: MbLex<'_>) -> Option<Tok<'_>> {
+    Some(match word {
+        MbLex::Newline => Tok::Newline,
+        MbLex::Number(s) => Tok::Number(s),
+        MbLex::Str(s) => Tok::Str(s),
+        MbLex::Name(s) => Tok::Name(s),
+        MbLex::Rem => return None,
+        MbLex::If => Tok::If,
+        MbLex::Then => Tok::Then,
+        MbLex::Else => Tok::Else,
+        MbLex::Endif => Tok::Endif,
+        MbLex::While => Tok::While,
+        MbLex::WhileTrue => Tok::WhileTrue,
+        MbLex::Wend => Tok::Wend,
+        MbLex::For => Tok::For,
+        MbLex::To => Tok::To,
+        MbLex::Step => Tok::Step,
+        MbLex::Next => Tok::Next,
+        MbLex::Gosub => Tok::Gosub,
+        MbLex::Goto => Tok::Goto,
+        MbLex::Return => Tok::Return,
+        MbLex::End => Tok::End,
+        MbLex::Gear => Tok::Gear,
+        MbLex::Move => Tok::Move,
+        MbLex::At => Tok::At,
+        MbLex::In => Tok::In,
+        MbLex::After => Tok::After,
+        MbLex::True => Tok::True,
+        MbLex::False => Tok::False,
+        MbLex::Not => Tok::Not,
+        MbLex::And => Tok::And,
+        MbLex::Or => Tok::Or,
+        MbLex::Xor => Tok::Xor,
+        MbLex::Mod => Tok::Mod,
+        MbLex::Eq => Tok::Eq,
+        MbLex::Ne => Tok::Ne,
+        MbLex::Lt => Tok::Lt,
+        MbLex::Le => Tok::Le,
+        MbLex::Gt => Tok::Gt,
+        MbLex::Ge => Tok::Ge,
+        MbLex::Plus => Tok::Plus,
+        MbLex::Minus => Tok::Minus,
+        MbLex::Star => Tok::Star,
+        MbLex::Slash => Tok::Slash,
+        MbLex::Backslash => Tok::Backslash,
+        MbLex::Caret => Tok::Caret,
+        MbLex::LParen => Tok::LParen,
+        MbLex::RParen => Tok::RParen,
+        MbLex::LBracket => Tok::LBracket,
+        MbLex::RBracket => Tok::RBracket,
+        MbLex::LBrace => Tok::LBrace,
+        MbLex::RBrace => Tok::RBrace,
+        MbLex::Comma => Tok::Comma,
+        MbLex::Colon => Tok::Colon,
+    })
 }
