@@ -4,7 +4,7 @@
 // in case it is (miette issue 458).
 #![allow(unused_assignments)]
 
-use crate::syntax::span::{LineIndex, Span};
+use crate::span::{LineIndex, Span};
 use miette::{Diagnostic, LabeledSpan, Severity, SourceCode};
 use std::fmt;
 use std::sync::Arc;

@@ -12,6 +12,7 @@ pub mod io;
 pub mod load;
 pub mod registry;
 pub mod repl;
+pub mod span;
 pub mod syntax;
 pub mod trace;
 pub mod vm;

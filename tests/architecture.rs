@@ -88,6 +88,25 @@ fn the_device_models_never_import_the_front_end_or_what_is_built_on_it() {
 }
 
 #[test]
+fn the_registry_configuration_and_diagnostics_do_not_depend_on_the_front_end() {
+    const FRONT: &[&str] = &["syntax", "check", "compile", "load", "vm", "repl", "export"];
+    let mut files = sources(&src().join("registry"));
+    files.extend(sources(&src().join("config")));
+    files.push(src().join("diag.rs"));
+    files.push(src().join("span.rs"));
+    for file in files {
+        let text = std::fs::read_to_string(&file).expect("a source file");
+        for module in crate_paths(&text) {
+            assert!(
+                !FRONT.contains(&module.as_str()),
+                "{} imports crate::{module}",
+                file.display()
+            );
+        }
+    }
+}
+
+#[test]
 fn the_checker_finds_what_it_looks_for() {
     assert_eq!(
         crate_paths(

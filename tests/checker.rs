@@ -5,8 +5,8 @@ use pacer::check::{check_program, CheckEnv};
 use pacer::config::machine::MachineFile;
 use pacer::diag::{Diagnostics, Problem, SourceFile};
 use pacer::registry::Registry;
+use pacer::span::Span;
 use pacer::syntax::parse_program;
-use pacer::syntax::span::Span;
 
 const MACHINE: &str = r#"
 [variables.Count]
@@ -964,7 +964,7 @@ Loop
     // Each one is on its own line.
     let lines: Vec<usize> = sorted
         .iter()
-        .map(|p| pacer::syntax::span::line_col(src, p.span.start).0)
+        .map(|p| pacer::span::line_col(src, p.span.start).0)
         .collect();
     assert_eq!(lines, [1, 2, 3, 4, 5, 6, 7, 8, 11, 11, 13, 14]);
 }

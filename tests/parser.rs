@@ -2,9 +2,9 @@
 //! of the tree, and syntax errors (all of them, with exact spans).
 
 use pacer::diag::Problem;
+use pacer::span::Span;
 use pacer::syntax::ast::{BinOp, Expr, ExprKind, Name, ProgramAst, Stmt, StmtKind, UnOp, Using};
 use pacer::syntax::parse_program;
-use pacer::syntax::span::Span;
 
 // ---------------------------------------------------------------------------------------------
 // helpers

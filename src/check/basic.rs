@@ -5,10 +5,10 @@
 use super::functions;
 use crate::diag::{nearest, Problem};
 use crate::registry::{Access, Kind, Registry, Resolved, ValueType};
+use crate::span::Span;
 use crate::syntax::ast::{
     BinOp, Expr, ExprKind, GearForm, MoveForm, Name, ProgramAst, Segment, Stmt, StmtKind, UnOp,
 };
-use crate::syntax::span::Span;
 use indexmap::{IndexMap, IndexSet};
 
 /// What a MotionBASIC value is.

@@ -6,8 +6,8 @@ pub mod functions;
 
 use crate::diag::{nearest, Problem};
 use crate::registry::{Access, Hook, Kind, Registry, Resolved};
+use crate::span::Span;
 use crate::syntax::ast::{BinOp, Expr, ExprKind, Name, ProgramAst, Stmt, StmtKind, UnOp, Using};
-use crate::syntax::span::Span;
 use indexmap::IndexMap;
 
 /// The two value types of expressions.

@@ -7,10 +7,10 @@ use crate::check::basic::{self, BasicTy};
 use crate::check::{expr_type, functions, Ty};
 use crate::diag::{Problem, SourceFile};
 use crate::registry::{Access, Hook, Kind, Registry, ValueType};
+use crate::span::{LineIndex, Span};
 use crate::syntax::ast::{
     BinOp, Expr, ExprKind, GearForm, MoveForm, Name, ProgramAst, Stmt, StmtKind, UnOp, Using,
 };
-use crate::syntax::span::{LineIndex, Span};
 use crate::syntax::Dialect;
 use bytecode::{BinaryOp, Cmp, MotionCmd, Op, Reg, StartRef, REAL_STORE};
 use indexmap::IndexMap;

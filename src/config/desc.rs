@@ -42,7 +42,7 @@ pub struct ProgramDesc {
     /// It starts with the run.
     pub autostart: bool,
     /// Where the entry names the file.
-    pub span: crate::syntax::span::Span,
+    pub span: crate::span::Span,
 }
 
 /// A machine, checked.

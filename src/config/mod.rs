@@ -22,7 +22,7 @@ pub mod world;
 
 use crate::diag::Problem;
 use crate::registry::{Registry, ValueType, DEFAULT_UPDATE_NS};
-use crate::syntax::span::Span;
+use crate::span::Span;
 use desc::{MachineDesc, ProgramDesc, ScenarioDesc};
 use machine::MachineFile;
 use scenario::ScenarioFile;

@@ -15,7 +15,7 @@ use crate::devices::orion::MoveDefaults;
 use crate::diag::{nearest, Problem};
 use crate::fixed::round_to;
 use crate::registry::catalog::{self, Instances, Kind};
-use crate::syntax::span::Span;
+use crate::span::Span;
 
 /// Highest instance count accepted for any type (also keeps instance numbers within u16 in
 /// bytecode).

@@ -7,7 +7,7 @@ use crate::config::span_of;
 use crate::devices::drive::AxisMarks;
 use crate::diag::{nearest, Problem};
 use crate::registry::{Kind, Registry};
-use crate::syntax::span::Span;
+use crate::span::Span;
 use crate::world::master::{MasterProfile, SpeedChange};
 use crate::world::products::{Bounce, Product, ProductStream};
 use crate::world::Edge;

@@ -13,7 +13,7 @@ use crate::config::machine::MachineFile;
 use crate::config::parse_toml;
 use crate::config::scenario::ScenarioFile;
 use crate::diag::{Diagnostics, Problem, SourceFile};
-use crate::syntax::span::Span;
+use crate::span::Span;
 use crate::vm::MachineImage;
 use indexmap::IndexMap;
 use std::path::PathBuf;

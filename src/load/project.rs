@@ -6,7 +6,7 @@ use super::LoadRequest;
 use crate::config::desc::ProgramDesc;
 use crate::config::files::Files;
 use crate::diag::{Diagnostics, Problem, SourceFile};
-use crate::syntax::span::Span;
+use crate::span::Span;
 use crate::syntax::Dialect;
 use std::path::{Path, PathBuf};
 

@@ -3,6 +3,7 @@
 //! to slots here, once, at compile time.
 
 pub mod catalog;
+pub mod name;
 pub mod objects;
 mod resolve;
 

@@ -2,9 +2,9 @@
 //! to slots, with the nearest valid name on a miss.
 
 use super::catalog::{self, Access, Hook, Instances, Kind, MemberDef, ValueType};
+use super::name::{Name, Segment};
 use super::{Registry, SlotId, TypeInstances, GLOBAL_INSTANCE};
 use crate::diag::{nearest, Problem};
-use crate::syntax::ast::{Name, Segment};
 
 /// A name resolved against the registry.
 #[derive(Debug, Clone)]
@@ -104,7 +104,7 @@ impl Registry {
     /// spans point inside the string.
     pub fn resolve_text(&self, text: &toml::Spanned<String>) -> Result<Resolved, Problem> {
         let range = text.span();
-        let span = crate::syntax::span::Span::new(range.start, range.end);
+        let span = crate::span::Span::new(range.start, range.end);
         let s = text.get_ref();
         let plain = |seg: &str| {
             !seg.is_empty() && seg.chars().all(|c| c.is_ascii_alphanumeric() || c == '_')

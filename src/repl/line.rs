@@ -5,8 +5,8 @@
 use crate::check::basic;
 use crate::diag::{Level, Problem};
 use crate::registry::{Access, Registry, Resolved};
+use crate::span::Span;
 use crate::syntax::ast::{Expr, ExprKind, Name, ProgramAst, Stmt, StmtKind};
-use crate::syntax::span::Span;
 use crate::syntax::{parse_expr, parse_program_as, Dialect};
 
 /// MotionBASIC has no expression entry point of its own: an expression is parsed as the value

@@ -323,7 +323,7 @@ impl Session {
             if !known && self.machine.declare_basic_var(spelling, *ty).is_none() {
                 return Err(Problem::error(
                     "pacer::repl::variables",
-                    crate::syntax::span::Span::new(0, 0),
+                    crate::span::Span::new(0, 0),
                     format!("no room for the new variable {spelling}: a session can add {SPARE_VARIABLES}"),
                     "here",
                 )

@@ -2,8 +2,8 @@
 
 use super::ast::{Stmt, StmtKind, Using};
 use super::lines::{Line, LineKind, Modifier};
-use super::span::Span;
 use crate::diag::Problem;
+use crate::span::Span;
 
 /// The words a dialect opens and closes its blocks with, for messages.
 #[derive(Debug)]
@@ -143,7 +143,7 @@ pub const MAX_NESTING: usize = 64;
 pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Words) -> Vec<Stmt> {
     let mut top: Vec<Stmt> = Vec::new();
     let mut stack: Vec<Frame> = Vec::new();
-    let index = super::span::LineIndex::new(src);
+    let index = crate::span::LineIndex::new(src);
     let line_no = |span: Span| index.line(span.start);
     for line in lines {
         let span = line.span;

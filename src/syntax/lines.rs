@@ -1,7 +1,7 @@
 //! Lines as the grammar produces them, before block structure is assembled.
 
 use super::ast::{BinOp, Expr, ExprKind, Name, StmtKind, Using};
-use super::span::Span;
+use crate::span::Span;
 
 /// A modifier written after an initiate.
 #[derive(Debug, Clone, PartialEq)]

@@ -5,7 +5,6 @@ pub mod ast;
 pub mod blocks;
 pub mod lex;
 pub mod lines;
-pub mod span;
 pub mod token;
 
 lalrpop_util::lalrpop_mod!(
@@ -44,9 +43,9 @@ impl Dialect {
 }
 
 use crate::diag::Problem;
+use crate::span::Span;
 use ast::ProgramAst;
 use lalrpop_util::{ErrorRecovery, ParseError};
-use span::Span;
 use token::{LexError, Tok};
 
 /// Parse a program of `dialect` (no line-length check: see [`parse_program_as`]). Syntax

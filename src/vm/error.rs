@@ -3,7 +3,7 @@
 //! are), or the device or assignment of the machine that failed.
 
 use crate::diag::{render_located, Problem, SourceFile};
-use crate::syntax::span::Span;
+use crate::span::Span;
 
 /// A run-time error.
 #[derive(Debug, Clone, PartialEq)]

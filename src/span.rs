@@ -1,4 +1,5 @@
-//! Byte spans into a source file.
+//! Places in source text: byte spans into a file, and their lines and columns. Programs,
+//! machine files and scenarios all point at their problems with these.
 
 /// A half-open byte range `start..end` into the source text of one file.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash, Default)]
