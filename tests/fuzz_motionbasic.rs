@@ -31,7 +31,7 @@ use fuzz::{
     mutated, mutation, nested_blocks, number, op_chain, pick, pick_any, random_bytes, random_chars,
     random_text, regex, render, sp, token_soup, Stats,
 };
-use pacer::check::basic::{check, Variables};
+use pacer::check::{check, CheckEnv, Variables};
 use pacer::compile::{compile, Layout};
 use pacer::config::machine::MachineFile;
 use pacer::config::parse_toml;
@@ -98,22 +98,18 @@ fn exercise(src: &str, m: &Machines, stats: &Stats) {
     let list = vars.list();
     for machine in m.all() {
         let (registry, registry_problems) = pacer::config::registry(machine, PROGRAMS, &list);
-        let problems = check(&ast, &registry, &vars);
+        let env = CheckEnv {
+            registry: &registry,
+            loaded_programs: PROGRAMS,
+        };
+        let (program, problems) = check(&ast, Dialect::MotionBasic, &env, &vars);
         render("fuzz.mb", src, &problems);
         if !parse_clean || has_errors(&registry_problems) || has_errors(&problems) {
             continue;
         }
         stats.check_clean.fetch_add(1, Ordering::Relaxed);
         let mut layout = Layout::new(&registry);
-        match compile(
-            &ast,
-            src,
-            "fuzz.mb",
-            0,
-            &registry,
-            &mut layout,
-            Dialect::MotionBasic,
-        ) {
+        match compile(&program, src, "fuzz.mb", 0, &mut layout) {
             Ok(chunk) => {
                 stats.compiled.fetch_add(1, Ordering::Relaxed);
                 std::hint::black_box(chunk);

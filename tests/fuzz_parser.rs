@@ -22,7 +22,7 @@ use fuzz::{
     mutation, nested_blocks, number, op_chain, pick, pick_any, random_bytes, random_chars,
     random_text, regex, render, sp, token_soup, Stats,
 };
-use pacer::check::{check_program, CheckEnv};
+use pacer::check::CheckEnv;
 use pacer::compile::{compile, Layout};
 use pacer::config::machine::MachineFile;
 use pacer::registry::Registry;
@@ -75,22 +75,19 @@ fn exercise(src: &str, m: &Machines, stats: &Stats) {
             registry: reg,
             loaded_programs: LOADED,
         };
-        let problems = check_program(&ast, &env);
+        let (program, problems) = pacer::check::check(
+            &ast,
+            pacer::syntax::Dialect::PowerTools,
+            &env,
+            &Default::default(),
+        );
         render("fuzz.pt", src, &problems);
         if has_errors(&problems) {
             continue;
         }
         stats.check_clean.fetch_add(1, Ordering::Relaxed);
         let mut layout = Layout::new(reg);
-        match compile(
-            &ast,
-            src,
-            "fuzz.pt",
-            0,
-            reg,
-            &mut layout,
-            pacer::syntax::Dialect::PowerTools,
-        ) {
+        match compile(&program, src, "fuzz.pt", 0, &mut layout) {
             Ok(chunk) => {
                 stats.compiled.fetch_add(1, Ordering::Relaxed);
                 std::hint::black_box(chunk);

@@ -14,44 +14,7 @@ pub type Reg = u32;
 /// `ForNext.decimals` for a loop variable kept as a real.
 pub const REAL_STORE: u8 = u8::MAX;
 
-/// Comparison operators.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
-#[allow(missing_docs)]
-pub enum Cmp {
-    Eq,
-    Ne,
-    Lt,
-    Le,
-    Gt,
-    Ge,
-}
-
-impl Cmp {
-    /// Compare two values.
-    #[inline(always)]
-    pub fn test(self, a: f64, b: f64) -> bool {
-        match self {
-            Cmp::Eq => a == b,
-            Cmp::Ne => a != b,
-            Cmp::Lt => a < b,
-            Cmp::Le => a <= b,
-            Cmp::Gt => a > b,
-            Cmp::Ge => a >= b,
-        }
-    }
-
-    /// As written.
-    pub fn symbol(self) -> &'static str {
-        match self {
-            Cmp::Eq => "=",
-            Cmp::Ne => "<>",
-            Cmp::Lt => "<",
-            Cmp::Le => "<=",
-            Cmp::Gt => ">",
-            Cmp::Ge => ">=",
-        }
-    }
-}
+pub use crate::check::typed::Cmp;
 
 /// Arithmetic and logic operators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]

@@ -1,18 +1,17 @@
-//! The compiler: a checked program's AST to bytecode, names resolved to slots.
+//! The compiler: a checked, typed program to bytecode. Names are already slots and every
+//! operator already has its dialect's meaning; the compiler only chooses instructions (fused
+//! arithmetic stores, compare-and-jump, short-circuit conditions where they cannot change the
+//! outcome) and lays out the registers.
 
 pub mod bytecode;
 pub mod disasm;
 
-use crate::check::basic::{self, BasicTy};
-use crate::check::{expr_type, functions, Ty};
+use crate::check::typed::{Expr, ExprKind, Op as TypedOp, Program, Stmt, StmtKind, Ty};
+use crate::devices::command::MotionCmd;
 use crate::diag::{Problem, SourceFile};
-use crate::registry::{Access, Hook, Kind, Registry, ValueType};
+use crate::registry::{Hook, Kind, Registry, Resolved, ValueType};
 use crate::span::{LineIndex, Span};
-use crate::syntax::ast::{
-    BinOp, Expr, ExprKind, GearForm, MoveForm, Name, ProgramAst, Stmt, StmtKind, UnOp, Using,
-};
-use crate::syntax::Dialect;
-use bytecode::{BinaryOp, Cmp, MotionCmd, Op, Reg, StartRef, REAL_STORE};
+use bytecode::{BinaryOp, Cmp, Op, Reg, StartRef, REAL_STORE};
 use indexmap::IndexMap;
 use std::collections::BTreeMap;
 
@@ -132,70 +131,30 @@ pub struct Chunk {
     pub source: SourceFile,
 }
 
-/// Compile a program that checked without errors.
+/// Compile a program that checked without errors. `src` and `file` are its text and name
+/// (run-time errors are shown in them).
 pub fn compile(
-    ast: &ProgramAst,
+    program: &Program,
     src: &str,
     file: &str,
-    program: u32,
-    registry: &Registry,
+    number: u32,
     layout: &mut Layout,
-    dialect: Dialect,
 ) -> Result<Chunk, Vec<Problem>> {
-    let mut c = Compiler {
-        registry,
-        dialect,
-        basic_labels: Vec::new(),
-        layout,
-        lines_of: LineIndex::new(src),
-        ops: Vec::new(),
-        lines: Vec::new(),
-        spans: Vec::new(),
-        line: 1,
-        span: Span::new(0, 0),
-        temp_top: 0,
-        stmt_start: 0,
-        labels: IndexMap::new(),
-        gotos: Vec::new(),
-        problems: Vec::new(),
-    };
-    if dialect == Dialect::MotionBasic {
-        c.basic_labels = crate::syntax::ast::labels(&ast.body)
-            .into_iter()
-            .map(|seg| seg.text.to_ascii_lowercase())
-            .collect();
-    }
-    c.block(&ast.body);
+    let mut c = Compiler::new(layout, src);
+    c.block(&program.body);
     c.emit(Op::End);
-    for (at, label, span) in std::mem::take(&mut c.gotos) {
-        match c.labels.get(&label) {
-            Some(&target) => {
-                c.ops[at] = match c.ops[at] {
-                    Op::Gosub { .. } => Op::Gosub { target },
-                    _ if target as usize <= at => Op::Loop { target },
-                    _ => Op::Jump { target },
-                };
-            }
-            None => c.problems.push(Problem::error(
-                "pacer::check::label",
-                span,
-                format!("no label `{label}`"),
-                "unknown label",
-            )),
-        }
+    for (at, label) in std::mem::take(&mut c.gotos) {
+        // The checker has checked every label.
+        let Some(&target) = c.labels.get(&label) else {
+            continue;
+        };
+        c.ops[at] = match c.ops[at] {
+            Op::Gosub { .. } => Op::Gosub { target },
+            _ if target as usize <= at => Op::Loop { target },
+            _ => Op::Jump { target },
+        };
     }
-    if c.problems.is_empty() {
-        Ok(Chunk {
-            program,
-            file: file.to_string(),
-            ops: c.ops,
-            lines: c.lines,
-            spans: c.spans,
-            source: SourceFile::new(file, src),
-        })
-    } else {
-        Err(c.problems)
-    }
+    c.finish(number, file, src)
 }
 
 /// Compile one expression (a line typed at the REPL) into a chunk that leaves its value in a
@@ -204,58 +163,18 @@ pub fn compile_expr(
     expr: &Expr,
     src: &str,
     file: &str,
-    program: u32,
-    registry: &Registry,
+    number: u32,
     layout: &mut Layout,
-    dialect: Dialect,
 ) -> Result<(Chunk, Reg), Vec<Problem>> {
-    let mut c = Compiler {
-        registry,
-        dialect,
-        basic_labels: Vec::new(),
-        layout,
-        lines_of: LineIndex::new(src),
-        ops: Vec::new(),
-        lines: Vec::new(),
-        spans: Vec::new(),
-        line: 1,
-        span: Span::new(0, 0),
-        temp_top: 0,
-        stmt_start: 0,
-        labels: IndexMap::new(),
-        gotos: Vec::new(),
-        problems: Vec::new(),
-    };
+    let mut c = Compiler::new(layout, src);
     let value = c.expr(expr);
     let dst = c.layout.hidden();
     c.emit(Op::Move { dst, src: value });
     c.emit(Op::End);
-    if c.problems.is_empty() {
-        let chunk = Chunk {
-            program,
-            file: file.to_string(),
-            ops: c.ops,
-            lines: c.lines,
-            spans: c.spans,
-            source: SourceFile::new(file, src),
-        };
-        Ok((chunk, dst))
-    } else {
-        Err(c.problems)
-    }
-}
-
-/// The index of a member of the DSP axis object.
-fn axis_member(name: &str) -> Option<(u8, Hook)> {
-    let def = crate::registry::catalog::find_type("Axis")?;
-    let i = def.members.iter().position(|m| m.name == name)?;
-    Some((i as u8, def.members[i].hook))
+    c.finish(number, file, src).map(|chunk| (chunk, dst))
 }
 
 struct Compiler<'a> {
-    registry: &'a Registry,
-    dialect: Dialect,
-    basic_labels: Vec<String>,
     layout: &'a mut Layout,
     lines_of: LineIndex,
     ops: Vec<Op>,
@@ -267,11 +186,42 @@ struct Compiler<'a> {
     temp_top: u32,
     stmt_start: usize,
     labels: IndexMap<String, u32>,
-    gotos: Vec<(usize, String, Span)>,
+    gotos: Vec<(usize, String)>,
     problems: Vec<Problem>,
 }
 
-impl Compiler<'_> {
+impl<'a> Compiler<'a> {
+    fn new(layout: &'a mut Layout, src: &str) -> Compiler<'a> {
+        Compiler {
+            layout,
+            lines_of: LineIndex::new(src),
+            ops: Vec::new(),
+            lines: Vec::new(),
+            spans: Vec::new(),
+            line: 1,
+            span: Span::new(0, 0),
+            temp_top: 0,
+            stmt_start: 0,
+            labels: IndexMap::new(),
+            gotos: Vec::new(),
+            problems: Vec::new(),
+        }
+    }
+
+    fn finish(self, program: u32, file: &str, src: &str) -> Result<Chunk, Vec<Problem>> {
+        if !self.problems.is_empty() {
+            return Err(self.problems);
+        }
+        Ok(Chunk {
+            program,
+            file: file.to_string(),
+            ops: self.ops,
+            lines: self.lines,
+            spans: self.spans,
+            source: SourceFile::new(file, src),
+        })
+    }
+
     fn emit(&mut self, op: Op) -> usize {
         self.ops.push(op);
         self.lines.push(self.line);
@@ -319,97 +269,48 @@ impl Compiler<'_> {
         r
     }
 
+    /// The instructions of a statement's line and span from here on.
+    fn at_statement(&mut self, s: &Stmt) {
+        self.line = self.lines_of.line(s.span.start) as u32;
+        self.span = s.span;
+    }
+
     fn block(&mut self, body: &[Stmt]) {
         for s in body {
-            self.line = self.lines_of.line(s.span.start) as u32;
-            self.span = s.span;
+            self.at_statement(s);
             self.temp_top = 0;
             self.stmt_start = self.ops.len();
             self.stmt(s);
         }
     }
 
-    fn resolve(&mut self, n: &Name) -> Option<crate::registry::Resolved> {
-        let r = match self.dialect {
-            Dialect::PowerTools => self.registry.resolve(n),
-            Dialect::MotionBasic => basic::resolve(self.registry, n),
-        };
-        match r {
-            Ok(r) => Some(r),
-            Err(p) => {
-                self.problems.push(p);
-                None
-            }
-        }
-    }
-
     fn stmt(&mut self, s: &Stmt) {
         match &s.kind {
             StmtKind::Assign { target, value } => {
-                let Some(r) = self.resolve(target) else {
-                    return;
-                };
-                if r.access == Access::Action {
-                    // `X=ON` triggers the action; `X=cond` triggers it when cond is ON.
-                    match value.kind {
-                        ExprKind::Bool(true) => self.act_now(&r),
-                        ExprKind::Bool(false) => {}
-                        _ => {
-                            let skip = self.cond_jump(value);
-                            self.act_now(&r);
-                            let end = self.here();
-                            self.patch_all(skip, end);
-                        }
-                    }
-                    return;
-                }
                 let v = self.expr(value);
-                self.store(&r, v);
+                self.store(target, v);
             }
-            StmtKind::Action {
+            StmtKind::Act {
                 target,
-                using,
+                start,
                 profile,
-            } => {
-                let Some(r) = self.resolve(target) else {
-                    return;
-                };
-                let start = match using {
-                    None => StartRef::Now,
-                    Some(Using::Last(_)) => StartRef::Last,
-                    Some(Using::Capture(n)) => {
-                        match self.registry.resolve_instance(n, Kind::Capture) {
-                            Ok(i) => StartRef::Capture(i as u16),
-                            Err(p) => {
-                                self.problems.push(p);
-                                StartRef::Now
-                            }
-                        }
-                    }
-                };
-                let profile = match profile {
-                    None => 0,
-                    Some(p) => match self.registry.resolve_instance(p, Kind::Profile) {
-                        Ok(i) => i as u8,
-                        Err(p) => {
-                            self.problems.push(p);
-                            0
-                        }
-                    },
-                };
-                self.emit(Op::Act {
-                    hook: r.hook,
-                    slot: r.slot,
-                    instance: r.instance,
-                    start,
-                    profile,
-                });
-            }
-            StmtKind::DwellTime(e) | StmtKind::DwellMaster(e) => {
-                let src = self.expr(e);
+                when,
+            } => match when {
+                None => self.act(target, *start, *profile),
+                // `X=cond` triggers the action when cond is ON.
+                Some(cond) => {
+                    let skip = self.cond_jump(cond);
+                    self.act(target, *start, *profile);
+                    let end = self.here();
+                    self.patch_all(skip, end);
+                }
+            },
+            StmtKind::Nothing => {}
+            StmtKind::Dwell { length, domain } => {
+                let src = self.expr(length);
                 self.emit(Op::Dwell {
                     src,
-                    master: matches!(s.kind, StmtKind::DwellMaster(_)),
+                    master: *domain == crate::devices::command::Domain::Master,
                 });
             }
             StmtKind::WaitTime(e) => {
@@ -434,8 +335,7 @@ impl Compiler<'_> {
                         self.patch_all(to_else, end);
                     }
                     Some(else_body) => {
-                        self.line = self.lines_of.line(s.span.start) as u32;
-                        self.span = s.span;
+                        self.at_statement(s);
                         let to_end = self.emit(Op::Jump { target: 0 });
                         let else_start = self.here();
                         self.patch_all(to_else, else_start);
@@ -445,12 +345,11 @@ impl Compiler<'_> {
                     }
                 }
             }
-            StmtKind::DoWhile { cond, body } => {
+            StmtKind::While { cond, body } => {
                 let top = self.here();
                 let exit = self.cond_jump(cond);
                 self.block(body);
-                self.line = self.lines_of.line(s.span.start) as u32;
-                self.span = s.span;
+                self.at_statement(s);
                 self.emit(Op::Loop { target: top });
                 let end = self.here();
                 self.patch_all(exit, end);
@@ -462,9 +361,8 @@ impl Compiler<'_> {
                 step,
                 body,
             } => {
-                let Some(r) = self.resolve(var) else { return };
                 let v = self.expr(from);
-                self.store(&r, v);
+                self.store(var, v);
                 self.temp_top = 0;
                 // The limit and the step live in two adjacent registers: step = limit + 1.
                 let limit = self.layout.hidden();
@@ -483,22 +381,21 @@ impl Compiler<'_> {
                 self.temp_top = 0;
                 let top = self.here();
                 let check = self.emit(Op::ForCheck {
-                    var: r.slot,
+                    var: var.slot,
                     limit,
                     exit: 0,
                 });
                 self.block(body);
-                self.line = self.lines_of.line(s.span.start) as u32;
-                self.span = s.span;
+                self.at_statement(s);
                 self.temp_top = 0;
-                let decimals = match r.ty {
+                let decimals = match var.ty {
                     ValueType::Fixed(d) => d,
                     ValueType::Integer => 0,
                     _ => REAL_STORE,
                 };
                 debug_assert_eq!(step_reg, limit + 1);
                 self.emit(Op::ForNext {
-                    var: r.slot,
+                    var: var.slot,
                     limit,
                     body: top + 1,
                     decimals,
@@ -506,20 +403,20 @@ impl Compiler<'_> {
                 let end = self.here();
                 self.patch(check, end);
             }
-            StmtKind::Call(n) => match self.registry.resolve_instance(n, Kind::Program) {
-                Ok(program) => {
-                    self.emit(Op::CallProgram { program });
-                }
-                Err(p) => self.problems.push(p),
-            },
-            StmtKind::Label(seg) => {
-                let pc = self.here();
-                self.labels.insert(seg.text.to_ascii_lowercase(), pc);
+            StmtKind::Call(program) => {
+                self.emit(Op::CallProgram { program: *program });
             }
-            StmtKind::Goto(seg) => {
+            StmtKind::Label(key) => {
+                let pc = self.here();
+                self.labels.insert(key.clone(), pc);
+            }
+            StmtKind::Goto(key) => {
                 let at = self.emit(Op::Jump { target: 0 });
-                self.gotos
-                    .push((at, seg.text.to_ascii_lowercase(), seg.span));
+                self.gotos.push((at, key.clone()));
+            }
+            StmtKind::Gosub(key) => {
+                let at = self.emit(Op::Gosub { target: 0 });
+                self.gotos.push((at, key.clone()));
             }
             StmtKind::End => {
                 self.emit(Op::End);
@@ -527,96 +424,38 @@ impl Compiler<'_> {
             StmtKind::Return => {
                 self.emit(Op::Return);
             }
-            StmtKind::Gosub(seg) => {
-                let key = seg.text.to_ascii_lowercase();
-                if self.basic_labels.contains(&key) {
-                    let at = self.emit(Op::Gosub { target: 0 });
-                    self.gotos.push((at, key, seg.span));
-                } else {
-                    // Not a label: an object action written bare (`Queue.0.QueueRemove`).
-                    let name = Name::from_token(&seg.text, seg.span.start);
-                    if let Some(r) = self.resolve(&name) {
-                        self.act_now(&r);
-                    }
-                }
-            }
-            StmtKind::SetCall {
-                target,
-                args,
+            StmtKind::AxisWrite {
+                member,
+                hook,
+                axes,
                 value,
             } => {
-                let Some((member, hook)) =
-                    basic::controller(&target.text).and_then(|c| axis_member(c.member))
-                else {
-                    return;
-                };
-                let Some(axis) = args.first() else { return };
-                let axes = self.axis_set(axis);
+                let axes = self.axis_set(axes);
                 let src = self.expr(value);
                 self.emit(Op::AxisWrite {
                     axes,
                     src,
-                    member,
-                    hook,
+                    member: *member,
+                    hook: *hook,
                 });
             }
-            StmtKind::Gear { axis, form } => {
-                let (cmd, operands, after): (MotionCmd, Vec<Option<&Expr>>, Option<&Expr>) =
-                    match form {
-                        GearForm::At {
-                            out,
-                            inn,
-                            pacer,
-                            after,
-                        } => (
-                            MotionCmd::GearAt {
-                                pacer: pacer.is_some(),
-                                after: after.is_some(),
-                            },
-                            vec![Some(out), Some(inn), pacer.as_ref()],
-                            after.as_ref(),
-                        ),
-                        GearForm::For { dist, pacer } => {
-                            (MotionCmd::GearFor, vec![Some(dist), Some(pacer)], None)
-                        }
-                    };
-                self.motion(cmd, axis, &operands, after);
-            }
-            StmtKind::Move { axis, form } => {
-                let (cmd, operands): (MotionCmd, Vec<Option<&Expr>>) = match form {
-                    MoveForm::At { speed, time } => (
-                        MotionCmd::MoveAt {
-                            time: time.is_some(),
-                        },
-                        vec![Some(speed), time.as_ref()],
-                    ),
-                    MoveForm::Position {
-                        relative,
-                        target,
-                        speed,
-                        time,
-                    } => (
-                        MotionCmd::MovePos {
-                            relative: *relative,
-                            speed: speed.is_some(),
-                            time: time.is_some(),
-                        },
-                        vec![Some(target), speed.as_ref(), time.as_ref()],
-                    ),
-                };
-                self.motion(cmd, axis, &operands, None);
-            }
+            StmtKind::Motion {
+                cmd,
+                axes,
+                operands,
+                after,
+            } => self.motion(*cmd, axes, operands, *after),
         }
     }
 
-    /// Run an action member now, on profile 0.
-    fn act_now(&mut self, r: &crate::registry::Resolved) {
+    /// Run an action.
+    fn act(&mut self, r: &Resolved, start: StartRef, profile: u8) {
         self.emit(Op::Act {
             hook: r.hook,
             slot: r.slot,
             instance: r.instance,
-            start: StartRef::Now,
-            profile: 0,
+            start,
+            profile,
         });
     }
 
@@ -626,8 +465,8 @@ impl Compiler<'_> {
         &mut self,
         cmd: MotionCmd,
         axis: &Expr,
-        operands: &[Option<&Expr>],
-        after: Option<&Expr>,
+        operands: &[Option<Expr>],
+        after: Option<u32>,
     ) {
         let axes = self.axis_set(axis);
         let hold = self.temp(axis.span);
@@ -646,14 +485,9 @@ impl Compiler<'_> {
             self.temp_top = top;
             self.emit(Op::Move { dst, src });
         }
-        if let (Some(ExprKind::Name(n)), Some(&dst)) = (after.map(|a| &a.kind), regs.last()) {
-            match self.registry.resolve(n) {
-                Ok(r) => {
-                    let src = self.layout.constant(f64::from(r.slot));
-                    self.emit(Op::Move { dst, src });
-                }
-                Err(p) => self.problems.push(p),
-            }
+        if let (Some(slot), Some(&dst)) = (after, regs.last()) {
+            let src = self.layout.constant(f64::from(slot));
+            self.emit(Op::Move { dst, src });
         }
         let args = regs.first().copied().unwrap_or(hold);
         self.emit(Op::Motion {
@@ -704,9 +538,9 @@ impl Compiler<'_> {
                 }
                 dst
             }
-            _ if self.basic_ty(e) == BasicTy::Axis => self.expr(e),
+            _ if e.ty == Ty::Axis => self.expr(e),
             _ => {
-                if let ExprKind::Number(n) = e.kind {
+                if let ExprKind::Const(n) = e.kind {
                     if n.fract() == 0.0 && (1.0..=16.0).contains(&n) {
                         return self.layout.constant(f64::from(1u32 << (n as u32 - 1)));
                     }
@@ -721,47 +555,10 @@ impl Compiler<'_> {
         }
     }
 
-    /// The MotionBASIC type of an expression (the checker has accepted it).
-    fn basic_ty(&self, e: &Expr) -> BasicTy {
-        match &e.kind {
-            ExprKind::AxisSet(_) => BasicTy::Axis,
-            ExprKind::Str(_) => BasicTy::Str,
-            ExprKind::Paren(x) => self.basic_ty(x),
-            ExprKind::Name(n) => match basic::resolve(self.registry, n) {
-                Ok(r) if r.kind == Kind::BasicVar => {
-                    basic::var_type(&r.name).map_or(BasicTy::Num, |t| t.1)
-                }
-                _ => BasicTy::Num,
-            },
-            ExprKind::Call(f, _) => basic::controller(&f.text).map_or(BasicTy::Num, |c| c.ty),
-            _ => BasicTy::Num,
-        }
-    }
-
-    /// True when a MotionBASIC expression is a long integer (its arithmetic overflows at 32
-    /// bits, as in Microsoft BASIC).
-    fn is_long(&self, e: &Expr) -> bool {
-        match &e.kind {
-            ExprKind::Number(v) => v.fract() == 0.0 && v.abs() <= f64::from(i32::MAX),
-            ExprKind::Bool(_) => true,
-            ExprKind::Paren(x) | ExprKind::Unary(UnOp::Neg, x) => self.is_long(x),
-            ExprKind::Name(n) => matches!(
-                basic::resolve(self.registry, n),
-                Ok(r) if r.kind == Kind::BasicVar && r.ty == ValueType::Fixed(0)
-            ),
-            ExprKind::Binary(BinOp::IntDiv | BinOp::Mod, _, _) => true,
-            ExprKind::Binary(BinOp::Add | BinOp::Sub | BinOp::Mul, a, b) => {
-                self.is_long(a) && self.is_long(b)
-            }
-            _ => false,
-        }
-    }
-
-    fn store(&mut self, r: &crate::registry::Resolved, src: Reg) {
-        if self.dialect == Dialect::MotionBasic
-            && r.kind == Kind::BasicVar
-            && r.ty == ValueType::Fixed(0)
-        {
+    /// Store `src` into `r` as its type says.
+    fn store(&mut self, r: &Resolved, src: Reg) {
+        // A MotionBASIC long integer.
+        if r.kind == Kind::BasicVar && r.ty == ValueType::Fixed(0) {
             if let (Some(&Op::CheckLong { r: checked }), true) =
                 (self.ops.last(), self.ops.len() > self.stmt_start)
             {
@@ -874,22 +671,20 @@ impl Compiler<'_> {
     /// [`Compiler::jumps`], with the condition's span current.
     fn jumps_at(&mut self, cond: &Expr, when: bool) -> Vec<usize> {
         match &cond.kind {
-            ExprKind::Bool(b) => {
-                if *b == when {
+            ExprKind::Bool { value, .. } => {
+                if *value == when {
                     vec![self.emit(Op::Jump { target: 0 })]
                 } else {
                     Vec::new()
                 }
             }
             ExprKind::Paren(inner) => self.jumps(inner, when),
-            ExprKind::Unary(UnOp::Not, inner) if self.ty(inner) == Ty::Bool => {
+            ExprKind::Not(inner) | ExprKind::BitNot(inner) if inner.truth => {
                 self.jumps(inner, !when)
             }
-            ExprKind::Binary(op @ (BinOp::And | BinOp::Or), a, b)
-                if self.ty(a) == Ty::Bool && fault_free(b) =>
-            {
+            ExprKind::Binary { op, a, b, .. } if is_and_or(*op) && a.truth && fault_free(b) => {
                 // AND jumps on OFF as soon as one side is OFF; OR jumps on ON as soon as one is ON.
-                let short = (*op == BinOp::Or) == when;
+                let short = matches!(op, TypedOp::Or | TypedOp::BitOr) == when;
                 if short {
                     let mut j = self.jumps(a, when);
                     j.extend(self.jumps(b, when));
@@ -902,13 +697,17 @@ impl Compiler<'_> {
                     j
                 }
             }
-            ExprKind::Binary(op, a, b) if cmp_of(*op).is_some() => {
-                let cmp = cmp_of(*op).unwrap_or(Cmp::Eq);
+            ExprKind::Binary {
+                op: TypedOp::Cmp(cmp),
+                a,
+                b,
+                ..
+            } => {
                 let mark = self.temp_top;
                 let ra = self.expr(a);
                 let rb = self.expr(b);
                 self.temp_top = mark;
-                let op = compare_jump(cmp, ra, rb, when);
+                let op = compare_jump(*cmp, ra, rb, when);
                 vec![self.emit(op)]
             }
             _ => {
@@ -931,19 +730,6 @@ impl Compiler<'_> {
         }
     }
 
-    fn ty(&self, e: &Expr) -> Ty {
-        match self.dialect {
-            Dialect::PowerTools => expr_type(e, self.registry).unwrap_or(Ty::Num),
-            Dialect::MotionBasic => {
-                if truth_valued(e) {
-                    Ty::Bool
-                } else {
-                    Ty::Num
-                }
-            }
-        }
-    }
-
     /// The register holding the value of `e`; its instructions carry the span of the
     /// (sub)expression each evaluates.
     fn expr(&mut self, e: &Expr) -> Reg {
@@ -956,24 +742,19 @@ impl Compiler<'_> {
     /// [`Compiler::expr`], with `e`'s span current.
     fn expr_at(&mut self, e: &Expr) -> Reg {
         match &e.kind {
-            ExprKind::Number(v) => self.layout.constant(*v),
-            ExprKind::Bool(b) => {
-                let truth = if self.dialect == Dialect::MotionBasic {
-                    -1.0
-                } else {
-                    1.0
-                };
-                self.layout.constant(if *b { truth } else { 0.0 })
-            }
-            ExprKind::Name(n) => {
-                let Some(r) = self.resolve(n) else { return 0 };
-                if self.dialect == Dialect::MotionBasic && r.ty.is_bit() {
+            ExprKind::Const(v) => self.layout.constant(*v),
+            ExprKind::Bool { number, .. } => self.layout.constant(*number),
+            ExprKind::Read { target, negate } => {
+                if *negate {
                     // MotionBASIC's true is -1.
                     let dst = self.temp(e.span);
-                    self.emit(Op::Neg { dst, a: r.slot });
+                    self.emit(Op::Neg {
+                        dst,
+                        a: target.slot,
+                    });
                     return dst;
                 }
-                r.slot
+                target.slot
             }
             ExprKind::Paren(inner) => self.expr(inner),
             ExprKind::Str(text) => {
@@ -981,136 +762,79 @@ impl Compiler<'_> {
                 self.layout.constant(id)
             }
             ExprKind::AxisSet(_) => self.axis_set(e),
-            ExprKind::Unary(op, inner) => {
+            ExprKind::Neg(inner) | ExprKind::Not(inner) | ExprKind::BitNot(inner) => {
                 let mark = self.temp_top;
                 let a = self.expr(inner);
                 self.temp_top = mark;
                 let dst = self.temp(e.span);
-                let basic = self.dialect == Dialect::MotionBasic;
-                let op = match (op, self.ty(inner)) {
-                    (UnOp::Neg, _) => Op::Neg { dst, a },
-                    (UnOp::Not, Ty::Bool) if !basic => Op::Not { dst, a },
-                    (UnOp::Not, _) => Op::BitNot { dst, a },
-                };
-                self.emit(op);
-                if basic && matches!(e.kind, ExprKind::Unary(UnOp::Neg, _)) && self.is_long(e) {
+                let negative = matches!(e.kind, ExprKind::Neg(_));
+                self.emit(match e.kind {
+                    ExprKind::Neg(_) => Op::Neg { dst, a },
+                    ExprKind::Not(_) => Op::Not { dst, a },
+                    _ => Op::BitNot { dst, a },
+                });
+                if negative && e.long {
                     self.emit(Op::CheckLong { r: dst });
                 }
                 dst
             }
-            ExprKind::Binary(op, l, r) => {
+            ExprKind::Binary { op, a, b, negate } => {
                 let mark = self.temp_top;
-                let a = self.expr(l);
-                let b = self.expr(r);
+                let ra = self.expr(a);
+                let rb = self.expr(b);
                 self.temp_top = mark;
                 let dst = self.temp(e.span);
-                let basic = self.dialect == Dialect::MotionBasic;
-                // MotionBASIC's AND/OR/XOR are bitwise on integers (true is -1).
-                let boolean = !basic && self.ty(l) == Ty::Bool;
-                let binop = *op;
-                let op = match op {
-                    BinOp::IntDiv => Op::Binary {
-                        op: BinaryOp::IntDiv,
-                        dst,
-                        a,
-                        b,
-                    },
-                    BinOp::Add => Op::Add { dst, a, b },
-                    BinOp::Sub => Op::Sub { dst, a, b },
-                    BinOp::Mul => Op::Mul { dst, a, b },
-                    BinOp::Div => Op::Div { dst, a, b },
-                    BinOp::Mod if basic => Op::Binary {
-                        op: BinaryOp::BasicMod,
-                        dst,
-                        a,
-                        b,
-                    },
-                    BinOp::Mod => Op::Mod { dst, a, b },
-                    BinOp::Pow => Op::Binary {
-                        op: BinaryOp::Pow,
-                        dst,
-                        a,
-                        b,
-                    },
-                    BinOp::And => Op::Binary {
-                        op: if boolean {
-                            BinaryOp::And
-                        } else {
-                            BinaryOp::BitAnd
-                        },
-                        dst,
-                        a,
-                        b,
-                    },
-                    BinOp::Or => Op::Binary {
-                        op: if boolean {
-                            BinaryOp::Or
-                        } else {
-                            BinaryOp::BitOr
-                        },
-                        dst,
-                        a,
-                        b,
-                    },
-                    BinOp::Xor => Op::Binary {
-                        op: if boolean {
-                            BinaryOp::Xor
-                        } else {
-                            BinaryOp::BitXor
-                        },
-                        dst,
-                        a,
-                        b,
-                    },
-                    cmp => Op::Compare {
-                        cmp: cmp_of(*cmp).unwrap_or(Cmp::Eq),
+                let (a, b) = (ra, rb);
+                let binary = |op| Op::Binary { op, dst, a, b };
+                let instruction = match op {
+                    TypedOp::Add => Op::Add { dst, a, b },
+                    TypedOp::Sub => Op::Sub { dst, a, b },
+                    TypedOp::Mul => Op::Mul { dst, a, b },
+                    TypedOp::Div => Op::Div { dst, a, b },
+                    TypedOp::Mod => Op::Mod { dst, a, b },
+                    TypedOp::BasicMod => binary(BinaryOp::BasicMod),
+                    TypedOp::IntDiv => binary(BinaryOp::IntDiv),
+                    TypedOp::Pow => binary(BinaryOp::Pow),
+                    TypedOp::And => binary(BinaryOp::And),
+                    TypedOp::Or => binary(BinaryOp::Or),
+                    TypedOp::Xor => binary(BinaryOp::Xor),
+                    TypedOp::BitAnd => binary(BinaryOp::BitAnd),
+                    TypedOp::BitOr => binary(BinaryOp::BitOr),
+                    TypedOp::BitXor => binary(BinaryOp::BitXor),
+                    TypedOp::Cmp(cmp) => Op::Compare {
+                        cmp: *cmp,
                         dst,
                         a,
                         b,
                     },
                 };
-                self.emit(op);
-                if basic {
-                    if cmp_of(binop).is_some() {
-                        self.emit(Op::Neg { dst, a: dst });
-                    } else if matches!(binop, BinOp::Add | BinOp::Sub | BinOp::Mul)
-                        && self.is_long(e)
-                    {
-                        self.emit(Op::CheckLong { r: dst });
-                    }
+                self.emit(instruction);
+                if *negate {
+                    // MotionBASIC's comparisons give -1 or 0.
+                    self.emit(Op::Neg { dst, a: dst });
+                } else if e.long && matches!(op, TypedOp::Add | TypedOp::Sub | TypedOp::Mul) {
+                    self.emit(Op::CheckLong { r: dst });
                 }
                 dst
             }
-            ExprKind::Call(f, args)
-                if self.dialect == Dialect::MotionBasic && basic::controller(&f.text).is_some() =>
-            {
-                let Some((member, _)) =
-                    basic::controller(&f.text).and_then(|c| axis_member(c.member))
-                else {
-                    return 0;
-                };
+            ExprKind::AxisRead {
+                member,
+                truth,
+                axes,
+            } => {
                 let mark = self.temp_top;
-                let axes = match args.first() {
-                    Some(a) => self.axis_set(a),
-                    None => self.layout.constant(0.0),
-                };
+                let axes = self.axis_set(axes);
                 self.temp_top = mark;
                 let dst = self.temp(e.span);
-                let truth = self.registry.of(Kind::Axis).def.members[member as usize]
-                    .ty
-                    .is_bit();
                 self.emit(Op::AxisRead {
                     dst,
                     axes,
-                    member,
-                    truth,
+                    member: *member,
+                    truth: *truth,
                 });
                 dst
             }
-            ExprKind::Call(f, args) if functions::find_kernel(&f.text).is_some() => {
-                let Some((func, _)) = functions::find_kernel(&f.text) else {
-                    return 0;
-                };
+            ExprKind::Kernel { func, args, negate } => {
                 let mark = self.temp_top;
                 let regs: Vec<Reg> = args.iter().map(|_| self.temp(e.span)).collect();
                 let top = self.temp_top;
@@ -1122,32 +846,41 @@ impl Compiler<'_> {
                 self.temp_top = mark;
                 let dst = self.temp(e.span);
                 let args = regs.first().copied().unwrap_or(dst);
-                self.emit(Op::KernelCall { func, dst, args });
-                // REGIST's and WRITE_SV's OK is a truth value: -1 in MotionBASIC.
-                if self.dialect == Dialect::MotionBasic
-                    && matches!(
-                        func,
-                        functions::KernelFunc::Regist | functions::KernelFunc::WriteSv
-                    )
-                {
+                self.emit(Op::KernelCall {
+                    func: *func,
+                    dst,
+                    args,
+                });
+                if *negate {
+                    // REGIST's and WRITE_SV's OK is a truth value: -1 in MotionBASIC.
                     self.emit(Op::Neg { dst, a: dst });
                 }
                 dst
             }
-            ExprKind::Call(f, args) => {
-                let Some((func, _)) = functions::find(&f.text) else {
-                    return 0;
-                };
+            ExprKind::Call(func, args) => {
                 let mark = self.temp_top;
                 let a = args.first().map_or(0, |x| self.expr(x));
                 let b = args.get(1).map_or(a, |x| self.expr(x));
                 self.temp_top = mark;
                 let dst = self.temp(e.span);
-                self.emit(Op::Call { func, dst, a, b });
+                self.emit(Op::Call {
+                    func: *func,
+                    dst,
+                    a,
+                    b,
+                });
                 dst
             }
         }
     }
+}
+
+/// `AND`/`OR` of either kind (ON/OFF, or MotionBASIC's bitwise on truth values).
+fn is_and_or(op: TypedOp) -> bool {
+    matches!(
+        op,
+        TypedOp::And | TypedOp::Or | TypedOp::BitAnd | TypedOp::BitOr
+    )
 }
 
 /// A conditional jump on a comparison; `>` and `>=` become `<` and `<=` with the operands
@@ -1173,45 +906,23 @@ fn compare_jump(cmp: Cmp, a: Reg, b: Reg, when: bool) -> Op {
 /// True when evaluating `e` can never fail at run time (division and MOD by a variable can).
 fn fault_free(e: &Expr) -> bool {
     match &e.kind {
-        ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Name(_) => true,
-        ExprKind::Paren(x) | ExprKind::Unary(_, x) => fault_free(x),
-        ExprKind::Binary(BinOp::Div | BinOp::Mod, a, b) => {
-            fault_free(a) && matches!(b.kind, ExprKind::Number(v) if v != 0.0)
+        ExprKind::Const(_) | ExprKind::Bool { .. } | ExprKind::Read { .. } | ExprKind::Str(_) => {
+            true
         }
-        ExprKind::Binary(_, a, b) => fault_free(a) && fault_free(b),
-        // Kernel functions and controller variables can fail (a wrong axis) or act.
-        ExprKind::Call(f, args) => {
-            functions::find(&f.text).is_some() && args.iter().all(fault_free)
+        ExprKind::Paren(x) | ExprKind::Neg(x) | ExprKind::Not(x) | ExprKind::BitNot(x) => {
+            fault_free(x)
         }
+        ExprKind::Binary {
+            op: TypedOp::Div | TypedOp::Mod | TypedOp::BasicMod,
+            a,
+            b,
+            ..
+        } => fault_free(a) && matches!(b.kind, ExprKind::Const(v) if v != 0.0),
+        ExprKind::Binary { a, b, .. } => fault_free(a) && fault_free(b),
+        // Math functions cannot fail; kernel functions and controller variables can (a wrong
+        // axis) or act.
+        ExprKind::Call(_, args) => args.iter().all(fault_free),
         ExprKind::AxisSet(args) => args.iter().all(fault_free),
-        ExprKind::Str(_) => true,
+        ExprKind::Kernel { .. } | ExprKind::AxisRead { .. } => false,
     }
-}
-
-/// A MotionBASIC expression whose value is a truth value (-1 or 0), so a condition on it may
-/// short-circuit: comparisons, TRUE/FALSE, and NOT/AND/OR of truth values.
-fn truth_valued(e: &Expr) -> bool {
-    match &e.kind {
-        ExprKind::Bool(_) => true,
-        ExprKind::Paren(x) | ExprKind::Unary(UnOp::Not, x) => truth_valued(x),
-        ExprKind::Binary(op, a, b) => {
-            cmp_of(*op).is_some()
-                || (matches!(op, BinOp::And | BinOp::Or | BinOp::Xor)
-                    && truth_valued(a)
-                    && truth_valued(b))
-        }
-        _ => false,
-    }
-}
-
-fn cmp_of(op: BinOp) -> Option<Cmp> {
-    Some(match op {
-        BinOp::Eq => Cmp::Eq,
-        BinOp::Ne => Cmp::Ne,
-        BinOp::Lt => Cmp::Lt,
-        BinOp::Le => Cmp::Le,
-        BinOp::Gt => Cmp::Gt,
-        BinOp::Ge => Cmp::Ge,
-        _ => return None,
-    })
 }

@@ -115,7 +115,7 @@ fn resolve_one(registry: &Registry, name: &str) -> Result<Signal, ExportError> {
     // Names resolve as programs resolve them (any case, aliases, `DriveInput.4` for its value,
     // MotionBASIC variables by their spelling), so a name copied from a program works here.
     let parsed = crate::syntax::ast::Name::from_token(name, 0);
-    let resolved = crate::check::basic::resolve(registry, &parsed)
+    let resolved = crate::check::motionbasic::resolve(registry, &parsed)
         .ok()
         .filter(|r| (r.slot as usize) < registry.slots.len());
     match resolved {

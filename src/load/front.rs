@@ -3,8 +3,8 @@
 //! compiled to bytecode.
 
 use super::project::ProgramFile;
-use crate::check::basic::Variables;
-use crate::check::{check_program, CheckEnv};
+use crate::check::typed::Program;
+use crate::check::{CheckEnv, Variables};
 use crate::compile::{compile as compile_program, Chunk, Layout};
 use crate::config::files::Files;
 use crate::diag::{Diagnostics, Problem, SourceFile};
@@ -57,50 +57,46 @@ pub fn parse(files: &dyn Files, programs: &[ProgramFile], problems: &mut Vec<Pro
     out
 }
 
-/// Check every program against the registry; each program's problems go with its file.
-pub fn check(parsed: &Parsed, registry: &Registry, numbers: &[u32], diags: &mut Diagnostics) {
+/// Check every program against the registry; each program's problems go with its file. The
+/// checked programs, by number.
+pub fn check(
+    parsed: &Parsed,
+    registry: &Registry,
+    numbers: &[u32],
+    diags: &mut Diagnostics,
+) -> Vec<(u32, Program)> {
+    let env = CheckEnv {
+        registry,
+        loaded_programs: numbers,
+    };
+    let mut checked = Vec::new();
     for (number, dialect, ast, syntax) in &parsed.programs {
         let mut problems = syntax.clone();
-        match dialect {
-            Dialect::PowerTools => {
-                let env = CheckEnv {
-                    registry,
-                    loaded_programs: numbers,
-                };
-                problems.extend(check_program(ast, &env));
-            }
-            Dialect::MotionBasic => {
-                problems.extend(crate::check::basic::check(ast, registry, &parsed.variables));
-            }
-        }
+        let (program, found) = crate::check::check(ast, *dialect, &env, &parsed.variables);
+        problems.extend(found);
         if let Some(file) = parsed.sources.get(number) {
             diags.extend_file(file, problems);
         }
+        checked.push((*number, program));
     }
+    checked
 }
 
-/// Compile every program (they checked without errors): the chunks, each program's chunk, and
-/// the value array's layout.
+/// Compile every checked program (they checked without errors): each program's chunk, and the
+/// value array's layout.
 pub fn compile(
     parsed: &Parsed,
+    checked: &[(u32, Program)],
     registry: &Registry,
     diags: &mut Diagnostics,
 ) -> (Vec<(u32, Chunk)>, Layout) {
     let mut layout = Layout::new(registry);
     let mut chunks = Vec::new();
-    for (number, dialect, ast, _) in &parsed.programs {
+    for (number, program) in checked {
         let Some(file) = parsed.sources.get(number) else {
             continue;
         };
-        match compile_program(
-            ast,
-            &file.text,
-            &file.name,
-            *number,
-            registry,
-            &mut layout,
-            *dialect,
-        ) {
+        match compile_program(program, &file.text, &file.name, *number, &mut layout) {
             Ok(chunk) => chunks.push((*number, chunk)),
             Err(problems) => diags.extend_file(file, problems),
         }

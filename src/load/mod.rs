@@ -126,7 +126,7 @@ pub fn load_from(
     // programs: everything wrong is reported at once.
     let (desc, registry) =
         crate::config::machine(&machine, &numbers, &variables, &mut machine_problems);
-    front::check(&parsed, &registry, &numbers, &mut diags);
+    let checked = front::check(&parsed, &registry, &numbers, &mut diags);
     diags.extend_file(&machine_file, machine_problems);
 
     let scenario = match &p.scenario {
@@ -150,7 +150,7 @@ pub fn load_from(
     if diags.has_errors() {
         return Err(diags);
     }
-    let (chunks, layout) = front::compile(&parsed, &registry, &mut diags);
+    let (chunks, layout) = front::compile(&parsed, &checked, &registry, &mut diags);
     if diags.has_errors() {
         return Err(diags);
     }

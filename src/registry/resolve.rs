@@ -7,7 +7,7 @@ use super::{Registry, SlotId, TypeInstances, GLOBAL_INSTANCE};
 use crate::diag::{nearest, Problem};
 
 /// A name resolved against the registry.
-#[derive(Debug, Clone)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Resolved {
     /// Its storage.
     pub slot: SlotId,

@@ -3,8 +3,8 @@
 //! line editor's thread can use it while the machine runs on the main thread.
 
 use super::commands::{COMMANDS, PREFIX};
-use crate::check::basic::CONTROLLERS;
 use crate::check::functions::{FUNCTIONS, KERNEL_FUNCTIONS};
+use crate::check::motionbasic::CONTROLLERS;
 use crate::registry::catalog::BARE_GLOBAL_TYPE;
 use crate::registry::{Instances, Kind, Registry};
 use crate::syntax::Dialect;

@@ -2,7 +2,7 @@
 //! a line that parses as statements runs (a bare readable name, such as `Queue.0.QueueEmpty`,
 //! is read rather than "run"); a line that does not, but parses as an expression, is evaluated.
 
-use crate::check::basic;
+use crate::check::motionbasic as basic;
 use crate::diag::{Level, Problem};
 use crate::registry::{Access, Registry, Resolved};
 use crate::span::Span;

@@ -4,8 +4,9 @@
 
 use super::complete::Vocabulary;
 use super::line::{self, Parsed};
-use crate::check::basic::{self, Variables};
-use crate::check::{check_program, expr_type, CheckEnv, Ty};
+use crate::check::motionbasic::Variables;
+use crate::check::typed::Program;
+use crate::check::{check, check_expr, CheckEnv, Ty};
 use crate::compile::{compile, compile_expr, Layout};
 use crate::diag::{Diagnostics, Level, Problem, SourceFile};
 use crate::load::{load_with, LoadOptions, LoadRequest};
@@ -224,7 +225,7 @@ impl Session {
                 return Ran::Failed;
             }
         }
-        let problems = self.check(&parsed);
+        let (checked, problems) = self.check(&parsed);
         let failed = problems.iter().any(|p| p.level == Level::Error);
         self.report(&file, problems, out);
         if failed {
@@ -249,38 +250,26 @@ impl Session {
                     }
                 }
             }
-            Parsed::Expression(e) => {
-                match compile_expr(
-                    e,
-                    text,
-                    TYPED,
-                    REPL_PROGRAM,
-                    registry,
-                    &mut self.layout,
-                    self.dialect,
-                ) {
-                    Ok((chunk, reg)) => (chunk, Some((reg, self.expr_is_bool(e)))),
+            _ => {
+                let compiled = match &checked {
+                    Some(Checked::Expression(e)) => {
+                        compile_expr(e, text, TYPED, REPL_PROGRAM, &mut self.layout)
+                            .map(|(chunk, reg)| (chunk, Some((reg, e.ty == Ty::Bool))))
+                    }
+                    Some(Checked::Statements(program)) => {
+                        compile(program, text, TYPED, REPL_PROGRAM, &mut self.layout)
+                            .map(|chunk| (chunk, None))
+                    }
+                    None => return Ran::Failed,
+                };
+                match compiled {
+                    Ok(c) => c,
                     Err(problems) => {
                         self.report(&file, problems, out);
                         return Ran::Failed;
                     }
                 }
             }
-            Parsed::Statements(ast) => match compile(
-                ast,
-                text,
-                TYPED,
-                REPL_PROGRAM,
-                registry,
-                &mut self.layout,
-                self.dialect,
-            ) {
-                Ok(chunk) => (chunk, None),
-                Err(problems) => {
-                    self.report(&file, problems, out);
-                    return Ran::Failed;
-                }
-            },
         };
         let index = self.machine.add_chunk(chunk, &self.layout);
         self.typed.insert(index, text.to_string());
@@ -333,9 +322,14 @@ impl Session {
         Ok(())
     }
 
-    fn check(&self, parsed: &Parsed) -> Vec<Problem> {
+    /// Check a typed line: its checked form (a name read needs none) and its problems.
+    fn check(&self, parsed: &Parsed) -> (Option<Checked>, Vec<Problem>) {
         let registry = self.machine.registry();
         let programs = self.machine.program_numbers();
+        let env = CheckEnv {
+            registry,
+            loaded_programs: &programs,
+        };
         match (self.dialect, parsed) {
             // A name is read as it is, whatever its type (strings, axis sets too).
             (
@@ -345,30 +339,25 @@ impl Session {
                     ..
                 }),
             ) => match line::resolve(registry, n, self.dialect) {
-                Ok(r) if line::readable(&r) => Vec::new(),
-                Ok(r) => vec![Problem::error(
-                    "pacer::repl::not_readable",
-                    n.span,
-                    format!("{} cannot be read", r.name),
-                    "an action or a write-only input",
-                )],
-                Err(p) => vec![p],
+                Ok(r) if line::readable(&r) => (None, Vec::new()),
+                Ok(r) => (
+                    None,
+                    vec![Problem::error(
+                        "pacer::repl::not_readable",
+                        n.span,
+                        format!("{} cannot be read", r.name),
+                        "an action or a write-only input",
+                    )],
+                ),
+                Err(p) => (None, vec![p]),
             },
-            (Dialect::PowerTools, Parsed::Statements(ast)) => check_program(
-                ast,
-                &CheckEnv {
-                    registry,
-                    loaded_programs: &programs,
-                },
-            ),
-            (Dialect::PowerTools, Parsed::Expression(e)) => {
-                expr_type(e, registry).err().into_iter().collect()
+            (dialect, Parsed::Statements(ast)) => {
+                let (program, problems) = check(ast, dialect, &env, &self.known_variables());
+                (Some(Checked::Statements(program)), problems)
             }
-            (Dialect::MotionBasic, Parsed::Statements(ast)) => {
-                basic::check(ast, registry, &self.known_variables())
-            }
-            (Dialect::MotionBasic, Parsed::Expression(e)) => {
-                basic::check(&wait_for(e), registry, &self.known_variables())
+            (dialect, Parsed::Expression(e)) => {
+                let (e, problems) = check_expr(e, dialect, &env, &self.known_variables());
+                (e.map(Checked::Expression), problems)
             }
         }
     }
@@ -386,11 +375,6 @@ impl Session {
             vars.assigned.insert(key);
         }
         vars
-    }
-
-    fn expr_is_bool(&self, e: &Expr) -> bool {
-        self.dialect == Dialect::PowerTools
-            && expr_type(e, self.machine.registry()).is_ok_and(|t| t == Ty::Bool)
     }
 
     fn report(&self, file: &SourceFile, problems: Vec<Problem>, out: &mut dyn Output) {
@@ -703,6 +687,14 @@ impl Session {
 }
 
 /// A statement that checks `e` as a number: how a MotionBASIC expression is checked.
+/// A typed line, checked.
+enum Checked {
+    /// Statements.
+    Statements(Program),
+    /// An expression whose value is printed.
+    Expression(crate::check::typed::Expr),
+}
+
 fn wait_for(e: &Expr) -> ProgramAst {
     ProgramAst {
         body: vec![Stmt {

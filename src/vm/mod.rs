@@ -251,7 +251,7 @@ impl Machine {
     /// Current value of a member by name, e.g. `Queue.0.QueueOffset` (for tests and tools).
     pub fn value_of(&self, name: &str) -> Option<f64> {
         let n = crate::syntax::ast::Name::from_token(name, 0);
-        let r = crate::check::basic::resolve(&self.image.registry, &n).ok()?;
+        let r = crate::check::motionbasic::resolve(&self.image.registry, &n).ok()?;
         self.values.get(r.slot as usize).copied()
     }
 

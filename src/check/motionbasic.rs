@@ -1,0 +1,921 @@
+//! The MotionBASIC dialect's rules: variables typed by their suffix and declared by use,
+//! controller variables (`POS.ASEN@(axis)`) as members of the DSP axis objects, truth values
+//! as numbers (-1 is true), long-integer arithmetic that overflows at 32 bits, subroutines by
+//! label, the motion statements, and the lint for a variable read but never assigned.
+
+use super::functions;
+use super::typed::{self, ExprKind as K, Op, StmtKind as T, Ty};
+use super::walk::{not_here, unknown_label, Context, Rules, Want};
+use crate::devices::command::MotionCmd;
+use crate::diag::{nearest, Problem};
+use crate::registry::catalog::AXIS_TYPE;
+use crate::registry::{Access, Kind, Registry, Resolved, ValueType};
+use crate::span::Span;
+use crate::syntax::ast::{
+    BinOp, Expr, ExprKind, GearForm, MoveForm, Name, ProgramAst, Segment, Stmt, StmtKind, UnOp,
+};
+use crate::syntax::Dialect;
+use indexmap::{IndexMap, IndexSet};
+
+/// What a MotionBASIC value is: a number (long integer or real; truth values are numbers), an
+/// axis set (`{1}`, `web~`) or a string.
+pub type BasicTy = Ty;
+
+/// A MotionBASIC value type as messages name it.
+fn word(t: Ty) -> &'static str {
+    match t {
+        Ty::Num | Ty::Bool => "a number",
+        Ty::Axis => "an axis set",
+        Ty::Str => "a string",
+    }
+}
+
+/// The storage type of a variable, from its suffix: `&`/`%` long integer, `~` axis set,
+/// `$` string, none/`!`/`#` real. `None` for a controller name (`@`).
+pub fn var_type(name: &str) -> Option<(ValueType, BasicTy)> {
+    match name.chars().last()? {
+        '@' => None,
+        '&' | '%' => Some((ValueType::Fixed(0), Ty::Num)),
+        '~' => Some((ValueType::Integer, Ty::Axis)),
+        '$' => Some((ValueType::Integer, Ty::Str)),
+        _ => Some((ValueType::Real, Ty::Num)),
+    }
+}
+
+/// A controller variable and the DSP axis member it names.
+#[derive(Debug, Clone, Copy)]
+pub struct Controller {
+    /// MotionBASIC name without `@`.
+    pub name: &'static str,
+    /// The `Axis` member.
+    pub member: &'static str,
+    /// Programs may assign it.
+    pub writable: bool,
+    /// Type of its value.
+    pub ty: BasicTy,
+}
+
+const fn ctl(name: &'static str, member: &'static str, writable: bool, ty: BasicTy) -> Controller {
+    Controller {
+        name,
+        member,
+        writable,
+        ty,
+    }
+}
+
+/// Every controller variable pacer knows.
+pub const CONTROLLERS: &[Controller] = &[
+    ctl("POS", "Position", false, Ty::Num),
+    ctl("VEL", "Velocity", false, Ty::Num),
+    ctl("RATIO", "Ratio", false, Ty::Num),
+    ctl("DSP.DONE", "DspDone", false, Ty::Num),
+    ctl("ZREF", "Zref", true, Ty::Num),
+    ctl("ASEN", "Asen", true, Ty::Num),
+    ctl("BSEN", "Bsen", true, Ty::Num),
+    ctl("POS.ZREF", "PosZref", false, Ty::Num),
+    ctl("POS.ASEN", "PosAsen", false, Ty::Num),
+    ctl("POS.BSEN", "PosBsen", false, Ty::Num),
+    ctl("POS.MOD", "PosMod", true, Ty::Num),
+    ctl("PLS.MOD", "PlsMod", true, Ty::Num),
+    ctl("PLS1.LOW", "Pls1Low", true, Ty::Num),
+    ctl("PLS1.HIGH", "Pls1High", true, Ty::Num),
+    ctl("PLS2.LOW", "Pls2Low", true, Ty::Num),
+    ctl("PLS2.HIGH", "Pls2High", true, Ty::Num),
+    ctl("PLS3.LOW", "Pls3Low", true, Ty::Num),
+    ctl("PLS3.HIGH", "Pls3High", true, Ty::Num),
+    ctl("SENS.MODE", "SensMode", true, Ty::Str),
+];
+
+/// The controller variable `name` names, written with or without its `@`.
+pub fn controller(name: &str) -> Option<&'static Controller> {
+    let bare = name.strip_suffix('@').unwrap_or(name);
+    CONTROLLERS
+        .iter()
+        .find(|c| c.name.eq_ignore_ascii_case(bare))
+}
+
+/// A name in a MotionBASIC program: an object member when it resolves as one
+/// (`Queue.0.QueueEmpty`), else a MotionBASIC variable.
+pub fn resolve(registry: &Registry, name: &Name) -> Result<Resolved, Problem> {
+    let text = name.text();
+    if text.ends_with('@') {
+        let help = match controller(&text) {
+            Some(c) => format!("give its axis: `{}@(knife~)`", c.name),
+            None => "controller variables take an axis in ( ) or { }".to_string(),
+        };
+        return Err(Problem::error(
+            "pacer::check::controller_axis",
+            name.span,
+            format!("{text} is a controller variable: it needs an axis"),
+            "no axis given",
+        )
+        .with_help(help));
+    }
+    if crate::registry::catalog::find_type(&name.segments[0].text).is_some() {
+        if let Ok(r) = registry.resolve(name) {
+            return Ok(r);
+        }
+    }
+    let vars = registry.of(Kind::BasicVar);
+    match vars.names.get(&text.to_ascii_lowercase()) {
+        Some(&i) => {
+            let slot = vars.slot(i, 0, false);
+            let info = &registry.slots[slot as usize];
+            Ok(Resolved {
+                slot,
+                ty: info.ty,
+                access: Access::ReadWrite,
+                hook: crate::registry::Hook::Store,
+                kind: Kind::BasicVar,
+                instance: i,
+                name: info.name.clone(),
+            })
+        }
+        None => registry.resolve(name),
+    }
+}
+
+/// The variables of MotionBASIC programs, in order of first appearance, with their types, and
+/// the ones assigned somewhere (for the read-never-assigned lint).
+#[derive(Debug, Default)]
+pub struct Variables {
+    /// Name (upper-case) → spelling at first use (as the trace shows it) and storage type.
+    pub all: IndexMap<String, (String, ValueType)>,
+    /// Names assigned (or used as a FOR variable) somewhere.
+    pub assigned: IndexSet<String>,
+}
+
+impl Variables {
+    /// Collect the variables `ast` uses. Names that are objects of the machine, labels and
+    /// controller names are not variables.
+    pub fn collect(&mut self, ast: &ProgramAst) {
+        self.stmts(&ast.body);
+    }
+
+    /// As `(name, type)` pairs for the registry.
+    pub fn list(&self) -> Vec<(String, ValueType)> {
+        self.all.values().cloned().collect()
+    }
+
+    fn note(&mut self, n: &Name, assigned: bool) {
+        // `BELT.SPEED` stays a variable: a belt is always written with its number.
+        let object = match crate::registry::catalog::find_type(&n.segments[0].text) {
+            Some(def) if def.kind == Kind::Belt => n
+                .segments
+                .get(1)
+                .is_some_and(|s| !s.text.is_empty() && s.text.bytes().all(|b| b.is_ascii_digit())),
+            Some(_) => n.segments.len() > 1,
+            None => false,
+        };
+        if object {
+            return;
+        }
+        let written = n.text();
+        let text = written.to_ascii_uppercase();
+        let Some((ty, _)) = var_type(&text) else {
+            return;
+        };
+        self.all.entry(text.clone()).or_insert((written, ty));
+        if assigned {
+            self.assigned.insert(text);
+        }
+    }
+
+    fn stmts(&mut self, body: &[Stmt]) {
+        for s in body {
+            match &s.kind {
+                StmtKind::Assign { target, value } => {
+                    self.note(target, true);
+                    self.expr(value);
+                }
+                StmtKind::SetCall { args, value, .. } => {
+                    args.iter().for_each(|a| self.expr(a));
+                    self.expr(value);
+                }
+                StmtKind::If {
+                    cond,
+                    then_body,
+                    else_body,
+                } => {
+                    self.expr(cond);
+                    self.stmts(then_body);
+                    if let Some(e) = else_body {
+                        self.stmts(e);
+                    }
+                }
+                StmtKind::DoWhile { cond, body } => {
+                    self.expr(cond);
+                    self.stmts(body);
+                }
+                StmtKind::For {
+                    var,
+                    from,
+                    to,
+                    step,
+                    body,
+                } => {
+                    self.note(var, true);
+                    self.expr(from);
+                    self.expr(to);
+                    if let Some(s) = step {
+                        self.expr(s);
+                    }
+                    self.stmts(body);
+                }
+                StmtKind::Gear { axis, form } => {
+                    self.expr(axis);
+                    match form {
+                        GearForm::At {
+                            out,
+                            inn,
+                            pacer,
+                            after,
+                        } => {
+                            self.expr(out);
+                            self.expr(inn);
+                            pacer.iter().chain(after.iter()).for_each(|e| self.expr(e));
+                        }
+                        GearForm::For { dist, pacer } => {
+                            self.expr(dist);
+                            self.expr(pacer);
+                        }
+                    }
+                }
+                StmtKind::Move { axis, form } => {
+                    self.expr(axis);
+                    match form {
+                        MoveForm::At { speed, time } => {
+                            self.expr(speed);
+                            time.iter().for_each(|e| self.expr(e));
+                        }
+                        MoveForm::Position {
+                            target,
+                            speed,
+                            time,
+                            ..
+                        } => {
+                            self.expr(target);
+                            speed.iter().chain(time.iter()).for_each(|e| self.expr(e));
+                        }
+                    }
+                }
+                StmtKind::WaitFor(e)
+                | StmtKind::WaitTime(e)
+                | StmtKind::DwellTime(e)
+                | StmtKind::DwellMaster(e) => self.expr(e),
+                _ => {}
+            }
+        }
+    }
+
+    fn expr(&mut self, e: &Expr) {
+        match &e.kind {
+            ExprKind::Name(n) => self.note(n, false),
+            ExprKind::Unary(_, a) | ExprKind::Paren(a) => self.expr(a),
+            ExprKind::Binary(_, a, b) => {
+                self.expr(a);
+                self.expr(b);
+            }
+            ExprKind::Call(_, args) | ExprKind::AxisSet(args) => {
+                args.iter().for_each(|a| self.expr(a))
+            }
+            ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
+        }
+    }
+}
+
+/// Check a MotionBASIC program against the registry; `vars` holds every MotionBASIC program's
+/// variables. Every problem found.
+pub fn check(ast: &ProgramAst, registry: &Registry, vars: &Variables) -> Vec<Problem> {
+    let machine = super::walk::Machine {
+        registry,
+        loaded_programs: &[],
+    };
+    super::walk::check(&mut MotionBasic::new(vars), &machine, ast).1
+}
+
+/// The MotionBASIC rules; `vars` holds every MotionBASIC program's variables.
+pub struct MotionBasic<'v> {
+    vars: &'v Variables,
+    /// Variables already reported as never assigned.
+    warned: IndexSet<String>,
+}
+
+impl<'v> MotionBasic<'v> {
+    /// The rules for programs whose variables are `vars`.
+    pub fn new(vars: &'v Variables) -> MotionBasic<'v> {
+        MotionBasic {
+            vars,
+            warned: IndexSet::new(),
+        }
+    }
+
+    /// `e`, which must be of type `ty` (the help line says why).
+    fn want(&mut self, cx: &mut Context<'_>, e: &Expr, ty: Ty, why: &str) -> Option<typed::Expr> {
+        let t = self.ty(cx, e)?;
+        if t.ty != ty {
+            cx.push(
+                Problem::error(
+                    "pacer::check::type",
+                    e.span,
+                    format!("{} is needed here, not {}", word(ty), word(t.ty)),
+                    format!("this is {}", word(t.ty)),
+                )
+                .with_help(why.to_string()),
+            );
+            return None;
+        }
+        Some(t)
+    }
+
+    /// The `AFTER` input of a `GEAR`: its slot.
+    fn after_input(&mut self, cx: &mut Context<'_>, e: &Expr) -> Option<u32> {
+        let found = match &e.kind {
+            ExprKind::Name(n) => match cx.registry().resolve(n) {
+                Ok(r) => (r.ty.is_bit() && !matches!(r.access, Access::Action | Access::Input))
+                    .then_some(r.slot),
+                Err(p) => {
+                    cx.push(p);
+                    return None;
+                }
+            },
+            _ => None,
+        };
+        if found.is_none() {
+            cx.push(
+                Problem::error(
+                    "pacer::check::after",
+                    e.span,
+                    "AFTER needs an input",
+                    "not an input",
+                )
+                .with_help("name a bit the gear starts on, e.g. `AFTER DriveInput.1`"),
+            );
+        }
+        found
+    }
+
+    /// The one axis set a controller variable takes.
+    fn axis_args(
+        &mut self,
+        cx: &mut Context<'_>,
+        target: &Segment,
+        args: &[Expr],
+    ) -> Option<typed::Expr> {
+        if args.len() != 1 {
+            cx.push(Problem::error(
+                "pacer::check::arguments",
+                target.span,
+                format!(
+                    "{} takes one axis set, not {} arguments",
+                    target.text,
+                    args.len()
+                ),
+                "wrong number of arguments",
+            ));
+        }
+        let mut first = None;
+        for (i, a) in args.iter().enumerate() {
+            let t = self.want(
+                cx,
+                a,
+                Ty::Axis,
+                "controller variables take an axis: `POS.ASEN@(web~)`",
+            );
+            if i == 0 {
+                first = t;
+            }
+        }
+        if args.len() != 1 {
+            return None;
+        }
+        first
+    }
+
+    /// The type of an expression, every problem in it recorded.
+    fn ty(&mut self, cx: &mut Context<'_>, e: &Expr) -> Option<typed::Expr> {
+        let typed = |kind, ty, long, truth| typed::Expr {
+            kind,
+            ty,
+            long,
+            truth,
+            span: e.span,
+        };
+        match &e.kind {
+            ExprKind::Number(v) if !v.is_finite() => {
+                cx.push(Problem::error(
+                    "pacer::check::number",
+                    e.span,
+                    "this number is too large to represent",
+                    "out of range",
+                ));
+                None
+            }
+            ExprKind::Number(v) => {
+                let long = v.fract() == 0.0 && v.abs() <= f64::from(i32::MAX);
+                Some(typed(K::Const(*v), Ty::Num, long, false))
+            }
+            ExprKind::Bool(b) => Some(typed(
+                K::Bool {
+                    value: *b,
+                    number: if *b { -1.0 } else { 0.0 },
+                },
+                Ty::Num,
+                true,
+                true,
+            )),
+            ExprKind::Str(s) => Some(typed(K::Str(s.clone()), Ty::Str, false, false)),
+            ExprKind::Paren(a) => {
+                let inner = self.ty(cx, a)?;
+                let (ty, long, truth) = (inner.ty, inner.long, inner.truth);
+                Some(typed(K::Paren(Box::new(inner)), ty, long, truth))
+            }
+            ExprKind::AxisSet(items) => {
+                let mut typed_items = Vec::new();
+                let mut ok = true;
+                for i in items {
+                    match self.ty(cx, i) {
+                        Some(t) if t.ty == Ty::Str => {
+                            self.want(
+                                cx,
+                                i,
+                                Ty::Axis,
+                                "an axis set holds axis numbers and axis sets",
+                            );
+                            ok = false;
+                        }
+                        Some(t) => typed_items.push(t),
+                        None => ok = false,
+                    }
+                }
+                // An axis set whatever its items: the type of what holds it can still be checked.
+                Some(if ok {
+                    typed(K::AxisSet(typed_items), Ty::Axis, false, false)
+                } else {
+                    placeholder(Ty::Axis, e.span)
+                })
+            }
+            ExprKind::Name(n) => {
+                let r = cx.keep(resolve(cx.registry(), n))?;
+                if matches!(r.access, Access::Action | Access::Input) {
+                    cx.push(Problem::error(
+                        "pacer::check::not_readable",
+                        n.span,
+                        format!("{} has no value to read", r.name),
+                        "not readable",
+                    ));
+                    return None;
+                }
+                let (ty, long) = if r.kind == Kind::BasicVar {
+                    self.never_assigned(cx, &r.name, n.span);
+                    (
+                        var_type(&r.name).map_or(Ty::Num, |t| t.1),
+                        r.ty == ValueType::Fixed(0),
+                    )
+                } else {
+                    (Ty::Num, false)
+                };
+                // MotionBASIC's true is -1: a bit reads as -1 or 0.
+                let negate = r.ty.is_bit();
+                Some(typed(K::Read { target: r, negate }, ty, long, false))
+            }
+            ExprKind::Unary(op, a) => {
+                let why = match op {
+                    UnOp::Neg => "`-` needs a number",
+                    UnOp::Not => "NOT needs a number",
+                };
+                let Some(inner) = self.want(cx, a, Ty::Num, why) else {
+                    return Some(placeholder(Ty::Num, e.span));
+                };
+                Some(match op {
+                    UnOp::Neg => {
+                        let long = inner.long;
+                        typed(K::Neg(Box::new(inner)), Ty::Num, long, false)
+                    }
+                    UnOp::Not => {
+                        let truth = inner.truth;
+                        typed(K::BitNot(Box::new(inner)), Ty::Num, false, truth)
+                    }
+                })
+            }
+            ExprKind::Binary(op, a, b) => {
+                let ta = self.ty(cx, a)?;
+                let tb = self.ty(cx, b)?;
+                let compare = matches!(
+                    op,
+                    BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge
+                );
+                let same_eq = matches!(op, BinOp::Eq | BinOp::Ne) && ta.ty == tb.ty;
+                if !same_eq && (ta.ty != Ty::Num || tb.ty != Ty::Num) {
+                    let (bad, t) = if ta.ty != Ty::Num {
+                        (a, ta.ty)
+                    } else {
+                        (b, tb.ty)
+                    };
+                    cx.push(Problem::error(
+                        "pacer::check::type",
+                        bad.span,
+                        format!("`{}` needs numbers, not {}", op.symbol(), word(t)),
+                        format!("this is {}", word(t)),
+                    ));
+                    return None;
+                }
+                let op_t = match op {
+                    BinOp::Add => Op::Add,
+                    BinOp::Sub => Op::Sub,
+                    BinOp::Mul => Op::Mul,
+                    BinOp::Div => Op::Div,
+                    BinOp::Pow => Op::Pow,
+                    BinOp::Mod => Op::BasicMod,
+                    BinOp::IntDiv => Op::IntDiv,
+                    // MotionBASIC's AND/OR/XOR are bitwise on integers (true is -1).
+                    BinOp::And => Op::BitAnd,
+                    BinOp::Or => Op::BitOr,
+                    BinOp::Xor => Op::BitXor,
+                    cmp => Op::Cmp(super::powertools::cmp_of(*cmp)),
+                };
+                let long = match op {
+                    BinOp::IntDiv | BinOp::Mod => true,
+                    BinOp::Add | BinOp::Sub | BinOp::Mul => ta.long && tb.long,
+                    _ => false,
+                };
+                let truth = compare
+                    || (matches!(op, BinOp::And | BinOp::Or | BinOp::Xor) && ta.truth && tb.truth);
+                Some(typed(
+                    K::Binary {
+                        op: op_t,
+                        a: Box::new(ta),
+                        b: Box::new(tb),
+                        negate: compare,
+                    },
+                    Ty::Num,
+                    long,
+                    truth,
+                ))
+            }
+            ExprKind::Call(f, args) => {
+                if let Some(c) = controller(&f.text) {
+                    let (Some(axes), Some(member)) =
+                        (self.axis_args(cx, f, args), axis_member(c.member))
+                    else {
+                        return Some(placeholder(c.ty, e.span));
+                    };
+                    let truth = AXIS_TYPE.members[member as usize].ty.is_bit();
+                    return Some(typed(
+                        K::AxisRead {
+                            member,
+                            truth,
+                            axes: Box::new(axes),
+                        },
+                        c.ty,
+                        false,
+                        false,
+                    ));
+                }
+                let math = functions::find(&f.text);
+                let kernel = functions::find_kernel(&f.text);
+                let found = math.map(|(_, n)| n).or(kernel.map(|(_, n)| n));
+                let Some(arity) = found else {
+                    let names = functions::FUNCTIONS
+                        .iter()
+                        .map(|f| f.0)
+                        .chain(functions::KERNEL_FUNCTIONS.iter().map(|f| f.0))
+                        .chain(CONTROLLERS.iter().map(|c| c.name));
+                    cx.push(
+                        Problem::error(
+                            "pacer::check::unknown_function",
+                            f.span,
+                            format!("unknown function or controller variable `{}`", f.text),
+                            "not known",
+                        )
+                        .with_help_opt(
+                            nearest(&f.text, names).map(|n| format!("did you mean `{n}`?")),
+                        ),
+                    );
+                    return None;
+                };
+                let mut ok = true;
+                if args.len() != arity {
+                    cx.push(Problem::error(
+                        "pacer::check::arguments",
+                        e.span,
+                        format!(
+                            "{} takes {arity} argument(s), not {}",
+                            f.text.to_ascii_uppercase(),
+                            args.len()
+                        ),
+                        "wrong number of arguments",
+                    ));
+                    ok = false;
+                }
+                let mut typed_args = Vec::new();
+                for a in args {
+                    match self.want(cx, a, Ty::Num, "function arguments are numbers") {
+                        Some(t) => typed_args.push(t),
+                        None => ok = false,
+                    }
+                }
+                if !ok {
+                    return Some(placeholder(Ty::Num, e.span));
+                }
+                let kind = match (math, kernel) {
+                    (Some((func, _)), _) => K::Call(func, typed_args),
+                    (None, Some((func, _))) => K::Kernel {
+                        func,
+                        args: typed_args,
+                        // REGIST's and WRITE_SV's OK is a truth value: -1 in MotionBASIC.
+                        negate: matches!(
+                            func,
+                            functions::KernelFunc::Regist | functions::KernelFunc::WriteSv
+                        ),
+                    },
+                    (None, None) => return None,
+                };
+                Some(typed(kind, Ty::Num, false, false))
+            }
+        }
+    }
+
+    /// A variable read but assigned nowhere holds 0 (or an empty axis set) for ever: almost
+    /// always a slip of the name.
+    fn never_assigned(&mut self, cx: &mut Context<'_>, name: &str, span: Span) {
+        let key = name.to_ascii_uppercase();
+        if self.vars.assigned.contains(&key) || !self.warned.insert(key) {
+            return;
+        }
+        let candidates = self
+            .vars
+            .assigned
+            .iter()
+            .filter_map(|k| self.vars.all.get(k).map(|(w, _)| w.as_str()));
+        let help = match nearest(name, candidates) {
+            Some(n) => {
+                format!("`{n}` is assigned: did you mean it? As written, {name} is always 0")
+            }
+            None => format!("assign it before it is read; as written, {name} is always 0"),
+        };
+        cx.push(
+            Problem::warning(
+                "pacer::check::never_assigned",
+                span,
+                format!("{name} is read but never assigned"),
+                "never assigned",
+            )
+            .with_help(help),
+        );
+    }
+}
+
+/// A value of type `ty` standing for an expression that has a problem: what holds it can still
+/// be checked (the program never compiles with a problem, so it is never run).
+fn placeholder(ty: Ty, span: Span) -> typed::Expr {
+    typed::Expr {
+        kind: K::Const(0.0),
+        ty,
+        long: false,
+        truth: false,
+        span,
+    }
+}
+
+/// The index of member `name` of the DSP axis object.
+fn axis_member(name: &str) -> Option<u8> {
+    AXIS_TYPE
+        .members
+        .iter()
+        .position(|m| m.name == name)
+        .map(|i| i as u8)
+}
+
+impl Rules for MotionBasic<'_> {
+    fn dialect(&self) -> Dialect {
+        Dialect::MotionBasic
+    }
+
+    fn resolve(&mut self, cx: &mut Context<'_>, name: &Name) -> Result<Resolved, Problem> {
+        resolve(cx.registry(), name)
+    }
+
+    fn expr(&mut self, cx: &mut Context<'_>, e: &Expr, want: Want<'_>) -> Option<typed::Expr> {
+        match want {
+            Want::Any => self.ty(cx, e),
+            Want::Number(why) | Want::Condition(why) => self.want(cx, e, Ty::Num, why),
+        }
+    }
+
+    fn assign(&mut self, cx: &mut Context<'_>, target: &Name, value: &Expr) -> Option<T> {
+        let Some(r) = cx.keep(resolve(cx.registry(), target)) else {
+            self.ty(cx, value);
+            return None;
+        };
+        let mut ok = true;
+        if matches!(r.access, Access::Read) {
+            cx.push(Problem::error(
+                "pacer::check::read_only",
+                target.span,
+                format!("{} is read-only", r.name),
+                "cannot be assigned",
+            ));
+            ok = false;
+        }
+        let want = if r.kind == Kind::BasicVar {
+            var_type(&r.name).map_or(Ty::Num, |t| t.1)
+        } else {
+            Ty::Num
+        };
+        let v = self.want(
+            cx,
+            value,
+            want,
+            "the value must match the variable's type suffix",
+        );
+        let v = v.filter(|_| ok)?;
+        if r.access == Access::Action {
+            return Some(super::powertools::triggered(r, v));
+        }
+        Some(T::Assign {
+            target: r,
+            value: v,
+        })
+    }
+
+    fn for_variable(&mut self, cx: &mut Context<'_>, var: &Name) -> Option<Resolved> {
+        let r = cx.keep(resolve(cx.registry(), var))?;
+        if r.kind != Kind::BasicVar || r.ty == ValueType::Integer {
+            cx.push(Problem::error(
+                "pacer::check::for",
+                var.span,
+                format!("{} cannot count a FOR loop", r.name),
+                "not a numeric variable",
+            ));
+            return None;
+        }
+        Some(r)
+    }
+
+    /// A bare name that is no label: an object action (`Queue.0.QueueRemove`).
+    fn gosub_unlabelled(&mut self, cx: &mut Context<'_>, seg: &Segment) -> Option<T> {
+        let name = Name::from_token(&seg.text, seg.span.start);
+        match cx.registry().resolve(&name) {
+            Ok(r) if r.access == Access::Action => Some(T::Act {
+                target: r,
+                start: crate::devices::command::StartRef::Now,
+                profile: 0,
+                when: None,
+            }),
+            _ => {
+                unknown_label(cx, seg, "no such subroutine");
+                None
+            }
+        }
+    }
+
+    fn other(&mut self, cx: &mut Context<'_>, s: &Stmt) -> Option<T> {
+        match &s.kind {
+            StmtKind::SetCall {
+                target,
+                args,
+                value,
+            } => {
+                let Some(c) = controller(&target.text) else {
+                    cx.push(unknown_controller(target));
+                    return None;
+                };
+                let mut ok = true;
+                if !c.writable {
+                    cx.push(Problem::error(
+                        "pacer::check::read_only",
+                        target.span,
+                        format!("{}@ is read-only", c.name),
+                        "cannot be assigned",
+                    ));
+                    ok = false;
+                }
+                let axes = self.axis_args(cx, target, args);
+                let value = self.want(
+                    cx,
+                    value,
+                    c.ty,
+                    "the value must match the controller variable",
+                );
+                let member = axis_member(c.member)?;
+                let hook = AXIS_TYPE.members[member as usize].hook;
+                Some(T::AxisWrite {
+                    member,
+                    hook,
+                    axes: axes.filter(|_| ok)?,
+                    value: value?,
+                })
+            }
+            StmtKind::Gear { axis, form } => {
+                let axes = self.want(cx, axis, Ty::Axis, "GEAR moves an axis: `GEAR knife~ …`");
+                let (cmd, operands, after) = match form {
+                    GearForm::At {
+                        out,
+                        inn,
+                        pacer,
+                        after,
+                    } => {
+                        let mut operands = Vec::new();
+                        for e in [Some(out), Some(inn), pacer.as_ref()] {
+                            operands.push(e.map(|e| {
+                                self.want(cx, e, Ty::Num, "ratios and distances are numbers")
+                            }));
+                        }
+                        let slot = after.as_ref().map(|a| self.after_input(cx, a));
+                        (
+                            MotionCmd::GearAt {
+                                pacer: pacer.is_some(),
+                                after: after.is_some(),
+                            },
+                            operands,
+                            slot,
+                        )
+                    }
+                    GearForm::For { dist, pacer } => {
+                        let operands = vec![
+                            Some(self.want(cx, dist, Ty::Num, "distances are numbers")),
+                            Some(self.want(cx, pacer, Ty::Num, "distances are numbers")),
+                        ];
+                        (MotionCmd::GearFor, operands, None)
+                    }
+                };
+                motion(cmd, axes, operands, after)
+            }
+            StmtKind::Move { axis, form } => {
+                let axes = self.want(cx, axis, Ty::Axis, "MOVE moves an axis: `MOVE web~ …`");
+                let why = "positions, speeds and times are numbers";
+                let (cmd, exprs): (MotionCmd, Vec<Option<&Expr>>) = match form {
+                    MoveForm::At { speed, time } => (
+                        MotionCmd::MoveAt {
+                            time: time.is_some(),
+                        },
+                        vec![Some(speed), time.as_ref()],
+                    ),
+                    MoveForm::Position {
+                        relative,
+                        target,
+                        speed,
+                        time,
+                    } => (
+                        MotionCmd::MovePos {
+                            relative: *relative,
+                            speed: speed.is_some(),
+                            time: time.is_some(),
+                        },
+                        vec![Some(target), speed.as_ref(), time.as_ref()],
+                    ),
+                };
+                let operands = exprs
+                    .into_iter()
+                    .map(|e| e.map(|e| self.want(cx, e, Ty::Num, why)))
+                    .collect();
+                motion(cmd, axes, operands, None)
+            }
+            StmtKind::WaitFor(e) => Some(T::WaitFor(self.want(cx, e, Ty::Num, "a number")?)),
+            StmtKind::WaitTime(e) => Some(T::WaitTime(self.want(cx, e, Ty::Num, "a number")?)),
+            _ => not_here(cx, s, Dialect::MotionBasic),
+        }
+    }
+}
+
+/// A motion statement whose parts all checked.
+fn motion(
+    cmd: MotionCmd,
+    axes: Option<typed::Expr>,
+    operands: Vec<Option<Option<typed::Expr>>>,
+    after: Option<Option<u32>>,
+) -> Option<T> {
+    let axes = axes?;
+    let mut checked = Vec::new();
+    for o in operands {
+        match o {
+            None => checked.push(None),
+            Some(t) => checked.push(Some(t?)),
+        }
+    }
+    let after = match after {
+        None => None,
+        Some(slot) => Some(slot?),
+    };
+    Some(T::Motion {
+        cmd,
+        axes,
+        operands: checked,
+        after,
+    })
+}
+
+fn unknown_controller(target: &Segment) -> Problem {
+    let names = CONTROLLERS.iter().map(|c| c.name);
+    Problem::error(
+        "pacer::check::unknown_controller",
+        target.span,
+        format!("unknown controller variable `{}`", target.text),
+        "not a controller variable",
+    )
+    .with_help_opt(
+        nearest(target.text.trim_end_matches('@'), names).map(|n| format!("did you mean `{n}@`?")),
+    )
+}
