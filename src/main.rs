@@ -234,7 +234,7 @@ fn resolve_io(io: Option<&str>, loaded: &pacer::load::Loaded) -> Result<Option<R
     };
     let Some(map) = loaded.io_map.clone() else {
         return Err(
-            "--io modbus: machine.toml has no [modbus] section: map the coupler's points to pacer's members first (see README, \"Real I/O\")"
+            "--io modbus: machine.toml has no [modbus] section: map the coupler's points to pacer's members first (see docs/real-io.md)"
                 .into(),
         );
     };

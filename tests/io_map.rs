@@ -314,13 +314,14 @@ fn overlaps_and_double_drivers_are_errors_and_settings_are_checked() {
 }
 
 #[test]
-fn the_readme_example_map_loads_and_costs_what_the_readme_says() {
-    let readme =
-        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/README.md")).expect("README");
-    let at = readme
+fn the_docs_example_map_loads_and_costs_what_the_docs_say() {
+    let page =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/machine-toml.md"))
+            .expect("docs/machine-toml.md");
+    let at = page
         .find("Real I/O over Modbus TCP")
-        .expect("the README's Modbus section");
-    let block = readme[at..]
+        .expect("the Modbus section of docs/machine-toml.md");
+    let block = page[at..]
         .split("```toml\n")
         .nth(1)
         .and_then(|b| b.split("```").next())
@@ -329,12 +330,12 @@ fn the_readme_example_map_loads_and_costs_what_the_readme_says() {
         "[io]\nDriveInput = 6\nDriveIO = 4\n\n[variables.Speed]\ndecimals = 1\n\n\
          [variables.Setpoint]\ndecimals = 2\n\n{block}"
     );
-    let (_p, result) = load_machine("readme", &machine);
+    let (_p, result) = load_machine("docs", &machine);
     let map = result
         .unwrap_or_else(|d| panic!("{d:?}"))
         .io_map
         .expect("a map");
     assert_eq!(map.points.len(), 6 + 3 + 1 + 1);
     assert_eq!(plan(&map).requests_per_update(), 4);
-    assert!(readme.contains("map above costs 4 requests per update"));
+    assert!(page.contains("map above costs 4 requests per update"));
 }
