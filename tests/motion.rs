@@ -557,3 +557,36 @@ fn bad_units_point_at_the_value() {
     assert_eq!(p.code, "pacer::machine::units");
     assert_eq!(&machine[p.span.start..p.span.end], "0");
 }
+
+/// SM-EZMotion User Guide, p. 28: ProfileLimited "will remain active until cleared by the
+/// Index.ResetProfileLimited destination" — a later index that meets its time leaves it on.
+#[test]
+fn profile_limited_stays_on_until_reset_profile_limited() {
+    let machine = "[variables.A]\n[variables.B]\n[variables.C]\n[index.0]\ndistance = 10.0\n\
+                   velocity = 5.0\nacceleration = 10.0\ndeceleration = 10.0\ntime = 0.5\n";
+    let program = "Index.0.Initiate\nWait For Index.0.CommandComplete\n\
+                   If Index.0.ProfileLimited Then\nVar.A = 1\nEndif\n\
+                   Index.0.Velocity = 100\nIndex.0.Time = 4.0\nIndex.0.Initiate\n\
+                   Wait For Index.0.CommandComplete\n\
+                   If Index.0.ProfileLimited Then\nVar.B = 1\nEndif\n\
+                   Index.0.ResetProfileLimited\n\
+                   If Index.0.ProfileLimited Then\nVar.C = 1\nElse\nVar.C = 2\nEndif\nEnd\n";
+    let r = run(
+        "reset-limited",
+        program,
+        machine,
+        "[run]\nduration = 20.0\n",
+    );
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    assert_eq!(r.machine.value_of("Var.A"), Some(1.0));
+    // The second index meets its 4 s: the flag stays on all the same.
+    assert_eq!(r.machine.value_of("Var.B"), Some(1.0));
+    assert_eq!(r.machine.value_of("Var.C"), Some(2.0));
+    let cleared = r
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "change" && e["name"] == "Index.0.ProfileLimited")
+        .map(|e| e["value"].clone())
+        .collect::<Vec<_>>();
+    assert_eq!(cleared, [Value::Bool(true), Value::Bool(false)]);
+}

@@ -76,6 +76,8 @@ hooks! {
     /// `Stop`: programs and motion.
     StopAll,
     FeedRateOverride,
+    /// Clears an index's ProfileLimited (`Index.N.ResetProfileLimited`).
+    ProfileLimitedReset,
     /// Re-arms a DSP axis latch (`ASEN@(axis) = 0`).
     AxisLatch,
     /// A DSP axis setting the kernel applies at once (POS.MOD@, PLS…@, SENS.MODE@).
@@ -488,7 +490,11 @@ pub const INDEX: &[MemberDef] = &[
         "ProfileLimited",
         Bit,
         Read,
-        "timed index could not meet its time within the maxima",
+        "timed index could not meet its time within the maxima; on until ResetProfileLimited",
+    ),
+    hook(
+        Hook::ProfileLimitedReset,
+        m("ResetProfileLimited", Bit, Action, "clear ProfileLimited"),
     ),
 ];
 pub const HOME: &[MemberDef] = &[

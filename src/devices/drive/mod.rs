@@ -431,6 +431,7 @@ impl Device for Drive {
                 | Hook::MotionStop
                 | Hook::MotionInput
                 | Hook::FeedRateOverride
+                | Hook::ProfileLimitedReset
         )
     }
 
@@ -534,7 +535,8 @@ impl Device for Drive {
             | Hook::TimerInitiate
             | Hook::TimerStop
             | Hook::MotionStart
-            | Hook::MotionStop => {
+            | Hook::MotionStop
+            | Hook::ProfileLimitedReset => {
                 if value != 0.0 {
                     self.act(target, StartRef::Now, 0, When::Now, v, now)?;
                 }
@@ -561,6 +563,11 @@ impl Device for Drive {
             Hook::CaptureClear => o.captures[i].clear(v),
             Hook::TimerInitiate => o.timers[i].initiate(now.time_ns, now.master, v),
             Hook::TimerStop => o.timers[i].stop(v),
+            Hook::ProfileLimitedReset => {
+                if let Some(ix) = o.indexes.get(i) {
+                    v[ix.s.profile_limited as usize] = 0.0;
+                }
+            }
             Hook::MotionStop => {
                 if let Some(owner) = self.owner_of(target) {
                     self.stop_motion(owner, v, now);

@@ -112,7 +112,11 @@ impl Drive {
             Trapezoid::new(distance, velocity, accel, decel).map(|t| (t, false))
         }
         .map_err(|e| format!("cannot plan the index: {e}"))?;
-        v[s.profile_limited as usize] = f64::from(limited);
+        // Latched: the drive clears it only on Index.N.ResetProfileLimited (SM-EZMotion User
+        // Guide, p. 28), not when a later index meets its time.
+        if limited {
+            v[s.profile_limited as usize] = 1.0;
+        }
         let domain = if ix.config.synchronized {
             Domain::Master
         } else {
