@@ -375,6 +375,7 @@ fn execute(
         writer.observe(observer);
     }
     let mut machine = Machine::new(loaded.image, writer);
+    machine.set_output(Box::new(std::io::stdout()));
     let mut realtime = None;
     if let Some(real) = real {
         let overrun_limit = real.map.overrun_limit;

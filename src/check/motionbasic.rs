@@ -12,7 +12,8 @@ use crate::registry::catalog::AXIS_TYPE;
 use crate::registry::{Access, Kind, Registry, Resolved, ValueType};
 use crate::span::Span;
 use crate::syntax::ast::{
-    BinOp, Expr, ExprKind, GearForm, MoveForm, Name, ProgramAst, Segment, Stmt, StmtKind, UnOp,
+    BinOp, Expr, ExprKind, GearForm, MoveForm, Name, PrintItem, ProgramAst, Segment, Stmt,
+    StmtKind, UnOp,
 };
 use crate::syntax::Dialect;
 use indexmap::{IndexMap, IndexSet};
@@ -264,6 +265,13 @@ impl Variables {
                 | StmtKind::WaitTime(e)
                 | StmtKind::DwellTime(e)
                 | StmtKind::DwellMaster(e) => self.expr(e),
+                StmtKind::Print(items) => {
+                    for item in items {
+                        if let PrintItem::Expr(e) = item {
+                            self.expr(e);
+                        }
+                    }
+                }
                 _ => {}
             }
         }
@@ -873,10 +881,85 @@ impl Rules for MotionBasic<'_> {
                     .collect();
                 motion(cmd, axes, operands, None)
             }
+            StmtKind::Print(items) => self.print(cx, items),
             StmtKind::WaitFor(e) => Some(T::WaitFor(self.want(cx, e, Ty::Num, "a number")?)),
             StmtKind::WaitTime(e) => Some(T::WaitTime(self.want(cx, e, Ty::Num, "a number")?)),
             _ => not_here(cx, s, Dialect::MotionBasic),
         }
+    }
+}
+
+impl MotionBasic<'_> {
+    /// `PRINT`: numbers and strings; every item checked, each number written as its type.
+    fn print(&mut self, cx: &mut Context<'_>, items: &[PrintItem]) -> Option<T> {
+        let mut checked = Vec::with_capacity(items.len());
+        let mut ok = true;
+        for item in items {
+            match item {
+                PrintItem::Semicolon => checked.push(typed::PrintItem::Semicolon),
+                PrintItem::Comma => checked.push(typed::PrintItem::Comma),
+                PrintItem::Expr(e) => {
+                    let Some(t) = self.ty(cx, e) else {
+                        ok = false;
+                        continue;
+                    };
+                    let how = match t.ty {
+                        Ty::Str => typed::PrintHow::Text,
+                        Ty::Axis => {
+                            cx.push(Problem::error(
+                                "pacer::check::print",
+                                e.span,
+                                "an axis set cannot be printed",
+                                "an axis set",
+                            ));
+                            ok = false;
+                            continue;
+                        }
+                        Ty::Num | Ty::Bool if t.long && !real_literal(e) => {
+                            typed::PrintHow::Integer
+                        }
+                        Ty::Num | Ty::Bool => print_precision(e),
+                    };
+                    checked.push(typed::PrintItem::Value(t, how));
+                }
+            }
+        }
+        ok.then_some(T::Print(checked))
+    }
+}
+
+/// A literal written with a point or an exponent (`1E7`, `2.0`): a SINGLE or DOUBLE in Microsoft
+/// BASIC even when its value is whole. The tree keeps the value only, so the literal's span
+/// tells: written as plain digits, it is exactly as long as the integer's digits.
+fn real_literal(e: &Expr) -> bool {
+    match &e.kind {
+        ExprKind::Number(v) => e.span.end - e.span.start != format!("{v}").len(),
+        ExprKind::Paren(a) | ExprKind::Unary(UnOp::Neg, a) => real_literal(a),
+        _ => false,
+    }
+}
+
+/// Microsoft BASIC's type of a real expression for PRINT: DOUBLE when it reads a `#` variable
+/// or holds a literal of more than 7 significant digits, SINGLE otherwise.
+fn print_precision(e: &Expr) -> typed::PrintHow {
+    fn double(e: &Expr) -> bool {
+        match &e.kind {
+            ExprKind::Name(n) => n.text().ends_with('#'),
+            ExprKind::Number(x) => {
+                let digits = format!("{:e}", x.abs());
+                let mantissa = digits.split('e').next().unwrap_or_default();
+                mantissa.chars().filter(char::is_ascii_digit).count() > 7
+            }
+            ExprKind::Unary(_, a) | ExprKind::Paren(a) => double(a),
+            ExprKind::Binary(_, a, b) => double(a) || double(b),
+            ExprKind::Call(_, args) | ExprKind::AxisSet(args) => args.iter().any(double),
+            ExprKind::Bool(_) | ExprKind::Str(_) => false,
+        }
+    }
+    if double(e) {
+        typed::PrintHow::Double
+    } else {
+        typed::PrintHow::Single
     }
 }
 

@@ -272,6 +272,8 @@ pub enum StmtKind {
         /// The value.
         value: Expr,
     },
+    /// `PRINT`: the items; the line ends unless the last item is a separator.
+    Print(Vec<PrintItem>),
     /// A MotionBASIC motion statement (`GEAR`, `MOVE`).
     Motion {
         /// Which, and which operands it has.
@@ -283,6 +285,30 @@ pub enum StmtKind {
         /// The input an `AFTER` names.
         after: Option<SlotId>,
     },
+}
+
+/// How `PRINT` writes a value: as Microsoft BASIC writes its type.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum PrintHow {
+    /// An integer (`%`, `&`): all its digits.
+    Integer,
+    /// A SINGLE: at most 7 significant digits.
+    Single,
+    /// A DOUBLE (`#`): at most 16 significant digits.
+    Double,
+    /// A string.
+    Text,
+}
+
+/// One checked item of a `PRINT` list.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PrintItem {
+    /// A value, and how to write it.
+    Value(Expr, PrintHow),
+    /// `;`.
+    Semicolon,
+    /// `,`: to the next print zone.
+    Comma,
 }
 
 /// A checked program.

@@ -300,6 +300,7 @@ fn statement<R: Rules>(rules: &mut R, cx: &mut Context<'_>, s: &Stmt) -> Option<
         | StmtKind::Call(_)
         | StmtKind::SetCall { .. }
         | StmtKind::Gear { .. }
-        | StmtKind::Move { .. } => rules.other(cx, s),
+        | StmtKind::Move { .. }
+        | StmtKind::Print(_) => rules.other(cx, s),
     }
 }

@@ -14,7 +14,7 @@ pub type Reg = u32;
 /// `ForNext.decimals` for a loop variable kept as a real.
 pub const REAL_STORE: u8 = u8::MAX;
 
-pub use crate::check::typed::Cmp;
+pub use crate::check::typed::{Cmp, PrintHow};
 
 /// Arithmetic and logic operators.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -207,6 +207,12 @@ pub enum Op {
         dst: Reg,
         args: Reg,
     },
+    /// `PRINT`: write the value in `src` at the task's print position, as `how` says.
+    Print { src: Reg, how: PrintHow },
+    /// `PRINT`'s `,`: move the task's print position to the next print zone.
+    PrintZone,
+    /// The end of a `PRINT` line: the task's line is output and traced.
+    PrintLine,
     /// `GOSUB`: run the subroutine at `target`, then come back here.
     Gosub { target: u32 },
     /// `RETURN` from a subroutine.

@@ -59,12 +59,7 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 decimals,
             } => {
                 let (name, sym) = op_names(op);
-                format!(
-                    "{name}.f{decimals:<3} {} <- {} {sym} {}",
-                    r(dst),
-                    r(a),
-                    r(b)
-                )
+                fused(name, decimals, r(dst), r(a), sym, r(b))
             }
             Op::Binary { op, dst, a, b } => {
                 let (name, sym) = op_names(op);
@@ -90,7 +85,12 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 }
             }
             Op::StoreFixed { dst, src, decimals } => {
-                format!("store.f{decimals}  {} <- {}", r(dst), r(src))
+                format!(
+                    "{:<9} {} <- {}",
+                    format!("store.f{decimals}"),
+                    r(dst),
+                    r(src)
+                )
             }
             Op::StoreReal { dst, src } => format!("store.r   {} <- {}", r(dst), r(src)),
             Op::StoreBit { dst, src } => format!("store.b   {} <- {}", r(dst), r(src)),
@@ -194,6 +194,21 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                     r(args)
                 )
             }
+            Op::Print { src, how } => {
+                // A string constant is shown as the string, not as its index.
+                let shown = r(src);
+                let literal = shown
+                    .parse::<usize>()
+                    .ok()
+                    .filter(|_| how == crate::compile::bytecode::PrintHow::Text)
+                    .and_then(|i| layout.strings.get(i));
+                match literal {
+                    Some(text) => format!("print     {text:?} as {how:?}"),
+                    None => format!("print     {shown} as {how:?}"),
+                }
+            }
+            Op::PrintZone => "print.zone".to_string(),
+            Op::PrintLine => "print.line".to_string(),
             Op::Gosub { target } => format!("gosub     @{target}"),
             Op::Return => "return".to_string(),
             Op::End => "end".to_string(),

@@ -6,7 +6,7 @@
 pub mod bytecode;
 pub mod disasm;
 
-use crate::check::typed::{Expr, ExprKind, Op as TypedOp, Program, Stmt, StmtKind, Ty};
+use crate::check::typed::{Expr, ExprKind, Op as TypedOp, PrintItem, Program, Stmt, StmtKind, Ty};
 use crate::devices::command::MotionCmd;
 use crate::diag::{Problem, SourceFile};
 use crate::registry::{Hook, Kind, Registry, Resolved, ValueType};
@@ -413,6 +413,24 @@ impl<'a> Compiler<'a> {
             StmtKind::Goto(key) => {
                 let at = self.emit(Op::Jump { target: 0 });
                 self.gotos.push((at, key.clone()));
+            }
+            StmtKind::Print(items) => {
+                for item in items {
+                    self.temp_top = 0;
+                    match item {
+                        PrintItem::Value(e, how) => {
+                            let src = self.expr(e);
+                            self.emit(Op::Print { src, how: *how });
+                        }
+                        PrintItem::Comma => {
+                            self.emit(Op::PrintZone);
+                        }
+                        PrintItem::Semicolon => {}
+                    }
+                }
+                if !matches!(items.last(), Some(PrintItem::Comma | PrintItem::Semicolon)) {
+                    self.emit(Op::PrintLine);
+                }
             }
             StmtKind::Gosub(key) => {
                 let at = self.emit(Op::Gosub { target: 0 });

@@ -85,6 +85,7 @@ pub fn image(
     }
     let initial = layout.initial_values(&registry);
     Ok(MachineImage {
+        strings: layout.strings.clone(),
         name,
         tick_ns: desc.update_ns,
         budget: desc.budget,

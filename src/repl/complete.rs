@@ -35,6 +35,7 @@ const MB_KEYWORDS: &[&str] = &[
     "END",
     "GEAR",
     "MOVE",
+    "PRINT",
     "AT",
     "IN",
     "AFTER",

@@ -112,8 +112,10 @@ impl Session {
         });
         let tick_ns = loaded.image.tick_ns;
         let warnings = loaded.warnings.render(color);
+        let mut machine = Machine::new(loaded.image, Trace::new(None, tick_ns));
+        machine.keep_printed();
         let session = Session {
-            machine: Machine::new(loaded.image, Trace::new(None, tick_ns)),
+            machine,
             layout: loaded.layout,
             dialect,
             folder,
@@ -189,8 +191,16 @@ impl Session {
     /// the typed line's: then its `program` is [`REPL_PROGRAM`]) is returned, not printed.
     pub fn advance(&mut self, out: &mut dyn Output) -> Option<RunError> {
         self.machine.advance();
+        self.report_printed(out);
         self.report_watches(out);
         self.machine.take_error()
+    }
+
+    /// Show what the programs and typed lines printed, as they printed it.
+    fn report_printed(&mut self, out: &mut dyn Output) {
+        for line in self.machine.take_printed() {
+            out.line(line);
+        }
     }
 
     /// Where the line on the REPL task is: Done once it has ended.
@@ -273,7 +283,9 @@ impl Session {
         };
         let index = self.machine.add_chunk(chunk, &self.layout);
         self.typed.insert(index, text.to_string());
-        let ran = match self.machine.run_line(index) {
+        let ran = self.machine.run_line(index);
+        self.report_printed(out);
+        let ran = match ran {
             Err(message) => {
                 out.line(format!("error: {message}"));
                 Ran::Failed

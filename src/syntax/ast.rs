@@ -210,6 +210,19 @@ pub enum StmtKind {
     Gear { axis: Expr, form: GearForm },
     /// `MOVE axis …`.
     Move { axis: Expr, form: MoveForm },
+    /// `PRINT items` (MotionBASIC).
+    Print(Vec<PrintItem>),
+}
+
+/// One item of a `PRINT` list.
+#[derive(Debug, Clone, PartialEq)]
+pub enum PrintItem {
+    /// A value to print.
+    Expr(Expr),
+    /// `;`: the next item follows at once.
+    Semicolon,
+    /// `,`: the next item starts at the next print zone.
+    Comma,
 }
 
 /// Every label of `body`, nested blocks included, in source order.

@@ -55,6 +55,8 @@ pub enum Tok<'s> {
     At,
     In,
     After,
+    /// `PRINT` or `?` (MotionBASIC).
+    Print,
     /// A word for ON: `TRUE` in MotionBASIC; `TRUE`, `YES`, `SET`, `ENABLE` in PowerTools.
     True,
     /// A word for OFF: `FALSE` in MotionBASIC; `OFF`, `FALSE`, `NO`, `CLEAR`, `DISABLE` in
@@ -84,6 +86,8 @@ pub enum Tok<'s> {
     LBrace,
     RBrace,
     Comma,
+    /// `;` (MotionBASIC: a PRINT separator).
+    Semicolon,
     Colon,
     /// Text that starts no token.
     Bad(&'s str),
@@ -139,6 +143,7 @@ impl Tok<'_> {
             Tok::At => word("At"),
             Tok::In => word("In"),
             Tok::After => word("After"),
+            Tok::Print => word("Print"),
             Tok::True if basic => "TRUE".into(),
             Tok::True => "a boolean word (ON/TRUE/YES/SET/ENABLE)".into(),
             Tok::False if basic => "FALSE".into(),
@@ -167,6 +172,7 @@ impl Tok<'_> {
             Tok::LBrace => "`{`".into(),
             Tok::RBrace => "`}`".into(),
             Tok::Comma => "`,`".into(),
+            Tok::Semicolon => "`;`".into(),
             Tok::Colon => "`:`".into(),
         }
     }

@@ -178,6 +178,15 @@ pub enum Event<'a> {
         /// What happened.
         event: ProgramEvent,
     },
+    /// A line a program printed (`PRINT`), without its line end.
+    Print {
+        /// The task it ran on.
+        task: usize,
+        /// The program number (null for a line typed at the REPL).
+        program: Option<u32>,
+        /// The text.
+        text: Text<'a>,
+    },
     /// A capture latched.
     Capture {
         /// `Capture.N`.
@@ -436,6 +445,7 @@ event_kinds! {
     End => "end",
     Change => "change",
     Program => "program",
+    Print => "print",
     Capture => "capture",
     QueueIn => "queue_in",
     QueueExit => "queue_exit",
@@ -475,6 +485,7 @@ impl Event<'_> {
             Event::End { .. } => EventKind::End,
             Event::Change { .. } => EventKind::Change,
             Event::Program { .. } => EventKind::Program,
+            Event::Print { .. } => EventKind::Print,
             Event::Capture { .. } => EventKind::Capture,
             Event::QueueIn { .. } => EventKind::QueueIn,
             Event::QueueExit { .. } => EventKind::QueueExit,
@@ -547,6 +558,11 @@ impl Event<'_> {
                 program: 1,
                 task: 1,
                 event: ProgramEvent::Start,
+            },
+            EventKind::Print => Event::Print {
+                task: 0,
+                program: Some(1),
+                text: "cuts: 12 ".into(),
             },
             EventKind::Capture => Event::Capture {
                 object: "Capture.1".into(),

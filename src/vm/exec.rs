@@ -49,6 +49,10 @@ pub struct Ctx<'a, 'b> {
     pub slot_count: u32,
     /// The task running (for warnings).
     pub task: usize,
+    /// The tasks' `PRINT` lines.
+    pub printer: &'a mut super::print::Printer,
+    /// The programs' strings (a string value is an index into it).
+    pub strings: &'a [String],
 }
 
 /// Run `chunk` from `pc` on `v`. `executed` counts instructions against `budget`.
@@ -417,6 +421,12 @@ pub fn run(
                 *executed = n;
                 return Exit::Call { program, pc };
             }
+            Op::Print { .. } | Op::PrintZone | Op::PrintLine => {
+                if let Err(message) = print(*op, chunk, v, ctx) {
+                    pc = here;
+                    fault!("{message}");
+                }
+            }
             Op::Gosub { target } => {
                 *executed = n;
                 return Exit::Gosub { target, ret: pc };
@@ -448,6 +458,47 @@ pub fn run(
             }
         }
     }
+}
+
+/// `PRINT`'s instructions: a value written at the task's print position, a move to the next
+/// zone, the end of a line (output and traced).
+#[cold]
+#[inline(never)]
+fn print(op: Op, chunk: &Chunk, v: &[f64], ctx: &mut Ctx<'_, '_>) -> Result<(), String> {
+    match op {
+        Op::Print { src, how } => {
+            let x = v[src as usize];
+            if how == crate::compile::bytecode::PrintHow::Text {
+                let text = ctx
+                    .strings
+                    .get(x as usize)
+                    .filter(|_| x >= 0.0 && x.fract() == 0.0)
+                    .ok_or_else(|| format!("{x} is not a string"))?;
+                ctx.printer.write(ctx.task, text);
+            } else {
+                ctx.printer.write(ctx.task, &super::print::number(x, how));
+            }
+        }
+        Op::PrintZone => ctx.printer.zone(ctx.task),
+        _ => {
+            let text = ctx.printer.finish(ctx.task);
+            emit_printed(ctx, chunk.program, text);
+        }
+    }
+    Ok(())
+}
+
+/// A finished `PRINT` line of program `program`: to the output and the trace.
+pub(super) fn emit_printed(ctx: &mut Ctx<'_, '_>, program: u32, text: String) {
+    ctx.printer.output(&text);
+    ctx.now.trace.emit(
+        ctx.now.tick,
+        &Event::Print {
+            task: ctx.task,
+            program: (program != super::REPL_PROGRAM).then_some(program),
+            text: text.into(),
+        },
+    );
 }
 
 /// The instructions only MotionBASIC programs use, kept out of the hot loop: `Ok(Some(exit))`

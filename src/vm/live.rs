@@ -98,6 +98,7 @@ impl Machine {
             self.values.extend_from_slice(&initial[from..]);
         }
         self.image.chunks.push(chunk);
+        self.image.strings.clone_from(&layout.strings);
         self.image.chunks.len() - 1
     }
 

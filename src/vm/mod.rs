@@ -13,6 +13,7 @@
 pub mod error;
 pub mod exec;
 pub mod live;
+pub mod print;
 pub mod realtime;
 pub mod stop;
 pub mod task;
@@ -63,6 +64,8 @@ pub struct MachineImage {
     pub initial: Vec<f64>,
     /// Compiled programs.
     pub chunks: Vec<Chunk>,
+    /// The programs' strings: a string value is an index into it.
+    pub strings: Vec<String>,
     /// Program number → chunk.
     pub programs: IndexMap<u32, usize>,
     /// Programs started at the beginning, in order.
@@ -164,6 +167,8 @@ pub struct Machine {
     /// The I/O link is down: motion was stopped, outputs are at their safe values and the
     /// programs are held until it comes back.
     io_down: bool,
+    /// The tasks' `PRINT` lines and where they go.
+    printer: print::Printer,
 }
 
 /// Trace every registry slot whose value differs from the snapshot, in slot order.
@@ -226,6 +231,7 @@ impl Machine {
             repl_task: None,
             io: Box::new(Simulator),
             io_down: false,
+            printer: print::Printer::default(),
             image,
         };
         m.devices.start(&mut m.values);
@@ -425,6 +431,21 @@ impl Machine {
     /// What the I/O link did so far.
     pub fn io_stats(&self) -> IoStats {
         self.io.stats()
+    }
+
+    /// Lines programs print (`PRINT`) are also written to `output`, as they happen.
+    pub fn set_output(&mut self, output: Box<dyn std::io::Write>) {
+        self.printer.set_output(output);
+    }
+
+    /// Keep the lines programs print for [`Machine::take_printed`] (the REPL shows them).
+    pub fn keep_printed(&mut self) {
+        self.printer.keep();
+    }
+
+    /// The lines printed since the last call, when [`Machine::keep_printed`] asked for them.
+    pub fn take_printed(&mut self) -> Vec<String> {
+        self.printer.take()
     }
 
     /// The I/O link is down (the machine is in its safe state).
@@ -701,6 +722,18 @@ impl Machine {
 
     fn end_task(&mut self, ti: usize, event: ProgramEvent) {
         let program = self.tasks[ti].program;
+        // A line left open by a trailing `;` or `,` is output when its task ends.
+        if let Some(text) = self.printer.pending(ti) {
+            self.printer.output(&text);
+            self.trace.emit(
+                self.tick,
+                &Event::Print {
+                    task: ti,
+                    program: (program != REPL_PROGRAM).then_some(program),
+                    text: text.into(),
+                },
+            );
+        }
         self.tasks[ti] = Task::free();
         self.set_running(program, None);
         // A typed line is no program: its start and end are not program events.
@@ -793,6 +826,8 @@ impl Machine {
             snapshot: &mut self.snapshot,
             now: now!(self),
             slot_count,
+            printer: &mut self.printer,
+            strings: &self.image.strings,
         };
         let mut executed = self.instructions;
         let exit = exec::run(

@@ -66,6 +66,9 @@ enum MbLex<'s> {
     In,
     #[token("after", ignore(case))]
     After,
+    #[token("print", ignore(case))]
+    #[token("?")]
+    Print,
     #[token("true", ignore(case))]
     True,
     #[token("false", ignore(case))]
@@ -122,6 +125,8 @@ enum MbLex<'s> {
     RBrace,
     #[token(",")]
     Comma,
+    #[token(";")]
+    Semicolon,
     #[token(":")]
     Colon,
 }
@@ -208,6 +213,7 @@ fn token(word: MbLex<'_>) -> Option<Tok<'_>> {
         MbLex::At => Tok::At,
         MbLex::In => Tok::In,
         MbLex::After => Tok::After,
+        MbLex::Print => Tok::Print,
         MbLex::True => Tok::True,
         MbLex::False => Tok::False,
         MbLex::Not => Tok::Not,
@@ -234,6 +240,7 @@ fn token(word: MbLex<'_>) -> Option<Tok<'_>> {
         MbLex::LBrace => Tok::LBrace,
         MbLex::RBrace => Tok::RBrace,
         MbLex::Comma => Tok::Comma,
+        MbLex::Semicolon => Tok::Semicolon,
         MbLex::Colon => Tok::Colon,
     })
 }
