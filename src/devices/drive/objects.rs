@@ -194,6 +194,11 @@ impl PlsObject {
     /// On while the position is in [On, Off) (with rollover, On > Off means outside [Off, On)),
     /// and the source moves in the PLS's direction.
     pub fn evaluate(&self, position: f64, velocity: f64, v: &mut [f64]) {
+        // Most PLSs of a machine are off: nothing to compute (rem_euclid is not cheap).
+        if v[self.s.enable as usize] == 0.0 {
+            v[self.s.status as usize] = 0.0;
+            return;
+        }
         let p = if self.config.rollover > 0.0 {
             position.rem_euclid(self.config.rollover)
         } else {
@@ -209,7 +214,6 @@ impl PlsObject {
         let heading = direction == 0.0
             || (direction > 0.0 && velocity > 0.0)
             || (direction < 0.0 && velocity < 0.0);
-        v[self.s.status as usize] =
-            f64::from(v[self.s.enable as usize] != 0.0 && inside && heading);
+        v[self.s.status as usize] = f64::from(inside && heading);
     }
 }
