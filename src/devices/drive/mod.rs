@@ -233,7 +233,13 @@ impl Drive {
         // Sensors on the axis: edges where it crossed marks since the last update.
         let (t_prev, cmd_prev) = self.sensors.previous;
         let mut crossings = Vec::new();
-        for m in &self.sensors.marks {
+        // Most machines have no marks on the axis: no list to make, sort or walk.
+        for m in self
+            .sensors
+            .marks
+            .iter()
+            .filter(|_| cmd_prev != self.axis.command())
+        {
             m.crossings(
                 cmd_prev,
                 self.axis.command(),
@@ -474,7 +480,9 @@ impl Device for Drive {
     }
 
     fn take_edges(&mut self, out: &mut Vec<Edge>) {
-        out.append(&mut self.sensors.pending);
+        if !self.sensors.pending.is_empty() {
+            out.append(&mut self.sensors.pending);
+        }
     }
 
     fn write(
