@@ -30,11 +30,11 @@ echo "python: $(python3 --version 2>&1)" >&2
 
 # --- results ----------------------------------------------------------------------------------
 # Lua and Python print their results. pacer prints none: its results are read from a trace
-# (every write is a `change` event; the program writes each result once more after its loop,
+# (with `--trace-writes` every write is a `change` event; the program writes each result once more after its loop,
 # so the last events hold them all). This run is for checking only and is not timed.
 lua_out="$(lua5.4 "$BENCH/bench.lua")"
 py_out="$(python3 "$BENCH/bench.py")"
-pacer_out="$("$PACER" run -q "$BENCH" --trace /dev/stdout | tail -n 40 | awk '
+pacer_out="$("$PACER" run -q "$BENCH" --trace-writes --trace /dev/stdout | tail -n 40 | awk '
     /"kind":"change"/ {
         name = $0; sub(/.*"name":"Var\./, "", name); sub(/".*/, "", name)
         value = $0; sub(/.*"value":/, "", value); sub(/[},].*/, "", value)
@@ -90,7 +90,7 @@ awk -v p="$t_pacer" -v l="$t_lua" -v y="$t_py" -v runs="$RUNS" 'BEGIN {
 LOOP=bench/loop
 loop_lua="$(lua5.4 "$LOOP/bench.lua")"
 loop_py="$(python3 "$LOOP/bench.py")"
-loop_pacer="$("$PACER" run -q "$LOOP" --trace /dev/stdout | tail -n 8 | awk '
+loop_pacer="$("$PACER" run -q "$LOOP" --trace-writes --trace /dev/stdout | tail -n 8 | awk '
     /"kind":"change"/ {
         name = $0; sub(/.*"name":"Var\./, "", name); sub(/".*/, "", name)
         value = $0; sub(/.*"value":/, "", value); sub(/[},].*/, "", value)

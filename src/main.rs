@@ -56,6 +56,8 @@ struct Project {
     machine: Option<PathBuf>,
 }
 
+// Parsed once per process: the size of the largest variant does not matter.
+#[allow(clippy::large_enum_variant)]
 #[derive(Subcommand)]
 enum Command {
     /// Run programs on the simulated machine
@@ -71,6 +73,13 @@ enum Command {
         /// Write the JSON-lines trace here
         #[arg(long, value_name = "FILE.jsonl")]
         trace: Option<PathBuf>,
+        /// Also trace a program's writes that leave a value as it was (default: changes only)
+        #[arg(long)]
+        trace_writes: bool,
+        /// The most the trace file may hold: bytes, or with K, M or G (default 1G; 0: no
+        /// limit). The run ends with an error when the trace would pass it
+        #[arg(long, value_name = "SIZE", value_parser = parse_size)]
+        trace_limit: Option<u64>,
         /// Print nothing but errors
         #[arg(long, short)]
         quiet: bool,
@@ -120,6 +129,8 @@ fn main() -> ExitCode {
             scenario,
             duration,
             trace,
+            trace_writes,
+            trace_limit,
             quiet,
             io,
             export,
@@ -129,6 +140,8 @@ fn main() -> ExitCode {
             RunOptions {
                 duration,
                 trace,
+                trace_writes,
+                trace_limit,
                 quiet,
                 io,
                 color,
@@ -203,6 +216,8 @@ fn problems(d: &pacer::diag::Diagnostics, color: bool) -> ExitCode {
 struct RunOptions {
     duration: Option<f64>,
     trace: Option<PathBuf>,
+    trace_writes: bool,
+    trace_limit: Option<u64>,
     quiet: bool,
     io: Option<String>,
     color: bool,
@@ -347,6 +362,8 @@ fn execute(
 ) -> ExitCode {
     let RunOptions {
         trace,
+        trace_writes,
+        trace_limit,
         quiet,
         color,
         ..
@@ -371,6 +388,12 @@ fn execute(
     let tick_ns = loaded.image.tick_ns;
     let name = loaded.image.name.clone();
     let mut writer = Trace::new(sink, tick_ns);
+    writer.record_writes(trace_writes);
+    writer.limit(match trace_limit {
+        None => Some(pacer::trace::DEFAULT_LIMIT),
+        Some(0) => None,
+        Some(bytes) => Some(bytes),
+    });
     if let Some(observer) = export.trace_observer() {
         writer.observe(observer);
     }
@@ -459,6 +482,13 @@ fn execute(
     if let Some(r) = &realtime {
         report_real_time(r, &machine.io_device(), quiet);
     }
+    if let pacer::vm::StopReason::TraceLimit { .. } = summary.stop_reason {
+        warn!(
+            "error: {} at t = {:.3} s: the run stopped there; raise the limit (--trace-limit 4G, 0 for none) or trace less",
+            summary.stop_reason, summary.seconds
+        );
+        return ExitCode::from(EXIT_IO);
+    }
     match summary.error {
         Some(e) => {
             warn_raw!("{}", e.render(color));
@@ -472,6 +502,28 @@ fn execute(
             None => ExitCode::SUCCESS,
         },
     }
+}
+
+/// A size: bytes, or a number with K, M or G (powers of 1024): `1G`, `500M`, `0`.
+fn parse_size(text: &str) -> Result<u64, String> {
+    let t = text.trim();
+    let (digits, unit) = match t.char_indices().last() {
+        Some((i, c)) if c.is_ascii_alphabetic() => (&t[..i], c.to_ascii_uppercase()),
+        _ => (t, 'B'),
+    };
+    let shift = match unit {
+        'B' => 0,
+        'K' => 10,
+        'M' => 20,
+        'G' => 30,
+        other => return Err(format!("unknown unit `{other}`: write bytes, or K, M or G")),
+    };
+    let n: u64 = digits
+        .trim()
+        .parse()
+        .map_err(|_| format!("`{text}` is not a size: write bytes, or a number with K, M or G"))?;
+    n.checked_mul(1u64 << shift)
+        .ok_or_else(|| format!("`{text}` is too large"))
 }
 
 /// The real-time part of the end-of-run summary: the I/O link, the timing, and what the

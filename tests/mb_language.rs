@@ -7,7 +7,7 @@
 
 mod common;
 
-use common::{load_error, project, run_loaded, Run};
+use common::{load_error, project, run_loaded_with_writes as run_loaded, Run};
 use pacer::diag::{Diagnostics, Level, Located};
 use pacer::load::{load, LoadRequest, Loaded};
 use pacer::vm::RunError;

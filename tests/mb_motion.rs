@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{project, run_loaded};
+use common::{project, run_loaded_with_writes};
 use pacer::load::{load, LoadRequest};
 
 const MACHINE: &str = r#"
@@ -44,7 +44,7 @@ fn run(name: &str, program: &str) -> (f64, f64, Vec<serde_json::Value>) {
     });
     let _ = std::fs::remove_dir_all(&dir);
     let r = match loaded {
-        Ok(l) => run_loaded(l),
+        Ok(l) => run_loaded_with_writes(l),
         Err(d) => panic!("{}", d.render_plain()),
     };
     assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
@@ -174,7 +174,7 @@ fn move_to_while_moving_is_a_clear_error() {
         ..Default::default()
     });
     let _ = std::fs::remove_dir_all(&dir);
-    let r = run_loaded(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
+    let r = run_loaded_with_writes(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
     let error = r.summary.error.expect("a run-time error");
     assert_eq!(error.line, 3);
     assert!(
@@ -266,7 +266,7 @@ fn gear_after_an_input_starts_at_its_edge() {
         ..Default::default()
     });
     let _ = std::fs::remove_dir_all(&dir);
-    let r = run_loaded(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
+    let r = run_loaded_with_writes(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
     assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
     let web = r.machine.value_of("Axis.1.Position").expect("web");
     let knife = r.machine.value_of("Axis.2.Position").expect("knife");

@@ -20,7 +20,7 @@ fn check(case: &str, (marks, windows): Expected) {
         ..Default::default()
     })
     .unwrap_or_else(|d| panic!("{}", d.render_plain()));
-    let run = common::run_loaded(loaded);
+    let run = common::run_loaded_with_writes(loaded);
     assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
     let seen: Vec<(String, f64, Option<f64>)> = run
         .events
@@ -136,7 +136,7 @@ fn case_6_a_splice_hidden_by_the_ignore_zone() {
 fn the_status_bits_follow_the_last_mark() {
     // Case 3 ends on a good mark and then the window passing: DIST + TOLR alone (bit 4).
     let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/regist/case3");
-    let run = common::run_loaded(
+    let run = common::run_loaded_with_writes(
         load(&LoadRequest {
             paths: vec![folder],
             ..Default::default()
@@ -188,7 +188,8 @@ fn a_real_input_wired_to_the_fast_input_latches_the_exact_position() {
         ..Default::default()
     });
     let _ = std::fs::remove_dir_all(&dir);
-    let run = common::run_loaded(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
+    let run =
+        common::run_loaded_with_writes(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
     let marks: Vec<(String, f64, f64)> = run
         .events
         .iter()
@@ -262,7 +263,8 @@ fn web_knife(program: Option<&str>) -> WebKnife {
         ..Default::default()
     });
     let _ = std::fs::remove_dir_all(&dir);
-    let run = common::run_loaded(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
+    let run =
+        common::run_loaded_with_writes(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
     assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
     let mut phases = Vec::new();
     let mut marks = Vec::new();
@@ -329,7 +331,7 @@ fn a_good_mark_sets_the_web_position_to_dim() {
     // The program reads POS@(web~) an update or so after each mark: with DIM 0 it reads the
     // web's travel since the mark, 100,000 units/s × the time since the mark's exact instant.
     let folder = Path::new(env!("CARGO_MANIFEST_DIR")).join("programs/regist/web-knife");
-    let run = common::run_loaded(
+    let run = common::run_loaded_with_writes(
         load(&LoadRequest {
             paths: vec![folder],
             ..Default::default()
@@ -414,7 +416,8 @@ WEND
         ..Default::default()
     });
     let _ = std::fs::remove_dir_all(&dir);
-    let run = common::run_loaded(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
+    let run =
+        common::run_loaded_with_writes(loaded.unwrap_or_else(|d| panic!("{}", d.render_plain())));
     assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
     run.events
         .iter()

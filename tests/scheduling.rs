@@ -91,10 +91,10 @@ fn run_for(dir: &PathBuf, seconds: f64) -> Run {
     let _ = std::fs::remove_dir_all(dir);
     let tick_ns = loaded.image.tick_ns;
     let buf = SharedBuf::default();
-    let mut machine = Machine::new(
-        loaded.image,
-        Trace::new(Some(Box::new(buf.clone())), tick_ns),
-    );
+    // These tests read a program's writes, in order, as a log.
+    let mut trace = Trace::new(Some(Box::new(buf.clone())), tick_ns);
+    trace.record_writes(true);
+    let mut machine = Machine::new(loaded.image, trace);
     let duration_ns = (seconds * 1e9).round() as u64;
     let summary = machine.run(Some(duration_ns));
     machine.finish().unwrap();

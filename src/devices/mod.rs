@@ -368,6 +368,11 @@ impl Devices {
             .find_map(|d| d.as_any().downcast_ref::<T>())
     }
 
+    /// A device reacts to writes with `hook` (otherwise a write only stores the value).
+    pub fn reacts(&self, hook: Hook) -> bool {
+        self.route.get(hook as usize).copied().flatten().is_some()
+    }
+
     fn device_for(&mut self, hook: Hook) -> Option<&mut Box<dyn Device>> {
         let i = self.route.get(hook as usize).copied().flatten()?;
         self.list.get_mut(usize::from(i))

@@ -200,6 +200,9 @@ impl Recorder {
         if self.plan.wants_series(name) {
             self.series(name).before = Some(v);
         }
+        // A member the programs only ever write with the value it has is never in the trace:
+        // its value is known from the start.
+        self.rec.current.entry(name.to_string()).or_insert(v);
     }
 
     /// Draw `name` from samples only (a CSV has it every row; its changes would repeat it out

@@ -22,7 +22,18 @@ pub struct Trace {
     line: Vec<u8>,
     body: Vec<u8>,
     failed: Option<std::io::Error>,
+    /// Record a program's write of a member even when it leaves the value as it was.
+    writes: bool,
+    /// The most bytes the trace may hold (`None`: no limit).
+    limit: Option<u64>,
+    /// Bytes written so far.
+    written: u64,
+    /// An event was left out because the trace would have passed its limit.
+    full: bool,
 }
+
+/// The trace's default size limit, bytes (`--trace-limit`).
+pub const DEFAULT_LIMIT: u64 = 1 << 30;
 
 impl Trace {
     /// A trace writing to `out`, or counting only when `None`.
@@ -35,7 +46,38 @@ impl Trace {
             line: Vec::new(),
             body: Vec::new(),
             failed: None,
+            writes: false,
+            limit: None,
+            written: 0,
+            full: false,
         }
+    }
+
+    /// Record every program write of a member, also those that leave its value as it was
+    /// (`--trace-writes`; by default only changes are recorded).
+    pub fn record_writes(&mut self, on: bool) {
+        self.writes = on;
+    }
+
+    /// Whether every program write is recorded.
+    pub fn writes(&self) -> bool {
+        self.writes
+    }
+
+    /// Hold the trace to `limit` bytes (`None`: no limit). The event that would pass it is not
+    /// written and [`Trace::full`] says so; the run's `end` event is always written, whole.
+    pub fn limit(&mut self, limit: Option<u64>) {
+        self.limit = limit;
+    }
+
+    /// An event was left out at the size limit: the run must end.
+    pub fn full(&self) -> bool {
+        self.full
+    }
+
+    /// The size limit, if any.
+    pub fn size_limit(&self) -> Option<u64> {
+        self.limit
     }
 
     /// Hand every event to `observer` too, with its time.
@@ -60,6 +102,11 @@ impl Trace {
 
     /// Record one event at update `tick`.
     pub fn emit(&mut self, tick: u64, event: &Event<'_>) {
+        let closing = matches!(event, Event::End { .. });
+        // Past the size limit nothing more is recorded, counted or watched but the `end`.
+        if self.full && !closing {
+            return;
+        }
         self.count(event.kind());
         let t = self.seconds(tick);
         if let Some(observe) = self.observer.as_mut() {
@@ -85,6 +132,18 @@ impl Trace {
         line.push(b',');
         line.extend_from_slice(self.body.get(1..).unwrap_or_default());
         line.push(b'\n');
+        let size = line.len() as u64;
+        if self
+            .limit
+            .is_some_and(|limit| !closing && self.written + size > limit)
+        {
+            self.full = true;
+            if let Some(n) = self.counts.get_mut(event.kind().as_str()) {
+                *n -= 1;
+            }
+            return;
+        }
+        self.written += size;
         if let Err(e) = out.write_all(line) {
             self.failed = Some(e);
         }

@@ -228,7 +228,10 @@ pub fn run(
                     let name = name_of(ctx, slot);
                     fault!("{name}: {message}");
                 }
-                sync_snapshot(ctx, v);
+                // A plain store changed only its own slot, traced above: no scan for changes.
+                if ctx.devices.reacts(hook) {
+                    sync_snapshot(ctx, v);
+                }
             }
             Op::Act {
                 hook,
@@ -807,6 +810,11 @@ fn name_of(ctx: &Ctx<'_, '_>, slot: u32) -> String {
 fn traced_write(ctx: &mut Ctx<'_, '_>, slot: u32, value: f64) {
     let info = &ctx.registry.slots[slot as usize];
     if info.member.continuous {
+        return;
+    }
+    // A write that leaves the value as last traced is no change (unless every write is
+    // recorded): a loop mirroring an input would otherwise fill a disk.
+    if !ctx.now.trace.writes() && ctx.snapshot[slot as usize].to_bits() == value.to_bits() {
         return;
     }
     ctx.snapshot[slot as usize] = value;

@@ -313,6 +313,12 @@ impl Machine {
                 stop_reason = StopReason::RunTimeError;
                 break;
             }
+            if self.trace.full() {
+                stop_reason = StopReason::TraceLimit {
+                    bytes: self.trace.size_limit().unwrap_or_default(),
+                };
+                break;
+            }
             if let Some(reason) = stop {
                 stop_reason = reason;
                 break;

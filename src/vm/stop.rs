@@ -15,6 +15,11 @@ pub enum StopReason {
         /// The cap, simulated seconds.
         seconds: u64,
     },
+    /// The trace reached its size limit (`--trace-limit`).
+    TraceLimit {
+        /// The limit, bytes.
+        bytes: u64,
+    },
     /// Ctrl-C (or SIGTERM) on a real-time run.
     Interrupted,
     /// Too many updates in a row finished late on a real-time run.
@@ -43,6 +48,10 @@ impl std::fmt::Display for StopReason {
             StopReason::Cap { seconds } => write!(
                 f,
                 "stopped after {seconds} s simulated (no duration set and programs still running)"
+            ),
+            StopReason::TraceLimit { bytes } => write!(
+                f,
+                "the trace reached its size limit of {bytes} bytes (--trace-limit)"
             ),
             StopReason::Interrupted => f.write_str("interrupted (Ctrl-C)"),
             StopReason::RealTimeFault { streak, limit } => write!(

@@ -45,11 +45,23 @@ pub struct Run {
     pub events: Vec<Value>,
 }
 
-/// Run a loaded machine with its own duration, tracing to memory.
+/// Run a loaded machine with its own duration, tracing to memory (changes only, as `pacer run`).
 pub fn run_loaded(loaded: Loaded) -> Run {
+    run_traced(loaded, false)
+}
+
+/// [`run_loaded`], tracing every program write too (`--trace-writes`): for tests that read the
+/// values a program wrote, in order, as a log.
+pub fn run_loaded_with_writes(loaded: Loaded) -> Run {
+    run_traced(loaded, true)
+}
+
+fn run_traced(loaded: Loaded, writes: bool) -> Run {
     let sink = Sink::default();
     let tick = loaded.image.tick_ns;
-    let mut machine = Machine::new(loaded.image, Trace::new(Some(Box::new(sink.clone())), tick));
+    let mut trace = Trace::new(Some(Box::new(sink.clone())), tick);
+    trace.record_writes(writes);
+    let mut machine = Machine::new(loaded.image, trace);
     let summary = machine.run(None);
     machine.finish().expect("in-memory trace");
     let text = sink.text();
