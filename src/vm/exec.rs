@@ -485,23 +485,12 @@ fn print(op: Op, chunk: &Chunk, v: &[f64], ctx: &mut Ctx<'_, '_>) -> Result<(), 
         Op::PrintZone => ctx.printer.zone(ctx.task),
         _ => {
             let text = ctx.printer.finish(ctx.task);
-            emit_printed(ctx, chunk.program, text);
+            let program = (chunk.program != super::REPL_PROGRAM).then_some(chunk.program);
+            ctx.printer
+                .emit(ctx.now.trace, ctx.now.tick, ctx.task, program, text);
         }
     }
     Ok(())
-}
-
-/// A finished `PRINT` line of program `program`: to the output and the trace.
-pub(super) fn emit_printed(ctx: &mut Ctx<'_, '_>, program: u32, text: String) {
-    ctx.printer.output(&text);
-    ctx.now.trace.emit(
-        ctx.now.tick,
-        &Event::Print {
-            task: ctx.task,
-            program: (program != super::REPL_PROGRAM).then_some(program),
-            text: text.into(),
-        },
-    );
 }
 
 /// The instructions only MotionBASIC programs use, kept out of the hot loop: `Ok(Some(exit))`

@@ -730,15 +730,9 @@ impl Machine {
         let program = self.tasks[ti].program;
         // A line left open by a trailing `;` or `,` is output when its task ends.
         if let Some(text) = self.printer.pending(ti) {
-            self.printer.output(&text);
-            self.trace.emit(
-                self.tick,
-                &Event::Print {
-                    task: ti,
-                    program: (program != REPL_PROGRAM).then_some(program),
-                    text: text.into(),
-                },
-            );
+            let number = (program != REPL_PROGRAM).then_some(program);
+            self.printer
+                .emit(&mut self.trace, self.tick, ti, number, text);
         }
         self.tasks[ti] = Task::free();
         self.set_running(program, None);

@@ -127,6 +127,27 @@ impl Printer {
         std::mem::take(self.line(task))
     }
 
+    /// A finished line of `task` running `program` (None: a typed REPL line): to the output
+    /// and the trace.
+    pub fn emit(
+        &mut self,
+        trace: &mut crate::trace::Trace,
+        tick: u64,
+        task: usize,
+        program: Option<u32>,
+        text: String,
+    ) {
+        self.output(&text);
+        trace.emit(
+            tick,
+            &crate::trace::Event::Print {
+                task,
+                program,
+                text: text.into(),
+            },
+        );
+    }
+
     /// `task`'s unfinished line (a `PRINT` that ended with `;` or `,`), if any.
     pub fn pending(&mut self, task: usize) -> Option<String> {
         let line = self.line(task);

@@ -233,20 +233,17 @@ impl Drive {
         // Sensors on the axis: edges where it crossed marks since the last update.
         let (t_prev, cmd_prev) = self.sensors.previous;
         let mut crossings = Vec::new();
-        // Most machines have no marks on the axis: no list to make, sort or walk.
-        for m in self
-            .sensors
-            .marks
-            .iter()
-            .filter(|_| cmd_prev != self.axis.command())
-        {
-            m.crossings(
-                cmd_prev,
-                self.axis.command(),
-                t_prev,
-                clocks.time,
-                &mut crossings,
-            );
+        // An axis standing still crosses no mark: nothing to look for, sort or walk.
+        if cmd_prev != self.axis.command() {
+            for m in &self.sensors.marks {
+                m.crossings(
+                    cmd_prev,
+                    self.axis.command(),
+                    t_prev,
+                    clocks.time,
+                    &mut crossings,
+                );
+            }
         }
         crossings.sort_by(|a, b| a.0.at.total_cmp(&b.0.at));
         for (e, position) in &crossings {
