@@ -67,9 +67,10 @@ enum Command {
         /// Scenario file (default: scenario.toml beside the programs)
         #[arg(long)]
         scenario: Option<PathBuf>,
-        /// Simulated seconds to run (default: the scenario's duration, else until all programs end)
-        #[arg(long = "for", value_name = "SECONDS")]
-        duration: Option<f64>,
+        /// Simulated time to run: seconds, or with a unit (`90`, `1.5s`, `250ms`); default: the
+        /// scenario's duration, else until every program has ended and motion is at rest
+        #[arg(long = "for", value_name = "SECONDS", value_parser = pacer::config::values::parse_duration)]
+        duration: Option<u64>,
         /// Write the JSON-lines trace here
         #[arg(long, value_name = "FILE.jsonl")]
         trace: Option<PathBuf>,
@@ -214,7 +215,7 @@ fn problems(d: &pacer::diag::Diagnostics, color: bool) -> ExitCode {
 
 /// What `pacer run` was asked for, beside the project and the exports.
 struct RunOptions {
-    duration: Option<f64>,
+    duration: Option<u64>,
     trace: Option<PathBuf>,
     trace_writes: bool,
     trace_limit: Option<u64>,
@@ -280,14 +281,7 @@ fn run(
     export: pacer::export::ExportArgs,
 ) -> ExitCode {
     let color = options.color;
-    let duration_ns = match options.duration.map(pacer::config::values::seconds_to_ns) {
-        None => None,
-        Some(Ok(ns)) => Some(ns),
-        Some(Err(e)) => {
-            warn!("error: --for: {e}");
-            return ExitCode::from(EXIT_PROBLEMS);
-        }
-    };
+    let duration_ns = options.duration;
     let req = LoadRequest {
         paths: project.paths,
         machine: project.machine,
@@ -472,6 +466,9 @@ fn execute(
             if events.is_empty() { "no events".to_string() } else { events.join(", ") },
             summary.stop_reason
         );
+        if !summary.moving.is_empty() {
+            say!("still moving: {}", summary.moving.join(", "));
+        }
         if let Some(p) = &trace {
             say!("trace: {}", p.display());
         }

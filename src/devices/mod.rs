@@ -147,6 +147,10 @@ pub trait Device: Send {
     /// `Stop` or an I/O fault: bring every motion to rest as the device does.
     fn stop_all(&mut self, _v: &mut [f64], _now: &mut Now<'_>) {}
 
+    /// Its objects whose motion still runs (or waits to start), for the end of a run.
+    /// `master_moves`: the master axis moves now or the scenario will still move it.
+    fn moving(&self, _master_moves: bool, _out: &mut Vec<Moving>) {}
+
     /// The I/O link went down (`true`: hold everything safe) or came back.
     fn hold(&mut self, _down: bool) {}
 
@@ -219,6 +223,16 @@ pub trait AxisSet {
         v: &mut [f64],
         now: &mut Now<'_>,
     ) -> Result<f64, String>;
+}
+
+/// An object whose motion still runs, as a run's end reports it.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub struct Moving {
+    /// The object as programs name it (`Index.1`, `axis 2`, `robot`).
+    pub name: String,
+    /// It comes to rest (or to its end) by itself: an index, a home, a move, a dwell, a path.
+    /// A gear, a jog or a speed runs until a program or an input stops it.
+    pub settles: bool,
 }
 
 /// Number of [`Hook`]s (the routing table's size).
@@ -337,6 +351,15 @@ impl Devices {
         for d in &mut self.list {
             d.stop_all(v, now);
         }
+    }
+
+    /// Every object whose motion still runs, in device order.
+    pub fn moving(&self, master_moves: bool) -> Vec<Moving> {
+        let mut out = Vec::new();
+        for d in &self.list {
+            d.moving(master_moves, &mut out);
+        }
+        out
     }
 
     /// The I/O link went down (`true`) or came back.

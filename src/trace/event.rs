@@ -161,6 +161,9 @@ pub enum Event<'a> {
         reason: Text<'a>,
         /// Instructions executed.
         instructions: u64,
+        /// The objects whose motion still ran (left out when none did).
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        moving: Vec<Text<'a>>,
     },
     /// A member changed (or a program wrote it).
     Change {
@@ -547,8 +550,9 @@ impl Event<'_> {
                 },
             },
             EventKind::End => Event::End {
-                reason: "all programs ended".into(),
+                reason: "duration reached".into(),
                 instructions: 123_456,
+                moving: vec!["Index.1".into()],
             },
             EventKind::Change => Event::Change {
                 name: "Queue.0.QueueExit".into(),

@@ -223,11 +223,13 @@ impl Machine {
     /// Write the `end` event (with `reason`) and flush the trace.
     pub fn end_trace(&mut self, reason: &crate::vm::StopReason) -> std::io::Result<()> {
         if self.trace.enabled() {
+            let moving: Vec<String> = self.moving().into_iter().map(|m| m.name).collect();
             self.trace.emit(
                 self.tick,
                 &crate::trace::Event::End {
                     reason: reason.to_string().into(),
                     instructions: self.instructions,
+                    moving: moving.iter().map(|m| m.as_str().into()).collect(),
                 },
             );
         }

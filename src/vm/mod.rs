@@ -133,6 +133,8 @@ pub struct RunSummary {
     pub error: Option<RunError>,
     /// Why the run stopped.
     pub stop_reason: StopReason,
+    /// The objects whose motion still ran when it stopped (`Index.1`, `Axis.2`, `Gear`).
+    pub moving: Vec<String>,
 }
 
 /// A machine running.
@@ -331,7 +333,9 @@ impl Machine {
             } else {
                 let idle = self.tasks.iter().all(|t| !t.busy());
                 let world_done = self.world.last_edge().is_none_or(|t| t <= self.seconds());
-                if idle && world_done {
+                // Motion that comes to rest by itself holds the run open: the trace shows it
+                // end (a gear or a jog would run forever, so it does not).
+                if idle && world_done && !self.moving().iter().any(|m| m.settles) {
                     stop_reason = StopReason::ProgramsEnded;
                     break;
                 }
@@ -347,14 +351,17 @@ impl Machine {
             }
             self.tick += 1;
         }
+        let moving: Vec<String> = self.moving().into_iter().map(|m| m.name).collect();
         self.trace.emit(
             self.tick,
             &Event::End {
                 reason: stop_reason.to_string().into(),
                 instructions: self.instructions,
+                moving: moving.iter().map(|m| m.as_str().into()).collect(),
             },
         );
         RunSummary {
+            moving,
             ticks: self.tick + 1,
             seconds: self.tick as f64 * tick_ns as f64 / 1e9,
             instructions: self.instructions,
@@ -409,6 +416,13 @@ impl Machine {
                 },
             },
         );
+    }
+
+    /// The objects whose motion still runs now.
+    pub fn moving(&self) -> Vec<crate::devices::Moving> {
+        let t = self.seconds();
+        let master_moves = self.world.master.moves_from(t);
+        self.devices.moving(master_moves)
     }
 
     /// Time of the current update, seconds.

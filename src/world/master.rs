@@ -130,6 +130,11 @@ impl MasterProfile {
         self.piece(t).at(t).1
     }
 
+    /// The master moves at `t` seconds or will move later (the scenario changes its speed).
+    pub fn moves_from(&self, t: f64) -> bool {
+        self.speed(t) != 0.0 || self.pieces.last().is_some_and(|p| p.t0 > t)
+    }
+
     /// The first instant at which the master is at `p` or beyond, if it ever gets there.
     pub fn time_at(&self, p: f64) -> Option<f64> {
         if p <= 0.0 {

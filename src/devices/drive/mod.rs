@@ -614,6 +614,16 @@ impl Device for Drive {
         }
     }
 
+    fn moving(&self, master_moves: bool, out: &mut Vec<super::Moving>) {
+        for m in self.axis.profiles.iter().filter_map(|p| p.motion.as_ref()) {
+            let ends = m.plan.duration().is_finite();
+            out.push(super::Moving {
+                name: m.owner.to_string(),
+                settles: ends && (m.domain == Domain::Time || master_moves),
+            });
+        }
+    }
+
     fn profiles(&mut self) -> Option<&mut dyn Profiles> {
         Some(self)
     }

@@ -469,6 +469,17 @@ impl Device for Orion {
         Err(format!("{:?} is not an action", target.hook))
     }
 
+    fn moving(&self, _master_moves: bool, out: &mut Vec<crate::devices::Moving>) {
+        for c in &self.configs {
+            if let Ok(Some(settles)) = self.dsp.motion_state(c.number) {
+                out.push(crate::devices::Moving {
+                    name: format!("Axis.{}", c.number),
+                    settles,
+                });
+            }
+        }
+    }
+
     fn axes(&mut self) -> Option<&mut dyn AxisSet> {
         Some(self)
     }

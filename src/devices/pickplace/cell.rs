@@ -678,6 +678,15 @@ impl Device for PickPlaceCell {
     }
 
     /// While the I/O link is down every axis brakes as on xStopALL.
+    fn moving(&self, _master_moves: bool, out: &mut Vec<crate::devices::Moving>) {
+        if let Some(settles) = self.module.motion() {
+            out.push(crate::devices::Moving {
+                name: "PickPlace".into(),
+                settles,
+            });
+        }
+    }
+
     fn hold(&mut self, down: bool) {
         self.external_stop = down;
     }

@@ -687,6 +687,20 @@ impl Module {
         }
     }
 
+    /// Whether the robot moves (`None`: it stands), and if so whether it comes to rest by
+    /// itself (a path, a dwell on a belt, a stop, a homing, a jog being stopped); following a
+    /// belt or jogging goes on until an input ends it.
+    pub fn motion(&self) -> Option<bool> {
+        if self.is_still() {
+            return None;
+        }
+        Some(match &self.phase {
+            Phase::Idle => false,
+            Phase::Jog { stop, .. } => stop.is_some(),
+            _ => true,
+        })
+    }
+
     fn is_idle(&self) -> bool {
         matches!(self.phase, Phase::Idle) && self.follow.is_none()
     }

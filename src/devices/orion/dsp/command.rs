@@ -1,7 +1,7 @@
 //! The motion statements: MOVE AT, GEAR AT, GEAR FOR and AFTER inputs, queued per axis, and
 //! DSP.DONE@.
 
-use super::gear::BaseSeg;
+use super::gear::{BasePiece, BaseSeg};
 use super::superimpose::SuperSeg;
 use super::{err, DspAxes, DspError, Queued};
 
@@ -157,5 +157,26 @@ impl DspAxes {
     pub fn queued(&self, axis: u32) -> Result<usize, DspError> {
         let a = &self.axes[self.axis(axis)?];
         Ok(a.base.queue.len() + a.sup.queue.len())
+    }
+
+    /// Whether `axis` moves or has motion queued (`None`: at rest), and if so whether it comes
+    /// to rest by itself: its last base segment ramps to speed 0 (a MOVE TO's deceleration, a
+    /// MOVE AT 0) or to a ratio of 0; only superimposed moves remain, which end after their
+    /// pacer distance. A speed or a gear ratio held runs until a program changes it.
+    pub fn motion_state(&self, axis: u32) -> Result<Option<bool>, DspError> {
+        let i = self.axis(axis)?;
+        let a = &self.axes[i];
+        if self.vel_at(i, self.t_now) == 0.0 && a.base.queue.is_empty() && a.sup.queue.is_empty() {
+            return Ok(None);
+        }
+        let settles = match a.base.queue.back() {
+            Some(BaseSeg::Move { speed, .. }) => *speed == 0.0,
+            Some(BaseSeg::Gear { ratio, .. }) => *ratio == 0.0,
+            None => match a.base.piece_at(self.t_now) {
+                BasePiece::Time { v0, a, t0, .. } => v0 + a * (self.t_now - t0) == 0.0 && a == 0.0,
+                BasePiece::Geared { r1, .. } => r1 == 0.0,
+            },
+        };
+        Ok(Some(settles))
     }
 }
