@@ -469,6 +469,14 @@ fn execute(
         if !summary.moving.is_empty() {
             say!("still moving: {}", summary.moving.join(", "));
         }
+        if matches!(
+            summary.stop_reason,
+            pacer::vm::StopReason::Cap { .. } | pacer::vm::StopReason::Interrupted
+        ) {
+            for w in &summary.waiting {
+                say!("{w}");
+            }
+        }
         if let Some(p) = &trace {
             say!("trace: {}", p.display());
         }

@@ -90,3 +90,38 @@ fn the_cli_says_what_still_moved() {
     assert!(!text.contains("still moving"), "{text}");
     assert!(text.contains("5.000 s simulated"), "{text}");
 }
+
+#[test]
+fn a_run_that_cannot_progress_says_which_task_waits_on_what_and_where() {
+    // A coarse update keeps the simulated hour short to compute.
+    let loaded = load_memory(
+        "stuck",
+        &[
+            (
+                "program0.pt",
+                "DriveOutput.2 = ON\nWait For DriveInput.3 AND DriveInput.4\nDriveOutput.1 = ON\n",
+            ),
+            ("machine.toml", "[machine]\nupdate = \"100ms\"\n"),
+        ],
+    );
+    let r = match loaded {
+        Ok(l) => run_loaded(l),
+        Err(d) => panic!("{}", d.render_plain()),
+    };
+    assert_eq!(r.summary.stop_reason, StopReason::Cap { seconds: 3600 });
+    assert_eq!(r.summary.waiting.len(), 1, "{:?}", r.summary.waiting);
+    let w = &r.summary.waiting[0];
+    assert_eq!((w.task, w.line, w.column), (0, 2, 1));
+    assert_eq!(w.statement, "Wait For DriveInput.3 AND DriveInput.4");
+    assert_eq!(
+        w.to_string(),
+        "task 0 waits at stuck/program0.pt:2:1 `Wait For DriveInput.3 AND DriveInput.4`: its condition never came true"
+    );
+    let warning = r
+        .events
+        .iter()
+        .find(|e| e["kind"] == "warning" && e["line"] == 2)
+        .expect("a warning at the waiting statement");
+    assert_eq!(warning["task"], 0);
+    assert_eq!(warning["column"], 1);
+}

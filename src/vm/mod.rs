@@ -16,6 +16,7 @@ pub mod live;
 pub mod print;
 pub mod realtime;
 pub mod stop;
+pub mod stuck;
 pub mod task;
 
 use crate::compile::Chunk;
@@ -135,6 +136,8 @@ pub struct RunSummary {
     pub stop_reason: StopReason,
     /// The objects whose motion still ran when it stopped (`Index.1`, `Axis.2`, `Gear`).
     pub moving: Vec<String>,
+    /// The tasks still blocked when it stopped, with what on and where.
+    pub waiting: Vec<stuck::Waiting>,
 }
 
 /// A machine running.
@@ -346,6 +349,8 @@ impl Machine {
                     };
                     self.trace
                         .machine_warning(self.tick, stop_reason.to_string());
+                    let waiting = self.waiting();
+                    self.trace_waiting(&waiting, "at the cap on simulated time");
                     break;
                 }
             }
@@ -362,6 +367,7 @@ impl Machine {
         );
         RunSummary {
             moving,
+            waiting: self.waiting(),
             ticks: self.tick + 1,
             seconds: self.tick as f64 * tick_ns as f64 / 1e9,
             instructions: self.instructions,
