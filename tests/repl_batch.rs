@@ -204,3 +204,45 @@ fn a_typed_statement_acts_where_it_was_typed() {
     assert!(said.contains("\n12\n"), "{said}");
     assert_eq!(body(lines(&typed)), body(trace.clone()));
 }
+
+/// A typed `Wait For` nothing can satisfy is cut by Ctrl-C (SIGINT, as the terminal sends it
+/// between prompts) long before the REPL's one-hour limit: the machine looks at the flag every
+/// update (issue 17, "Stuck programs").
+#[test]
+fn ctrl_c_cancels_a_typed_wait_that_nothing_satisfies() {
+    let dir = scratch("ctrl-c");
+    let mut child = Command::new(env!("CARGO_BIN_EXE_pacer"))
+        .args(["repl", "programs/labeling"])
+        .current_dir(root())
+        .env("XDG_DATA_HOME", &dir)
+        .stdin(Stdio::piped())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("pacer starts");
+    let mut stdin = child.stdin.take().expect("stdin");
+    stdin
+        .write_all(b"Wait For DriveInput.3 AND DriveInput.4\n")
+        .expect("line written");
+    stdin.flush().expect("flushed");
+    std::thread::sleep(std::time::Duration::from_millis(500));
+    let killed = Command::new("kill")
+        .args(["-INT", &child.id().to_string()])
+        .status()
+        .expect("kill runs");
+    assert!(killed.success());
+    stdin.write_all(b":quit\n").expect("quit written");
+    drop(stdin);
+    let out = child.wait_with_output().expect("pacer ends");
+    let text = String::from_utf8_lossy(&out.stdout).to_string();
+    let at = text
+        .split("interrupted at t=")
+        .nth(1)
+        .unwrap_or_else(|| panic!("no interruption in:\n{text}"));
+    let t: f64 = at
+        .split(" s")
+        .next()
+        .and_then(|n| n.parse().ok())
+        .unwrap_or_else(|| panic!("no time in: {at}"));
+    assert!(t > 0.0 && t < 3600.0, "interrupted at {t} s");
+}

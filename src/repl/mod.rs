@@ -44,6 +44,8 @@ const MAX_SLICE: u64 = 20_000;
 
 /// How often a paced `:run` computes the updates that are due.
 const PACE: Duration = Duration::from_millis(10);
+/// The most wall time one slice of updates takes before the REPL looks at its keyboard again.
+const SLICE_WALL: Duration = Duration::from_millis(20);
 
 /// Messages to the terminal, in order, above the prompt when one is showing. They go through
 /// a thread of their own: the editor's printer may wait for the editor, and the editor for
@@ -511,9 +513,15 @@ impl Repl {
             }
         };
         let due = until.map_or(due, |u| due.min(u));
+        // A slice ends after SLICE_WALL of wall time too, so the keyboard (Ctrl-C) is read
+        // soon on a heavy machine; where a slice ends does not change what is computed.
+        let started = std::time::Instant::now();
         while self.session.updates() < due {
             if !self.advance() {
                 return;
+            }
+            if self.session.updates() % 64 == 0 && started.elapsed() > SLICE_WALL {
+                break;
             }
         }
         if until.is_some_and(|u| self.session.updates() >= u) {
@@ -531,8 +539,12 @@ impl Repl {
                 self.run_step();
             }
             Mode::Paused => {
+                // Ctrl-C is looked at every update: a slice must not delay it.
+                let started = std::time::Instant::now();
                 for _ in 0..MAX_SLICE {
-                    if !self.advance()
+                    if self.interrupt.load(Ordering::SeqCst)
+                        || started.elapsed() > SLICE_WALL
+                        || !self.advance()
                         || self.waiting.is_none()
                         || self.session.line_state() != crate::vm::live::LineRun::Blocked
                     {
