@@ -520,7 +520,7 @@ impl Repl {
             if !self.advance() {
                 return;
             }
-            if self.session.updates() % 64 == 0 && started.elapsed() > SLICE_WALL {
+            if self.session.updates().is_multiple_of(64) && started.elapsed() > SLICE_WALL {
                 break;
             }
         }
