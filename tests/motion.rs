@@ -39,7 +39,8 @@ fn a_second_initiate_blocks_until_the_first_index_completes() {
 fn using_last_chains_3_s_and_a_1_s_dwell_and_5_s_into_9_s_exactly() {
     // An update of 0.7 ms divides none of the times: without chaining, updates would be lost.
     let machine = format!("[machine]\nupdate = \"700us\"\n{TWO_INDEXES}");
-    let program = "Index.0.Initiate\nDwell For Time 1\nIndex.1.Initiate Using Last\nEnd\n";
+    let program =
+        "Index.0.Initiate\nDwell For Time 1 Using Last\nIndex.1.Initiate Using Last\nEnd\n";
     let r = run("last", program, &machine, "[run]\nduration = 10.0\n");
     assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
     let ends: Vec<f64> = r
@@ -589,4 +590,79 @@ fn profile_limited_stays_on_until_reset_profile_limited() {
         .map(|e| e["value"].clone())
         .collect::<Vec<_>>();
     assert_eq!(cleared, [Value::Bool(true), Value::Bool(false)]);
+}
+
+/// The one chaining rule (docs/powertools.md, "Chaining"): a motion starts at the update it is
+/// started in — after a blocked initiate or dwell, the update the profile became free — unless
+/// it says `Using Last`, which starts it exactly where the previous motion on its profile ended,
+/// whatever it waited for. An update of 0.7 ms: Index 0 ends at 3 s, inside the update at
+/// 3.0002 s (update 4286).
+fn chained_ends(program: &str) -> (Vec<(String, f64)>, Run) {
+    let machine = format!("[machine]\nupdate = \"700us\"\n{TWO_INDEXES}");
+    let r = run("chain", program, &machine, "");
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    let ends = r
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "motion" && e["event"] == "done")
+        .map(|e| {
+            (
+                e["object"].as_str().unwrap_or("").to_string(),
+                e["end"].as_f64().expect("end"),
+            )
+        })
+        .collect();
+    (ends, r)
+}
+
+fn assert_ends(ends: &[(String, f64)], expected: &[(&str, f64)]) {
+    assert_eq!(ends.len(), expected.len(), "{ends:?}");
+    for ((object, end), (want_object, want_end)) in ends.iter().zip(expected) {
+        assert_eq!(object, want_object, "{ends:?}");
+        assert!(
+            (end - want_end).abs() < 1e-9,
+            "{object} ends at {end}, not {want_end}"
+        );
+    }
+}
+
+#[test]
+fn chaining_a_plain_initiate_after_a_busy_profile_starts_at_the_update_it_became_free() {
+    let (ends, _) = chained_ends("Index.0.Initiate\nIndex.1.Initiate\n");
+    assert_ends(&ends, &[("Index.0", 3.0), ("Index.1", 3.0002 + 5.0)]);
+}
+
+#[test]
+fn chaining_using_last_after_a_busy_profile_starts_where_the_last_motion_ended() {
+    let (ends, _) = chained_ends("Index.0.Initiate\nIndex.1.Initiate Using Last\n");
+    assert_ends(&ends, &[("Index.0", 3.0), ("Index.1", 8.0)]);
+}
+
+#[test]
+fn chaining_a_dwell_after_a_busy_profile_follows_the_same_rule() {
+    let (ends, _) = chained_ends("Index.0.Initiate\nDwell For Time 1\n");
+    assert_ends(&ends, &[("Index.0", 3.0), ("Dwell", 3.0002 + 1.0)]);
+    let (ends, _) = chained_ends("Index.0.Initiate\nDwell For Time 1 Using Last\n");
+    assert_ends(&ends, &[("Index.0", 3.0), ("Dwell", 4.0)]);
+}
+
+#[test]
+fn chaining_using_last_after_a_wait_for_is_exact_and_caught_up_at_once() {
+    let (ends, _) = chained_ends(
+        "Index.0.Initiate\nWait For Index.0.CommandComplete\nIndex.1.Initiate Using Last\n",
+    );
+    assert_ends(&ends, &[("Index.0", 3.0), ("Index.1", 8.0)]);
+    // Half a second later still starts at 3 s: the position owed is there at the next update.
+    let machine = format!("[machine]\nupdate = \"700us\"\n{TWO_INDEXES}");
+    let program = "Index.0.Initiate\nWait For Index.0.CommandComplete\nWait For Time 0.5\n\
+                   Index.1.Initiate Using Last\n";
+    let r = run("chain-late", program, &machine, "[run]\nduration = 3.6\n");
+    let t = r.summary.seconds;
+    assert!(t > 3.59 && t <= 3.6, "{t}");
+    let expected = 2.0 + 0.5 * (t - 3.0) * (t - 3.0);
+    let position = r.machine.value_of("PosnCommand").expect("PosnCommand");
+    assert!(
+        (position - expected).abs() < 1e-9,
+        "{position} at {t} s, not {expected}"
+    );
 }

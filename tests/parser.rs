@@ -250,14 +250,14 @@ fn dwell_for_time() {
     let src = "Dwell For Time 0.5";
     let s = single(src);
     assert_eq!(s.span, at(src, src));
-    let StmtKind::DwellTime(e) = s.kind else {
+    let StmtKind::DwellTime(e, _) = s.kind else {
         panic!("not a dwell: {s:?}")
     };
     assert_eq!(e.kind, ExprKind::Number(0.5));
     assert_eq!(e.span, at(src, "0.5"));
 
     let s = single("Dwell For Time Var.T * 2");
-    let StmtKind::DwellTime(e) = s.kind else {
+    let StmtKind::DwellTime(e, _) = s.kind else {
         panic!("not a dwell: {s:?}")
     };
     assert_eq!(shape(&e), "(* Var.T 2)");
@@ -267,7 +267,7 @@ fn dwell_for_time() {
 fn dwell_for_master_dist() {
     let src = "Dwell For Master Dist 12.5";
     let s = single(src);
-    let StmtKind::DwellMaster(e) = s.kind else {
+    let StmtKind::DwellMaster(e, _) = s.kind else {
         panic!("not a master dwell: {s:?}")
     };
     assert_eq!(e.kind, ExprKind::Number(12.5));
@@ -523,8 +523,8 @@ fn keywords_are_case_insensitive() {
             StmtKind::WaitFor(_) => "waitfor",
             StmtKind::If { .. } => "if",
             StmtKind::For { .. } => "for",
-            StmtKind::DwellTime(_) => "dwell",
-            StmtKind::DwellMaster(_) => "dwellmaster",
+            StmtKind::DwellTime(..) => "dwell",
+            StmtKind::DwellMaster(..) => "dwellmaster",
             StmtKind::Call(_) => "call",
             StmtKind::Label(_) => "label",
             StmtKind::Goto(_) => "goto",

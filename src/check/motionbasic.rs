@@ -263,8 +263,8 @@ impl Variables {
                 }
                 StmtKind::WaitFor(e)
                 | StmtKind::WaitTime(e)
-                | StmtKind::DwellTime(e)
-                | StmtKind::DwellMaster(e) => self.expr(e),
+                | StmtKind::DwellTime(e, _)
+                | StmtKind::DwellMaster(e, _) => self.expr(e),
                 StmtKind::Print(items) => {
                     for item in items {
                         if let PrintItem::Expr(e) = item {

@@ -526,13 +526,15 @@ impl Rules for PowerTools {
 
     fn other(&mut self, cx: &mut Context<'_>, s: &Stmt) -> Option<T> {
         match &s.kind {
-            StmtKind::DwellTime(e) => Some(T::Dwell {
+            StmtKind::DwellTime(e, last) => Some(T::Dwell {
                 length: Self::expect(cx, e, Ty::Num, "a time in seconds")?,
                 domain: Domain::Time,
+                last: last.is_some(),
             }),
-            StmtKind::DwellMaster(e) => Some(T::Dwell {
+            StmtKind::DwellMaster(e, last) => Some(T::Dwell {
                 length: Self::expect(cx, e, Ty::Num, "a master distance")?,
                 domain: Domain::Master,
+                last: last.is_some(),
             }),
             StmtKind::WaitTime(e) => Some(T::WaitTime(Self::expect(
                 cx,

@@ -215,6 +215,8 @@ pub enum StmtKind {
         length: Expr,
         /// Which.
         domain: Domain,
+        /// `Using Last`: it starts where the previous motion on profile 0 ended.
+        last: bool,
     },
     /// `Wait For Time s`.
     WaitTime(Expr),

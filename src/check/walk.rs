@@ -293,8 +293,8 @@ fn statement<R: Rules>(rules: &mut R, cx: &mut Context<'_>, s: &Stmt) -> Option<
         StmtKind::End => Some(T::End),
         StmtKind::Return if basic => Some(T::Return),
         StmtKind::Return
-        | StmtKind::DwellTime(_)
-        | StmtKind::DwellMaster(_)
+        | StmtKind::DwellTime(..)
+        | StmtKind::DwellMaster(..)
         | StmtKind::WaitTime(_)
         | StmtKind::WaitFor(_)
         | StmtKind::Call(_)

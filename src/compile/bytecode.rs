@@ -159,8 +159,8 @@ pub enum Op {
     WaitUntil { cond: Reg, retry: u32 },
     /// Block for `src` seconds.
     WaitTime { src: Reg },
-    /// A dwell motion on profile 0, for `src` seconds or master units.
-    Dwell { src: Reg, master: bool },
+    /// A dwell motion on profile 0, for `src` seconds or master units; `last`: `Using Last`.
+    Dwell { src: Reg, master: bool, last: bool },
     /// Leave the loop at `exit` when `var` is past `limit` in the direction of the step, which
     /// is in the register after `limit`.
     ForCheck { var: Reg, limit: Reg, exit: u32 },

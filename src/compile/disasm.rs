@@ -146,10 +146,11 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             }
             Op::WaitUntil { cond, retry } => format!("wait      {} (retry @{retry})", r(cond)),
             Op::WaitTime { src } => format!("wait.time {} s", r(src)),
-            Op::Dwell { src, master } => format!(
-                "dwell     {} {}",
+            Op::Dwell { src, master, last } => format!(
+                "dwell     {} {}{}",
                 r(src),
-                if master { "master units" } else { "s" }
+                if master { "master units" } else { "s" },
+                if last { " using last" } else { "" }
             ),
             Op::ForCheck { var, limit, exit } => {
                 format!(

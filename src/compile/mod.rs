@@ -306,11 +306,16 @@ impl<'a> Compiler<'a> {
                 }
             },
             StmtKind::Nothing => {}
-            StmtKind::Dwell { length, domain } => {
+            StmtKind::Dwell {
+                length,
+                domain,
+                last,
+            } => {
                 let src = self.expr(length);
                 self.emit(Op::Dwell {
                     src,
                     master: *domain == crate::devices::command::Domain::Master,
+                    last: *last,
                 });
             }
             StmtKind::WaitTime(e) => {

@@ -175,11 +175,12 @@ pub trait Profiles {
     fn busy(&self, profile: usize) -> bool;
 
     /// `Dwell For Time` / `Dwell For Master Dist`: a motion on profile 0 of `length` seconds or
-    /// master units.
+    /// master units, starting now or (`Using Last`) where the last motion on it ended.
     fn dwell(
         &mut self,
         length: f64,
         domain: Domain,
+        start: StartRef,
         v: &mut [f64],
         now: &mut Now<'_>,
     ) -> Result<ActOutcome, String>;

@@ -164,10 +164,10 @@ pub enum StmtKind {
         using: Option<Using>,
         profile: Option<Name>,
     },
-    /// `Dwell For Time s`.
-    DwellTime(Expr),
-    /// `Dwell For Master Dist d`.
-    DwellMaster(Expr),
+    /// `Dwell For Time s [Using Last]` (the span of `Using Last` when written).
+    DwellTime(Expr, Option<Span>),
+    /// `Dwell For Master Dist d [Using Last]`.
+    DwellMaster(Expr, Option<Span>),
     /// `Wait For Time s`.
     WaitTime(Expr),
     /// `Wait For expr`.

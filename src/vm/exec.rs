@@ -3,7 +3,7 @@
 
 use crate::compile::bytecode::{BinaryOp, Op, REAL_STORE};
 use crate::compile::Chunk;
-use crate::devices::command::Domain;
+use crate::devices::command::{Domain, StartRef};
 use crate::devices::{ActOutcome, Devices, Now, Target, When};
 use crate::registry::{Hook, Registry};
 use crate::trace::{Event, Origin, Value};
@@ -389,10 +389,11 @@ pub fn run(
                     return Exit::Sleep { ticks, pc };
                 }
             }
-            Op::Dwell { src, master } => {
+            Op::Dwell { src, master, last } => {
                 let domain = if master { Domain::Master } else { Domain::Time };
+                let start = if last { StartRef::Last } else { StartRef::Now };
                 let started = match ctx.devices.profiles() {
-                    Some(p) => p.dwell(v[src as usize], domain, v, &mut ctx.now),
+                    Some(p) => p.dwell(v[src as usize], domain, start, v, &mut ctx.now),
                     None => Err("this machine has no motion profiles to dwell on".into()),
                 };
                 match started {

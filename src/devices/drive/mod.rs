@@ -645,9 +645,10 @@ impl Profiles for Drive {
         &mut self,
         length: f64,
         domain: Domain,
+        start: StartRef,
         v: &mut [f64],
         now: &mut Now<'_>,
     ) -> Result<ActOutcome, String> {
-        self.start_dwell(length, domain, v, now)
+        self.start_dwell(length, domain, start, v, now)
     }
 }

@@ -27,7 +27,6 @@ impl Drive {
         let p = &self.axis.profiles[profile];
         let last = || p.last_end.filter(|(d, _)| *d == domain).map(|(_, at)| at);
         Ok(match start {
-            StartRef::Now if p.chained => last().unwrap_or(clock),
             StartRef::Now => clock,
             StartRef::Last => last().unwrap_or(clock),
             StartRef::Capture(c) => {
@@ -60,7 +59,6 @@ impl Drive {
             return Err(format!("there is no Profile.{profile}"));
         }
         if self.axis.profiles[p].busy() {
-            self.axis.profiles[p].chained = true;
             return Ok(ActOutcome::ProfileBusy);
         }
         match owner {
@@ -446,6 +444,7 @@ impl Drive {
         &mut self,
         length: f64,
         domain: Domain,
+        start: StartRef,
         v: &mut [f64],
         now: &Now<'_>,
     ) -> Result<ActOutcome, String> {
@@ -458,17 +457,8 @@ impl Drive {
             });
         }
         if self.axis.profiles[0].busy() {
-            self.axis.profiles[0].chained = true;
             return Ok(ActOutcome::ProfileBusy);
         }
-        self.launch(
-            0,
-            Owner::Dwell,
-            Plan::Dwell(length),
-            domain,
-            StartRef::Now,
-            v,
-            now,
-        )
+        self.launch(0, Owner::Dwell, Plan::Dwell(length), domain, start, v, now)
     }
 }

@@ -166,8 +166,6 @@ pub struct Profile {
     pub motion: Option<Motion>,
     /// Where the last motion ended on its domain's timeline.
     pub last_end: Option<(Domain, f64)>,
-    /// A dwell or initiate waited for this profile: it chains onto the end of the motion.
-    pub chained: bool,
 }
 
 impl Profile {
@@ -317,7 +315,6 @@ impl Axis {
     /// Put a motion on `profile` (which must be free).
     pub fn begin(&mut self, profile: usize, motion: Motion) {
         let p = &mut self.profiles[profile];
-        p.chained = false;
         p.motion = Some(motion);
     }
 
