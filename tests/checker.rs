@@ -89,7 +89,7 @@ fn assert_problem(
 
 #[test]
 fn a_correct_program_has_no_problems() {
-    let src = "Var.Count = 0\nVar.Offset = Var.Offset + 0.01\nBit.Ready = ON\nBit.1 = Bit.Ready AND NOT DriveInput.4\nWait For Queue.0.QueueEmpty\nWait For DriveInput.4 = ON OR Var.Count > 3\nQueue.0.DataIn = Capture.0.CapturedMasterPosition\nQueue.0.QueueRemove\nQueue.0.QueueRemove = ON\nCapture.0.CaptureReset\nIndex.0.Initiate Using Capture.1 On Profile.1\nIndex.0.Initiate Using Last\nFeedRateOverride = 50\nVar.Count = ABS(Var.Count - 10) + MAX(1, 2) MOD 3\nFor Var.I = 1 To 10 Step 2\nNext\nCall Program.1\nProgram.2.Initiate\nTop:\nGoto Top\n";
+    let src = "Var.Count = 0\nVar.Offset = Var.Offset + 0.01\nBit.Ready = ON\nBit.1 = Bit.Ready AND NOT DriveInput.4\nWait For Queue.0.QueueEmpty\nWait For DriveInput.4 = ON OR Var.Count > 3\nQueue.0.DataIn = Capture.0.CapturedMasterPosition\nQueue.0.QueueRemove\nQueue.0.QueueRemove = ON\nCapture.0.CaptureReset\nIndex.0.Initiate Using Capture.1 On Profile.1\nIndex.0.Initiate Using Last\nFeedRateOverride = 50\nVar.Count = ABS(Var.Count - 10) + MAX(1, 2) MOD 3\nFor Var.I = 1 To 10 Step 2\nNext\nCall Program.1\nProgram.2.Initiate\nTop:\nWait For Time 1\nGoto Top\n";
     let problems = check(src);
     assert!(problems.is_empty(), "{problems:#?}");
 }
@@ -783,12 +783,12 @@ fn unknown_label_suggests_the_label_as_written() {
 
 #[test]
 fn labels_are_case_insensitive() {
-    assert!(check("Top:\ngoto TOP\nJump top\n").is_empty());
+    assert!(check("Top:\nWait For Time 1\ngoto TOP\nJump top\n").is_empty());
 }
 
 #[test]
 fn duplicate_label() {
-    let src = "Top:\nVar.Count = 1\nIf Bit.1 Then\ntop:\nEndif\nGoto Top\n";
+    let src = "Top:\nVar.Count = 1\nIf Bit.1 Then\ntop:\nEndif\nWait For Time 1\nGoto Top\n";
     let p = one(src);
     assert_problem(
         src,
@@ -971,7 +971,7 @@ Loop
 
 #[test]
 fn problems_inside_an_unclosed_block_are_still_reported() {
-    let src = "Do While TRUE\nIf Bit.1 Then\nBit.2 = 1\nVar.Speed = 2\n";
+    let src = "Do While TRUE\nWait For Time 1\nIf Bit.1 Then\nBit.2 = 1\nVar.Speed = 2\n";
     let mut problems = Vec::new();
     let ast = parse_program(src, &mut problems);
     let reg = registry();

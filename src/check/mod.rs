@@ -4,6 +4,7 @@
 //! only the first) and gives the compiler a resolved, typed program ([`typed`]).
 
 pub mod functions;
+pub mod loops;
 pub mod motionbasic;
 pub mod powertools;
 pub mod typed;
@@ -27,12 +28,17 @@ pub fn check(
     env: &CheckEnv<'_>,
     variables: &Variables,
 ) -> (typed::Program, Vec<Problem>) {
-    match dialect {
+    let (program, mut problems) = match dialect {
         Dialect::PowerTools => walk::check(&mut powertools::PowerTools, env, ast),
         Dialect::MotionBasic => {
             walk::check(&mut motionbasic::MotionBasic::new(variables), env, ast)
         }
+    };
+    // MotionBASIC has no `Wait For`: a `WHILE … : WEND` poll is its idiom.
+    if dialect == Dialect::PowerTools {
+        loops::busy_loops(&program, &mut problems);
     }
+    (program, problems)
 }
 
 /// Check one expression of `dialect` (a line typed at the REPL): its typed form (when it has no
