@@ -66,7 +66,8 @@ fn block(stmts: &[Stmt], problems: &mut Vec<Problem>) {
             }
             let mut written = Touched::default();
             writes(body, &mut written);
-            if !blocks(body) && !(conditional && read.meets(&written)) {
+            let ends_by_itself = conditional && read.meets(&written);
+            if !blocks(body) && !ends_by_itself {
                 problems.push(warning(&stmts[i]));
             }
         }
