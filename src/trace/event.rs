@@ -284,9 +284,23 @@ pub enum Event<'a> {
     RegistWindow {
         /// Axis number.
         axis: u32,
-        /// The axis position at the update.
+        /// The exact time the axis reached the threshold, s.
+        #[serde(deserialize_with = "real")]
+        time: f64,
+        /// The threshold: the ruler's start + DIST + TOLR (continuous position).
         #[serde(deserialize_with = "real")]
         position: f64,
+    },
+    /// REGIST's STATUSSV changed (a mark, the window, the fast input turning off).
+    RegistStatus {
+        /// Axis number.
+        axis: u32,
+        /// The exact time of the change, s.
+        #[serde(deserialize_with = "real")]
+        time: f64,
+        /// STATUSSV: bit 0 fast input occurred, 1 fast input, 2 good mark, 3 bad mark,
+        /// 4 DIST + TOLR passed, 5 the input's state.
+        status: u32,
     },
     /// A warning.
     Warning {
@@ -458,6 +472,7 @@ event_kinds! {
     SensMode => "sens_mode",
     Regist => "regist",
     RegistWindow => "regist_window",
+    RegistStatus => "regist_status",
     Warning => "warning",
     Error => "error",
     PpState => "pp_state",
@@ -498,6 +513,7 @@ impl Event<'_> {
             Event::SensMode { .. } => EventKind::SensMode,
             Event::Regist { .. } => EventKind::Regist,
             Event::RegistWindow { .. } => EventKind::RegistWindow,
+            Event::RegistStatus { .. } => EventKind::RegistStatus,
             Event::Warning { .. } => EventKind::Warning,
             Event::Error { .. } => EventKind::Error,
             Event::PpState { .. } => EventKind::PpState,
@@ -616,7 +632,13 @@ impl Event<'_> {
             },
             EventKind::RegistWindow => Event::RegistWindow {
                 axis: 1,
+                time: 0.2103,
                 position: 2103.0,
+            },
+            EventKind::RegistStatus => Event::RegistStatus {
+                axis: 1,
+                time: 0.2103,
+                status: 16,
             },
             EventKind::Warning => Event::Warning {
                 origin: program,

@@ -159,7 +159,31 @@ impl RegistAxes {
                         },
                     );
                 }
-                Ok(f64::from(regist.ok()))
+                let ok = regist.ok();
+                // A mark is an edge the axis makes crossing it: one under the axis now is
+                // never seen, which the examples avoid by backing the axis off first.
+                let here = self.last[i];
+                let tol = 1e-9 * here.abs().max(1.0);
+                let under = self
+                    .fast
+                    .iter()
+                    .filter(|track| track.axis == n)
+                    .any(|track| track.positions.iter().any(|&m| (m - here).abs() <= tol));
+                if ok && under {
+                    now.trace.emit(
+                        now.tick,
+                        &Event::Warning {
+                            origin: Origin::Axis { axis: n },
+                            message: format!(
+                                "REGIST enabled with axis {n} standing on a mark (position \
+                                 {here}): that mark is never seen, since a mark is seen when the \
+                                 axis crosses it; back the axis off the mark before enabling"
+                            )
+                            .into(),
+                        },
+                    );
+                }
+                Ok(f64::from(ok))
             }
             KernelFunc::StatusSv => Ok(f64::from(regist.status())),
             KernelFunc::ReadSv => regist.read_sv(var()?).map_err(|e| e.0),
@@ -198,10 +222,22 @@ impl RegistAxes {
             };
             let n = track.axis;
             let (p0, p1) = (self.last[i], dsp.position(n).map_err(|e| e.0)?);
-            let (lo, hi) = (p0.min(p1), p0.max(p1));
-            let from = track.positions.partition_point(|&m| m <= lo);
-            let to = track.positions.partition_point(|&m| m <= hi);
-            for &m in &track.positions[from..to] {
+            // A mark belongs to the update whose end position reaches it: (p0, p1] going
+            // forward, [p1, p0) going back. A mark a rounding error past the end position is
+            // at the update's end (the positions of two updates are computed separately).
+            let tol = |x: f64| 1e-9 * x.abs().max(1.0);
+            let (from, to) = if p1 >= p0 {
+                (
+                    track.positions.partition_point(|&m| m <= p0 + tol(p0)),
+                    track.positions.partition_point(|&m| m <= p1 + tol(p1)),
+                )
+            } else {
+                (
+                    track.positions.partition_point(|&m| m < p1 - tol(p1)),
+                    track.positions.partition_point(|&m| m < p0 - tol(p0)),
+                )
+            };
+            for &m in &track.positions[from..to.max(from)] {
                 let at = dsp
                     .time_at_position(n, m, t0, t)
                     .map_err(|e| e.0)?
@@ -225,8 +261,10 @@ impl RegistAxes {
         Ok(edges)
     }
 
-    /// REGIST's servo side for this update: fast-input marks classified and traced, DIM
-    /// re-referencing, the window event, and corrections released to the axis.
+    /// REGIST's servo side for this update: fast-input marks classified, window crossings, DIM
+    /// re-referencing, all at their exact times and in time order across the axes (a mark and
+    /// a crossing at the same instant: the mark first, since the window closes only when the
+    /// axis goes past its end without one); then corrections released to the axes.
     pub fn update(
         &mut self,
         dsp: &mut DspAxes,
@@ -234,44 +272,15 @@ impl RegistAxes {
         activity: &[InputActivity],
         now: &mut Now<'_>,
     ) -> Result<(), String> {
+        let t0 = dsp.previous_time();
+        let mut cursor = vec![t0; self.regists.len()];
         for (time, rising, i, position) in self.fast_edges(dsp, t, activity)? {
-            let n = self.configs[i].0;
-            let Some(mark) = self.regists[i]
-                .edge(time, position, rising)
-                .map_err(|e| e.0)?
-            else {
-                continue;
-            };
-            let class = match mark.class {
-                MarkClass::Good => "good",
-                MarkClass::Bad => "bad",
-                MarkClass::Ignored => "ignored",
-            };
-            now.trace.emit(
-                now.tick,
-                &Event::Regist {
-                    axis: n,
-                    mark: class.into(),
-                    time,
-                    position: mark.position,
-                    correction: mark.correction,
-                },
-            );
-            if let Some(dim) = mark.rereference {
-                self.reference[i] = dim - mark.position;
-            }
+            self.windows_until(dsp, time, false, &mut cursor, now)?;
+            self.take_edge(i, time, rising, position, now)?;
+            cursor[i] = cursor[i].max(time);
         }
+        self.windows_until(dsp, t, true, &mut cursor, now)?;
         for (i, &(n, pacer)) in self.configs.iter().enumerate() {
-            let p = dsp.position(n).map_err(|e| e.0)?;
-            if self.regists[i].passed(p).map_err(|e| e.0)? {
-                now.trace.emit(
-                    now.tick,
-                    &Event::RegistWindow {
-                        axis: n,
-                        position: p,
-                    },
-                );
-            }
             let ratio = dsp.ratio(n).map_err(|e| e.0)?;
             let (master_moving, ratio_move) = match (pacer, ratio) {
                 // Slave registration: this axis runs the ratio move.
@@ -307,5 +316,128 @@ impl RegistAxes {
             }
         }
         Ok(())
+    }
+
+    /// One fast-input edge of axis index `i`: classified, traced, the axis re-referenced at a
+    /// good mark; a rising edge inside the minimum time is not seen, and the trace says so.
+    fn take_edge(
+        &mut self,
+        i: usize,
+        time: f64,
+        rising: bool,
+        position: f64,
+        now: &mut Now<'_>,
+    ) -> Result<(), String> {
+        let n = self.configs[i].0;
+        let before = self.regists[i].status();
+        if rising {
+            if let Some(gap) = self.regists[i].too_soon(time) {
+                let message = format!(
+                    "REGIST: a mark at t = {time} s (position {position}) came {} ms after the \
+                     last one, under the minimum time between marks of {} ms (servo variable \
+                     25): it was not seen",
+                    gap * 1e3,
+                    self.regists[i].min_time() * 1e3
+                );
+                now.trace.emit(
+                    now.tick,
+                    &Event::Warning {
+                        origin: Origin::Axis { axis: n },
+                        message: message.into(),
+                    },
+                );
+            }
+        }
+        if let Some(mark) = self.regists[i]
+            .edge(time, position, rising)
+            .map_err(|e| e.0)?
+        {
+            let class = match mark.class {
+                MarkClass::Good => "good",
+                MarkClass::Bad => "bad",
+                MarkClass::Ignored => "ignored",
+            };
+            now.trace.emit(
+                now.tick,
+                &Event::Regist {
+                    axis: n,
+                    mark: class.into(),
+                    time,
+                    position: mark.position,
+                    correction: mark.correction,
+                },
+            );
+            if let Some(dim) = mark.rereference {
+                self.reference[i] = dim - mark.position;
+            }
+        }
+        self.status_event(i, before, time, now);
+        Ok(())
+    }
+
+    /// Every DIST + TOLR crossing of any axis from its `cursor` up to `until` (`inclusive`: at
+    /// `until` too), in time order: each is traced at its exact time with the threshold.
+    fn windows_until(
+        &mut self,
+        dsp: &DspAxes,
+        until: f64,
+        inclusive: bool,
+        cursor: &mut [f64],
+        now: &mut Now<'_>,
+    ) -> Result<(), String> {
+        loop {
+            let mut first: Option<(f64, usize, f64)> = None;
+            for (i, regist) in self.regists.iter().enumerate() {
+                let Some(threshold) = regist.window_threshold() else {
+                    continue;
+                };
+                let (n, from) = (self.configs[i].0, cursor[i]);
+                if from > until {
+                    continue;
+                }
+                let crossing = if dsp.position_at(n, from).map_err(|e| e.0)? >= threshold {
+                    Some(from)
+                } else {
+                    dsp.time_at_position(n, threshold, from, until)
+                        .map_err(|e| e.0)?
+                };
+                let Some(tc) = crossing.filter(|&tc| inclusive || tc < until) else {
+                    continue;
+                };
+                if first.is_none_or(|(best, _, _)| tc < best) {
+                    first = Some((tc, i, threshold));
+                }
+            }
+            let Some((tc, i, threshold)) = first else {
+                return Ok(());
+            };
+            let before = self.regists[i].status();
+            self.regists[i].pass_window();
+            cursor[i] = tc;
+            now.trace.emit(
+                now.tick,
+                &Event::RegistWindow {
+                    axis: self.configs[i].0,
+                    time: tc,
+                    position: threshold,
+                },
+            );
+            self.status_event(i, before, tc, now);
+        }
+    }
+
+    /// A `regist_status` event when axis index `i`'s STATUSSV is no longer `before`.
+    fn status_event(&self, i: usize, before: u32, time: f64, now: &mut Now<'_>) {
+        let status = self.regists[i].status();
+        if status != before {
+            now.trace.emit(
+                now.tick,
+                &Event::RegistStatus {
+                    axis: self.configs[i].0,
+                    time,
+                    status,
+                },
+            );
+        }
     }
 }

@@ -139,6 +139,39 @@ impl Regist {
         }
     }
 
+    /// A rising edge at `time` would not be seen, being closer than the minimum time (var 25)
+    /// to the last latched mark: how long after it the edge comes, seconds.
+    pub fn too_soon(&self, time: f64) -> Option<f64> {
+        self.params?;
+        let t = self.last_mark_time?;
+        (time - t < self.min_time - TIME_RESOLUTION).then_some(time - t)
+    }
+
+    /// The minimum time between marks (var 25), seconds.
+    pub fn min_time(&self) -> f64 {
+        self.min_time
+    }
+
+    /// The position at which the DIST + TOLR event fires next (`ruler_start + DIST + TOLR`), or
+    /// None when it cannot fire (registration off or not armed, DIST 0, already passed for this
+    /// ruler).
+    pub fn window_threshold(&self) -> Option<f64> {
+        let p = self.params?;
+        (self.armed && p.dist > 0.0 && !self.window_passed)
+            .then_some(self.ruler_start + p.dist + p.tolr)
+    }
+
+    /// The axis reached [`Regist::window_threshold`]: the DIST + TOLR event, once per ruler;
+    /// STATUSSV then holds [`DIST_TOLR`] alone. False when it could not fire.
+    pub fn pass_window(&mut self) -> bool {
+        if self.window_threshold().is_none() {
+            return false;
+        }
+        self.window_passed = true;
+        self.status = DIST_TOLR;
+        true
+    }
+
     /// Called each update with the registration axis's continuous position: true exactly once
     /// per ruler when (DIST > 0) the axis reaches `ruler_start + DIST + TOLR` without a
     /// recognised mark. STATUSSV then holds [`DIST_TOLR`] alone, per the spec's table.
@@ -153,9 +186,7 @@ impl Regist {
             return Ok(false);
         }
         if position >= self.ruler_start + p.dist + p.tolr {
-            self.window_passed = true;
-            self.status = DIST_TOLR;
-            return Ok(true);
+            return Ok(self.pass_window());
         }
         Ok(false)
     }
