@@ -40,6 +40,7 @@ fn check(src: &str) -> Vec<Problem> {
     let env = CheckEnv {
         registry: &reg,
         loaded_programs: LOADED,
+        all_programs: true,
     };
     check_program(&ast, &env)
 }
@@ -978,6 +979,7 @@ fn problems_inside_an_unclosed_block_are_still_reported() {
     let env = CheckEnv {
         registry: &reg,
         loaded_programs: LOADED,
+        all_programs: true,
     };
     problems.extend(check_program(&ast, &env));
     problems.sort_by_key(|p| p.span.start);
@@ -1140,6 +1142,7 @@ fn a_number_too_large_to_represent_is_reported() {
         &pacer::check::CheckEnv {
             registry: &reg,
             loaded_programs: &[0],
+            all_programs: true,
         },
     );
     assert_eq!(problems.len(), 1);

@@ -101,6 +101,7 @@ fn exercise(src: &str, m: &Machines, stats: &Stats) {
         let env = CheckEnv {
             registry: &registry,
             loaded_programs: PROGRAMS,
+            all_programs: true,
         };
         let (program, problems) = check(&ast, Dialect::MotionBasic, &env, &vars);
         render("fuzz.mb", src, &problems);

@@ -74,6 +74,7 @@ fn exercise(src: &str, m: &Machines, stats: &Stats) {
         let env = CheckEnv {
             registry: reg,
             loaded_programs: LOADED,
+            all_programs: true,
         };
         let (program, problems) = pacer::check::check(
             &ast,

@@ -773,21 +773,33 @@ fn a_label_may_share_its_line_with_statements() {
 }
 
 #[test]
-fn return_without_gosub_is_a_run_time_error() {
-    let run = run_mb("return-no-gosub", "A& = 1\nRETURN\nA& = 2\n");
-    let e = run
-        .summary
-        .error
-        .as_ref()
-        .expect("RETURN without GOSUB fails");
-    assert_eq!(e.line, 2, "{}", e.message);
-    assert!(e.message.contains("RETURN without GOSUB"), "{}", e.message);
-    assert_eq!(val(&run, "A&"), 1.0);
-
-    // Falling into a subroutine's RETURN from the main line is the same error.
-    let e = run_err("fall-into-return", "A& = 1\nSUB1:\nA& = A& + 1\nRETURN\n");
-    assert_eq!(e.line, 4, "{}", e.message);
-    assert!(e.message.contains("RETURN without GOSUB"), "{}", e.message);
+fn return_without_gosub_is_a_check_error() {
+    // The program runs into RETURN from its start (issue 16: `pacer check` says so, not t = 0).
+    for program in [
+        "A& = 1\nRETURN\nA& = 2\n",
+        // Falling into a subroutine's RETURN from the main line.
+        "A& = 1\nSUB1:\nA& = A& + 1\nRETURN\n",
+        // A line-numbered subroutine with no END before it.
+        "GOSUB 100\n100 A& = 2\nRETURN\n",
+    ] {
+        let result = common::load_memory("return", &[("x.mb", program), ("machine.toml", MACHINE)]);
+        let problems = common::problem_triples(&result);
+        assert_eq!(
+            problems,
+            vec![(
+                "pacer::check::return".to_string(),
+                "RETURN".to_string(),
+                "RETURN without GOSUB".to_string()
+            )],
+            "{program}"
+        );
+    }
+    // A subroutine after END, reached by GOSUB (a name or a line number), is fine.
+    let run = run_ok(
+        "gosub-ok",
+        "GOSUB SUB1\nGOSUB 200\nEND\nSUB1:\nA& = A& + 1\nRETURN\n200 A& = A& + 10\nRETURN\n",
+    );
+    assert_eq!(val(&run, "A&"), 11.0);
 }
 
 #[test]
@@ -1024,13 +1036,30 @@ fn reading_a_multi_axis_controller_variable_is_a_run_time_error() {
 }
 
 #[test]
-fn an_undefined_axis_is_a_run_time_error() {
+fn an_undefined_axis_is_a_check_error_when_written_and_a_run_time_error_when_computed() {
+    for program in [
+        "X = POS@({5})\n",
+        "POS.MOD@({5}) = 10\n",
+        "a~ = {5}\nX = POS(a~)\n",
+        "a~ = {1, 5}\nPOS.MOD@(a~) = 10\n",
+        "a~ = {5}\nMOVE a~ AT 100 IN 10\n",
+    ] {
+        let result = common::load_memory("axis", &[("x.mb", program), ("machine.toml", MACHINE)]);
+        let problems = common::problem_triples(&result);
+        assert_eq!(
+            problems,
+            vec![(
+                "pacer::check::axis".to_string(),
+                "5".to_string(),
+                "axis 5 is not a DSP axis of this machine".to_string()
+            )],
+            "{program}"
+        );
+    }
     for (name, program, line) in [
-        ("undef-read", "X = POS@({5})\n", 1),
-        ("undef-write", "POS.MOD@({5}) = 10\n", 1),
-        ("undef-var", "a~ = {5}\nX = POS(a~)\n", 2),
-        ("undef-set", "a~ = {1, 5}\nPOS.MOD@(a~) = 10\n", 2),
-        ("undef-move", "a~ = {5}\nMOVE a~ AT 100 IN 10\n", 2),
+        ("undef-read", "N& = 5\nX = POS@({N&})\n", 2),
+        ("undef-var", "N& = 5\na~ = {N&}\nX = POS(a~)\n", 3),
+        ("undef-move", "N& = 5\na~ = {N&}\nMOVE a~ AT 100 IN 10\n", 3),
     ] {
         let e = run_err(name, program);
         assert_eq!(e.line, line, "{name}: {}", e.message);

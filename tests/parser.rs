@@ -577,6 +577,7 @@ fn names_are_case_insensitive() {
     let env = pacer::check::CheckEnv {
         registry: &registry,
         loaded_programs: &[0, 1],
+        all_programs: true,
     };
     let problems = pacer::check::check_program(&ast, &env);
     assert!(problems.is_empty(), "{problems:#?}");

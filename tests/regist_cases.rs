@@ -453,9 +453,9 @@ fn powertools_programs_call_regist_too() {
         "regist-pt",
         "Var.Ok = REGIST(ON, 1, 1000, 100, 0, 1000, 0)\nVar.S = STATUSSV(1)\n\
          Var.MinTime = READ_SV(1, 25)\nVar.W = WRITE_SV(1, 17, 4)\nVar.F = READ_SV(1, 17)\n\
-         Var.Bad = REGIST(ON, 1, 1000, 100, 0, 0, 0)\n",
+         Var.Bad = REGIST(ON, 1, 1000, 100, 0, Var.L, 0)\n",
         "[variables.Ok]\n[variables.S]\n[variables.MinTime]\ndecimals = 3\n[variables.W]\n\
-         [variables.F]\n[variables.Bad]\ninitial = 7\n\n[axis.1]\nunits_per_rev = 6000\n",
+         [variables.F]\n[variables.Bad]\ninitial = 7\n[variables.L]\n\n[axis.1]\nunits_per_rev = 6000\n",
         "[run]\nduration = \"10ms\"\n",
     );
     assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
@@ -465,7 +465,8 @@ fn powertools_programs_call_regist_too() {
     assert_eq!(v("Var.MinTime"), 0.008, "8 servo updates of 1 ms");
     assert_eq!(v("Var.W"), 1.0);
     assert_eq!(v("Var.F"), 4.0);
-    // LGTH 0 is refused: OK is false, and the trace says why.
+    // LGTH 0 (from a variable: a literal 0 is a check error) is refused: OK is false, and the
+    // trace says why.
     assert_eq!(v("Var.Bad"), 0.0);
     let warning = run
         .events

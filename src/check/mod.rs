@@ -5,6 +5,7 @@
 
 pub mod functions;
 pub mod loops;
+pub mod machine;
 pub mod motionbasic;
 pub mod powertools;
 pub mod typed;

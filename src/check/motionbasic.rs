@@ -113,6 +113,26 @@ pub fn resolve(registry: &Registry, name: &Name) -> Result<Resolved, Problem> {
         )
         .with_help(help));
     }
+    // Microsoft BASIC's ON (ON … GOTO, ON ERROR) and OFF are keywords, never values: read as
+    // a variable they would silently be 0.
+    if name.segments.len() == 1
+        && (text.eq_ignore_ascii_case("ON") || text.eq_ignore_ascii_case("OFF"))
+    {
+        let truth = if text.eq_ignore_ascii_case("ON") {
+            "TRUE"
+        } else {
+            "FALSE"
+        };
+        return Err(Problem::error(
+            "pacer::check::on_off",
+            name.span,
+            format!("`{text}` is a keyword in MotionBASIC, not a value"),
+            "not a value",
+        )
+        .with_help(format!(
+            "MotionBASIC writes truth as TRUE (-1) and FALSE (0): write {truth}"
+        )));
+    }
     if crate::registry::catalog::find_type(&name.segments[0].text).is_some() {
         if let Ok(r) = registry.resolve(name) {
             return Ok(r);
@@ -299,6 +319,7 @@ pub fn check(ast: &ProgramAst, registry: &Registry, vars: &Variables) -> Vec<Pro
     let machine = super::walk::Machine {
         registry,
         loaded_programs: &[],
+        all_programs: true,
     };
     super::walk::check(&mut MotionBasic::new(vars), &machine, ast).1
 }

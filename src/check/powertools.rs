@@ -301,6 +301,27 @@ impl PowerTools {
             .map(|n| format!("Program.{n}"))
             .collect::<Vec<_>>()
             .join(", ");
+        let help = if list.is_empty() {
+            "no programs are loaded".to_string()
+        } else {
+            format!("loaded: {list}")
+        };
+        if !cx.machine.all_programs {
+            // Checking some files of a machine: the others may well have it.
+            cx.push(
+                Problem::warning(
+                    "pacer::check::program",
+                    span,
+                    format!("Program.{index} is not among the files given"),
+                    "not given",
+                )
+                .with_help(format!(
+                    "{help}; check the whole folder (or give machine.toml) to check it too; a \
+                     run stops with an error if it gets here without it"
+                )),
+            );
+            return;
+        }
         cx.push(
             Problem::error(
                 "pacer::check::program",
@@ -308,11 +329,7 @@ impl PowerTools {
                 format!("Program.{index} is not loaded on this machine"),
                 "no such program",
             )
-            .with_help(if list.is_empty() {
-                "no programs are loaded".to_string()
-            } else {
-                format!("loaded: {list}")
-            }),
+            .with_help(help),
         );
     }
 

@@ -17,6 +17,9 @@ pub struct Machine<'a> {
     pub registry: &'a Registry,
     /// Program numbers that have a loaded file.
     pub loaded_programs: &'a [u32],
+    /// The loaded programs are all of the machine's (a folder or a machine file says which):
+    /// a program referring to another is an error; checking loose files, only a warning.
+    pub all_programs: bool,
 }
 
 /// A program's labels by lower-case name, with where and how each is written.

@@ -57,27 +57,67 @@ pub fn parse(files: &dyn Files, programs: &[ProgramFile], problems: &mut Vec<Pro
     out
 }
 
+/// What the checks against the machine need from the machine file.
+pub struct MachineCheck<'a> {
+    /// The DSP axes it defines, by number.
+    pub dsp_axes: &'a [u32],
+    /// A machine file was given (else the machine is the defaults).
+    pub described: bool,
+}
+
 /// Check every program against the registry; each program's problems go with its file. The
 /// checked programs, by number.
 pub fn check(
     parsed: &Parsed,
     registry: &Registry,
     numbers: &[u32],
+    all_programs: bool,
+    machine: Option<&MachineCheck<'_>>,
     diags: &mut Diagnostics,
 ) -> Vec<(u32, Program)> {
     let env = CheckEnv {
         registry,
         loaded_programs: numbers,
+        all_programs,
     };
     let mut checked = Vec::new();
+    // Programs with an error hold placeholders: checked against the machine they would cascade.
+    let mut clean = Vec::new();
     for (number, dialect, ast, syntax) in &parsed.programs {
         let mut problems = syntax.clone();
         let (program, found) = crate::check::check(ast, *dialect, &env, &parsed.variables);
         problems.extend(found);
+        if !problems
+            .iter()
+            .any(|p| p.level == crate::diag::Level::Error)
+        {
+            clean.push(*number);
+        }
         if let Some(file) = parsed.sources.get(number) {
             diags.extend_file(file, problems);
         }
         checked.push((*number, program));
+    }
+    // Against the machine, with what every program writes known (not when the machine file
+    // has errors: what it would have set up is unknown).
+    let Some(machine) = machine else {
+        return checked;
+    };
+    let mut written = Vec::new();
+    for (_, program) in &checked {
+        crate::check::machine::written_slots(program, &mut written);
+    }
+    let facts = crate::check::machine::MachineFacts {
+        registry,
+        dsp_axes: machine.dsp_axes,
+        written: &written,
+        described: machine.described,
+    };
+    for (number, program) in checked.iter().filter(|(n, _)| clean.contains(n)) {
+        let problems = crate::check::machine::against_machine(program, &facts);
+        if let Some(file) = parsed.sources.get(number) {
+            diags.extend_file(file, problems);
+        }
     }
     checked
 }

@@ -126,7 +126,24 @@ pub fn load_from(
     // programs: everything wrong is reported at once.
     let (desc, registry) =
         crate::config::machine(&machine, &numbers, &variables, &mut machine_problems);
-    let checked = front::check(&parsed, &registry, &numbers, &mut diags);
+    // Loose files without a machine file may be only some of the machine's programs.
+    let all_programs = p.machine.is_some() || p.folder.is_some();
+    let dsp_axes: Vec<u32> = desc.dsp.iter().map(|a| a.config.number).collect();
+    let machine_ok = !machine_problems
+        .iter()
+        .any(|p| p.level == crate::diag::Level::Error);
+    let machine_check = front::MachineCheck {
+        dsp_axes: &dsp_axes,
+        described: p.machine.is_some(),
+    };
+    let checked = front::check(
+        &parsed,
+        &registry,
+        &numbers,
+        all_programs,
+        machine_ok.then_some(&machine_check),
+        &mut diags,
+    );
     diags.extend_file(&machine_file, machine_problems);
 
     let scenario = match &p.scenario {

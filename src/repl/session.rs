@@ -341,6 +341,7 @@ impl Session {
         let env = CheckEnv {
             registry,
             loaded_programs: &programs,
+            all_programs: true,
         };
         match (self.dialect, parsed) {
             // A name is read as it is, whatever its type (strings, axis sets too).

@@ -1,6 +1,6 @@
 //! Lines as the grammar produces them, before block structure is assembled.
 
-use super::ast::{BinOp, Expr, ExprKind, Name, StmtKind, Using};
+use super::ast::{BinOp, Expr, ExprKind, Name, Segment, StmtKind, Using};
 use crate::span::Span;
 
 /// A modifier written after an initiate.
@@ -56,6 +56,16 @@ pub enum LineKind {
 pub fn bin(op: BinOp, a: Expr, b: Expr, l: usize, r: usize) -> Expr {
     Expr {
         kind: ExprKind::Binary(op, Box::new(a), Box::new(b)),
+        span: Span::new(l, r),
+    }
+}
+
+/// A MotionBASIC line number used as a label (`100`, `GOTO 0100`): its digits without leading
+/// zeros, so `100` and `0100` are the same line.
+pub fn line_number(text: &str, l: usize, r: usize) -> Segment {
+    let digits = text.trim_start_matches('0');
+    Segment {
+        text: if digits.is_empty() { "0" } else { digits }.to_string(),
         span: Span::new(l, r),
     }
 }

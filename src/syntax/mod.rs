@@ -152,10 +152,15 @@ fn syntax_problem(e: ParseError<usize, Tok<'_>, LexError>, src: &str, dialect: D
             } else {
                 Span::new(l, r)
             };
+            let words = (!newline && !bad)
+                .then(|| in_words(src, l, r, &tok))
+                .flatten();
             let message = if bad {
                 tok.describe(dialect).into_owned()
             } else if newline {
                 "the line ends too early".to_string()
+            } else if let Some(w) = &words {
+                w.clone()
             } else {
                 format!("unexpected {}", tok.describe(dialect))
             };
@@ -164,8 +169,12 @@ fn syntax_problem(e: ParseError<usize, Tok<'_>, LexError>, src: &str, dialect: D
             } else {
                 "not expected here"
             };
-            Problem::error(CODE, span, message, label)
-                .with_help_opt(expected_help(&expected, upper))
+            let expected = expected_help(&expected, upper);
+            let help = match (&words, expected) {
+                (Some(_), Some(e)) => Some(format!("at this place the grammar {e}")),
+                (_, e) => e,
+            };
+            Problem::error(CODE, span, message, label).with_help_opt(help)
         }
         ParseError::ExtraToken { token: (l, tok, r) } => Problem::error(
             CODE,
@@ -180,6 +189,38 @@ fn syntax_problem(e: ParseError<usize, Tok<'_>, LexError>, src: &str, dialect: D
             "here",
         ),
     }
+}
+
+/// A machine builder's words for a token out of place, where the mistake is a common one: a
+/// time written with a unit, `Using` after something that is not a motion start.
+fn in_words(src: &str, l: usize, r: usize, tok: &Tok<'_>) -> Option<String> {
+    let text = src.get(l..r)?;
+    let before = src.get(..l)?.trim_end_matches([' ', '\t']);
+    let digits = before
+        .rfind(|c: char| !(c.is_ascii_digit() || c == '.'))
+        .map_or(0, |i| i + 1);
+    let number: Option<f64> = before.get(digits..).and_then(|n| n.parse().ok());
+    let scale = match text.to_ascii_lowercase().as_str() {
+        "s" | "sec" | "secs" | "seconds" => Some(1.0),
+        "ms" | "msec" => Some(1e-3),
+        "us" | "µs" | "usec" => Some(1e-6),
+        "min" => Some(60.0),
+        _ => None,
+    };
+    if let (Some(n), Some(scale)) = (number, scale) {
+        return Some(format!(
+            "times in programs are seconds, without a unit: write {}",
+            n * scale
+        ));
+    }
+    if matches!(tok, Tok::Using) {
+        return Some(
+            "`Using Last` and `Using Capture.N` go after a motion initiate (`Index.0.Initiate`) \
+             or a dwell"
+                .into(),
+        );
+    }
+    None
 }
 
 fn expected_help(expected: &[String], upper: bool) -> Option<String> {
