@@ -434,6 +434,12 @@ fn a_stalled_server_is_a_timeout_fault_and_a_missing_address_an_exception() {
         log.extend(server.log());
         log.windows(2).any(safe_writes)
     });
+    // Requests flowing again after the safe writes: the link is back (on a loaded machine the
+    // reconnect may come a while after them).
+    let before = server.cmd("requests")["requests"].as_u64().unwrap_or(0);
+    run.wait_until("requests after the reconnect", || {
+        server.cmd("requests")["requests"].as_u64() > Some(before + 8)
+    });
     let (out, events) = run.interrupt();
     let printed = common::text(&out);
     assert!(out.status.success(), "{printed}");
