@@ -412,7 +412,7 @@ fn execute(
             warn!("warning: Ctrl-C cannot be caught ({e}): it will end pacer without driving the outputs safe");
         }
         if !quiet {
-            say!(
+            warn!(
                 "pacer: {}: real time on {}; Ctrl-C stops",
                 name,
                 machine.io_device()
@@ -451,13 +451,14 @@ fn execute(
             return ExitCode::from(e.exit_code());
         }
     };
+    // Standard output carries what the programs print; the run's own account goes to stderr.
     if !quiet {
         let events: Vec<String> = summary
             .events
             .iter()
             .map(|(k, n)| format!("{n} {k}"))
             .collect();
-        say!(
+        warn!(
             "pacer: {name}: {:.3} s simulated in {} updates of {} ms, {} instructions; {}; stopped: {}",
             summary.seconds,
             summary.ticks,
@@ -467,21 +468,21 @@ fn execute(
             summary.stop_reason
         );
         if !summary.moving.is_empty() {
-            say!("still moving: {}", summary.moving.join(", "));
+            warn!("still moving: {}", summary.moving.join(", "));
         }
         if matches!(
             summary.stop_reason,
             pacer::vm::StopReason::Cap { .. } | pacer::vm::StopReason::Interrupted
         ) {
             for w in &summary.waiting {
-                say!("{w}");
+                warn!("{w}");
             }
         }
         if let Some(p) = &trace {
-            say!("trace: {}", p.display());
+            warn!("trace: {}", p.display());
         }
         for (kind, p) in &exported {
-            say!("{kind}: {}", p.display());
+            warn!("{kind}: {}", p.display());
         }
     }
     if let Some(r) = &realtime {
@@ -544,7 +545,7 @@ fn report_real_time(r: &pacer::vm::realtime::RealTimeReport, device: &str, quiet
         return;
     }
     let io = r.io;
-    say!(
+    warn!(
         "io: {device}: {} requests per update; {} requests in {} updates; {} fault(s), {} reconnection(s)",
         io.per_update,
         io.requests,
@@ -553,7 +554,7 @@ fn report_real_time(r: &pacer::vm::realtime::RealTimeReport, device: &str, quiet
         io.reconnections
     );
     if let Some(t) = &r.timing {
-        say!(
+        warn!(
             "timing: {t}; {}, memory {}",
             if r.realtime.fifo {
                 format!("SCHED_FIFO {}", pacer::vm::realtime::PRIORITY)

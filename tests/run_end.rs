@@ -125,31 +125,3 @@ fn a_run_that_cannot_progress_says_which_task_waits_on_what_and_where() {
     assert_eq!(warning["task"], 0);
     assert_eq!(warning["column"], 1);
 }
-
-/// `pacer check` of loose files without a machine file: a program initiating or calling one not
-/// given is a warning (the others may have it), and in a folder it is an error (issue 16).
-#[test]
-fn checking_one_file_warns_about_programs_not_given() {
-    let program = "Program.1.Initiate\nCall Program.2\n";
-    let dir = common::project("loose-files", &[("program0.pt", program)]);
-    let file = dir.join("program0.pt").to_string_lossy().to_string();
-    let out = common::pacer(&["check", &file]);
-    let text = common::text(&out);
-    assert!(out.status.success(), "{text}");
-    assert!(
-        text.contains("Program.1 is not among the files given"),
-        "{text}"
-    );
-    assert!(
-        text.contains("Program.2 is not among the files given"),
-        "{text}"
-    );
-    let folder = dir.to_string_lossy().to_string();
-    let out = common::pacer(&["check", &folder]);
-    let text = common::text(&out);
-    assert!(!out.status.success(), "{text}");
-    assert!(
-        text.contains("Program.1 is not loaded on this machine"),
-        "{text}"
-    );
-}

@@ -8,6 +8,10 @@ use std::path::{Component, Path, PathBuf};
 pub trait Files {
     /// The text of the file at `path`.
     fn read(&self, path: &Path) -> std::io::Result<String>;
+    /// The file's bytes, whatever their encoding (programs from old editors are not UTF-8).
+    fn read_bytes(&self, path: &Path) -> std::io::Result<Vec<u8>> {
+        self.read(path).map(String::into_bytes)
+    }
     /// True when `path` is a folder.
     fn is_dir(&self, path: &Path) -> bool;
     /// True when a file or folder exists at `path`.
@@ -25,6 +29,10 @@ pub struct Disk;
 impl Files for Disk {
     fn read(&self, path: &Path) -> std::io::Result<String> {
         std::fs::read_to_string(path)
+    }
+
+    fn read_bytes(&self, path: &Path) -> std::io::Result<Vec<u8>> {
+        std::fs::read(path)
     }
 
     fn is_dir(&self, path: &Path) -> bool {

@@ -9,6 +9,7 @@ use crate::compile::{compile as compile_program, Chunk, Layout};
 use crate::config::files::Files;
 use crate::diag::{Diagnostics, Problem, SourceFile};
 use crate::registry::Registry;
+use crate::span::Span;
 use crate::syntax::ast::ProgramAst;
 use crate::syntax::Dialect;
 use indexmap::IndexMap;
@@ -32,8 +33,8 @@ pub fn parse(files: &dyn Files, programs: &[ProgramFile], problems: &mut Vec<Pro
         variables: Variables::default(),
     };
     for p in programs {
-        let text = match files.read(&p.path) {
-            Ok(t) => t,
+        let (text, not_utf8) = match files.read_bytes(&p.path) {
+            Ok(bytes) => decode(bytes),
             Err(e) => {
                 problems.push(Problem::error(
                     "pacer::load::read",
@@ -47,6 +48,22 @@ pub fn parse(files: &dyn Files, programs: &[ProgramFile], problems: &mut Vec<Pro
         let dialect = Dialect::of_path(&p.path).unwrap_or_default();
         let file = SourceFile::new(p.path.display().to_string(), text.as_str());
         let mut syntax = Vec::new();
+        if let Some((at, byte, ch)) = not_utf8 {
+            let (line, column) = file.line_col(Span::new(at, at));
+            syntax.push(
+                Problem::warning(
+                    "pacer::load::encoding",
+                    Span::new(at, at + ch.len_utf8()),
+                    format!(
+                        "{} is not UTF-8: read as Windows-1252 (its first such byte, 0x{byte:02X}, \
+                         is `{ch}` at line {line}, column {column})",
+                        p.path.display()
+                    ),
+                    "not UTF-8",
+                )
+                .with_help("save the file as UTF-8 to silence this warning"),
+            );
+        }
         let ast = crate::syntax::parse_program_as(&text, dialect, &mut syntax);
         if dialect == Dialect::MotionBasic {
             out.variables.collect(&ast);
@@ -55,6 +72,23 @@ pub fn parse(files: &dyn Files, programs: &[ProgramFile], problems: &mut Vec<Pro
         out.programs.push((p.number, dialect, ast, syntax));
     }
     out
+}
+
+/// A program's text: UTF-8 as it is, anything else read as Windows-1252 (the encoding of the
+/// Windows editors such programs were written with), with the first byte that is not UTF-8:
+/// its offset in the text, its value and the character it stands for.
+fn decode(bytes: Vec<u8>) -> (String, Option<(usize, u8, char)>) {
+    let bad = match String::from_utf8(bytes) {
+        Ok(text) => return (text, None),
+        Err(e) => e,
+    };
+    let at = bad.utf8_error().valid_up_to();
+    let bytes = bad.into_bytes();
+    let (text, _, _) = encoding_rs::WINDOWS_1252.decode(&bytes);
+    let (prefix, _, _) = encoding_rs::WINDOWS_1252.decode(&bytes[..at]);
+    let offset = prefix.len();
+    let ch = text[offset..].chars().next().unwrap_or('\u{FFFD}');
+    (text.into_owned(), Some((offset, bytes[at], ch)))
 }
 
 /// What the checks against the machine need from the machine file.
