@@ -20,6 +20,12 @@ pub enum Func {
     Sgn,
     Min,
     Max,
+    /// Microsoft BASIC's CINT/CLNG: to the nearest integer, halves to even.
+    Cint,
+    /// CSNG: to single precision.
+    Csng,
+    /// CDBL: the value itself (pacer computes in double precision).
+    Cdbl,
 }
 
 /// Names, arity and meaning. Angles are in radians, as in BASIC.
@@ -54,6 +60,20 @@ pub const FUNCTIONS: &[(&str, Func, usize, &str)] = &[
     ("SGN", Func::Sgn, 1, "-1, 0 or 1"),
     ("MIN", Func::Min, 2, "smaller of two"),
     ("MAX", Func::Max, 2, "larger of two"),
+    (
+        "CINT",
+        Func::Cint,
+        1,
+        "nearest integer, halves to even (Microsoft BASIC)",
+    ),
+    (
+        "CLNG",
+        Func::Cint,
+        1,
+        "nearest integer, halves to even (Microsoft BASIC)",
+    ),
+    ("CSNG", Func::Csng, 1, "to single precision"),
+    ("CDBL", Func::Cdbl, 1, "to double precision"),
 ];
 
 /// Look up a function by name, ignoring case.
@@ -92,6 +112,9 @@ impl Func {
             }
             Func::Min => a.min(b),
             Func::Max => a.max(b),
+            Func::Cint => a.round_ties_even() + 0.0,
+            Func::Csng => f64::from(a as f32),
+            Func::Cdbl => a,
         }
     }
 

@@ -1,6 +1,6 @@
 //! Lines as the grammar produces them, before block structure is assembled.
 
-use super::ast::{BinOp, Expr, ExprKind, Name, Segment, StmtKind, Using};
+use super::ast::{BinOp, Expr, ExprKind, Name, Segment, Stmt, StmtKind, Using};
 use crate::span::Span;
 
 /// A modifier written after an initiate.
@@ -68,6 +68,54 @@ pub fn line_number(text: &str, l: usize, r: usize) -> Segment {
         text: if digits.is_empty() { "0" } else { digits }.to_string(),
         span: Span::new(l, r),
     }
+}
+
+/// `ON n GOTO a, b, …` / `ON n GOSUB a, b, …` as the statements it means: `n` rounded to an
+/// integer (CINT) picks the target, 1 the first; any other value goes on with the next
+/// statement (Microsoft BASIC). Built as a chain of single-line IFs, so the checker and the
+/// compiler need nothing new; after a GOSUB's RETURN the program goes on after the ON.
+pub fn on_jump(n: Expr, targets: Vec<Segment>, gosub: bool, span: Span) -> StmtKind {
+    let mut chain: Option<StmtKind> = None;
+    for (i, target) in targets.into_iter().enumerate().rev() {
+        let picked = Expr {
+            kind: ExprKind::Binary(
+                BinOp::Eq,
+                Box::new(Expr {
+                    kind: ExprKind::Call(
+                        Segment {
+                            text: "CINT".into(),
+                            span: n.span,
+                        },
+                        vec![n.clone()],
+                    ),
+                    span: n.span,
+                }),
+                Box::new(Expr {
+                    kind: ExprKind::Number((i + 1) as f64),
+                    span: n.span,
+                }),
+            ),
+            span: n.span,
+        };
+        let jump = if gosub {
+            StmtKind::Gosub(target)
+        } else {
+            StmtKind::Goto(target)
+        };
+        chain = Some(StmtKind::If {
+            cond: picked,
+            then_body: vec![Stmt { kind: jump, span }],
+            else_body: chain.map(|kind| vec![Stmt { kind, span }]),
+        });
+    }
+    chain.unwrap_or(StmtKind::If {
+        cond: Expr {
+            kind: ExprKind::Bool(false),
+            span: n.span,
+        },
+        then_body: Vec::new(),
+        else_body: None,
+    })
 }
 
 /// A numeric literal spanning `l..r` (a literal too large for a double is infinite; the checker

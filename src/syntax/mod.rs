@@ -153,7 +153,7 @@ fn syntax_problem(e: ParseError<usize, Tok<'_>, LexError>, src: &str, dialect: D
                 Span::new(l, r)
             };
             let words = (!newline && !bad)
-                .then(|| in_words(src, l, r, &tok))
+                .then(|| in_words(src, l, r, &tok, dialect))
                 .flatten();
             let message = if bad {
                 tok.describe(dialect).into_owned()
@@ -193,7 +193,7 @@ fn syntax_problem(e: ParseError<usize, Tok<'_>, LexError>, src: &str, dialect: D
 
 /// A machine builder's words for a token out of place, where the mistake is a common one: a
 /// time written with a unit, `Using` after something that is not a motion start.
-fn in_words(src: &str, l: usize, r: usize, tok: &Tok<'_>) -> Option<String> {
+fn in_words(src: &str, l: usize, r: usize, tok: &Tok<'_>, dialect: Dialect) -> Option<String> {
     let text = src.get(l..r)?;
     let before = src.get(..l)?.trim_end_matches([' ', '\t']);
     let digits = before
@@ -212,6 +212,13 @@ fn in_words(src: &str, l: usize, r: usize, tok: &Tok<'_>) -> Option<String> {
             "times in programs are seconds, without a unit: write {}",
             n * scale
         ));
+    }
+    if matches!(tok, Tok::On) && dialect == Dialect::MotionBasic {
+        return Some(
+            "`ON` is a keyword in MotionBASIC (`ON n GOTO …`), not a value: truth is TRUE (-1) \
+             or FALSE (0)"
+                .into(),
+        );
     }
     if matches!(tok, Tok::Using) {
         return Some(

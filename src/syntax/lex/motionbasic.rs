@@ -52,6 +52,9 @@ enum MbLex<'s> {
     Gosub,
     #[token("goto", ignore(case))]
     Goto,
+    /// `ON n GOTO …` / `ON n GOSUB …` (a keyword, never a value, as in Microsoft BASIC).
+    #[token("on", ignore(case))]
+    On,
     #[token("return", ignore(case))]
     Return,
     #[token("end", ignore(case))]
@@ -206,6 +209,7 @@ fn token(word: MbLex<'_>) -> Option<Tok<'_>> {
         MbLex::Next => Tok::Next,
         MbLex::Gosub => Tok::Gosub,
         MbLex::Goto => Tok::Goto,
+        MbLex::On => Tok::On,
         MbLex::Return => Tok::Return,
         MbLex::End => Tok::End,
         MbLex::Gear => Tok::Gear,
