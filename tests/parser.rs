@@ -825,7 +825,7 @@ fn expression_spans() {
 #[test]
 fn every_syntax_error_of_a_file_is_reported() {
     let src =
-        "Var.A = 1\nVar.B = = 2\nVar.C = 3\nIf Var.A > Then\nVar.D = 4\nWait For Time\nVar.E = 5\n";
+        "Var.A = 1\nVar.B = = 2\nVar.C = 3\nIf Var.A > Then\nVar.D = 4\nEndif\nWait For Time\nVar.E = 5\n";
     let (ast, problems) = parse_err(src);
     assert_eq!(problems.len(), 3, "{problems:#?}");
     assert!(problems.iter().all(|p| p.code == "pacer::syntax"));
@@ -850,8 +850,13 @@ fn every_syntax_error_of_a_file_is_reported() {
         p.help.as_deref().unwrap_or("").contains("a number"),
         "{p:?}"
     );
-    // The good lines are all kept.
-    assert_eq!(assigned(&ast), ["Var.A", "Var.C", "Var.D", "Var.E"]);
+    // The good lines are all kept; the broken If still opens its block, which holds Var.D.
+    assert_eq!(assigned(&ast), ["Var.A", "Var.C", "Var.E"]);
+    let inside = ast.body.iter().find_map(|s| match &s.kind {
+        StmtKind::If { then_body, .. } => Some(then_body.len()),
+        _ => None,
+    });
+    assert_eq!(inside, Some(1), "the If block keeps its line");
 }
 
 #[test]

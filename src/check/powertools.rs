@@ -289,6 +289,40 @@ fn readable(r: &Resolved, span: Span) -> Result<(), Problem> {
     }
 }
 
+/// `e` checked, every problem recorded: each name of it that does not resolve (all of them, not
+/// only the first), else the first problem of the expression.
+fn keep_expr(cx: &mut Context<'_>, e: &Expr) -> Option<typed::Expr> {
+    fn unknown(e: &Expr, registry: &Registry, out: &mut Vec<Problem>) {
+        match &e.kind {
+            ExprKind::Name(n) => {
+                if let Err(p) = registry.resolve(n) {
+                    out.push(p);
+                }
+            }
+            ExprKind::Unary(_, x) | ExprKind::Paren(x) => unknown(x, registry, out),
+            ExprKind::Binary(_, a, b) => {
+                unknown(a, registry, out);
+                unknown(b, registry, out);
+            }
+            ExprKind::Call(_, args) | ExprKind::AxisSet(args) => {
+                for a in args {
+                    unknown(a, registry, out);
+                }
+            }
+            ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
+        }
+    }
+    let mut problems = Vec::new();
+    unknown(e, cx.machine.registry, &mut problems);
+    if problems.is_empty() {
+        return cx.keep(expr(e, cx.machine.registry));
+    }
+    for p in problems {
+        cx.push(p);
+    }
+    None
+}
+
 impl PowerTools {
     /// `Program.N` must be loaded on the machine.
     fn program_loaded(cx: &mut Context<'_>, index: u32, span: Span) {
@@ -335,7 +369,7 @@ impl PowerTools {
 
     /// `e`, which must be of type `ty`.
     fn expect(cx: &mut Context<'_>, e: &Expr, ty: Ty, why: &str) -> Option<typed::Expr> {
-        let t = cx.keep(expr(e, cx.machine.registry))?;
+        let t = keep_expr(cx, e)?;
         if t.ty != ty {
             cx.push(type_error(e, t.ty, ty).with_help(why.to_string()));
             return None;
@@ -355,7 +389,7 @@ impl Rules for PowerTools {
 
     fn expr(&mut self, cx: &mut Context<'_>, e: &Expr, want: Want<'_>) -> Option<typed::Expr> {
         match want {
-            Want::Any => cx.keep(expr(e, cx.machine.registry)),
+            Want::Any => keep_expr(cx, e),
             Want::Number(why) => Self::expect(cx, e, Ty::Num, why),
             Want::Condition(why) => Self::expect(cx, e, Ty::Bool, why),
         }
@@ -364,10 +398,10 @@ impl Rules for PowerTools {
     fn assign(&mut self, cx: &mut Context<'_>, target: &Name, value: &Expr) -> Option<T> {
         let registry = cx.machine.registry;
         let Some(r) = cx.keep(registry.resolve(target)) else {
-            let _ = cx.keep(expr(value, registry));
+            let _ = keep_expr(cx, value);
             return None;
         };
-        let v = cx.keep(expr(value, registry))?;
+        let v = keep_expr(cx, value)?;
         match r.access {
             Access::Read => {
                 cx.push(

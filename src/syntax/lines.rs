@@ -118,6 +118,23 @@ pub fn on_jump(n: Expr, targets: Vec<Segment>, gosub: bool, span: Span) -> StmtK
     })
 }
 
+/// The `If …` (`if_line`) or `Do While …` line at `l..r` whose condition did not parse (the
+/// parse error is reported): it still opens its block, with a placeholder condition.
+pub fn broken_opener(if_line: bool, l: usize, r: usize) -> Line {
+    let cond = Expr {
+        kind: ExprKind::Bool(true),
+        span: Span::new(l, r),
+    };
+    Line {
+        kind: if if_line {
+            LineKind::If(cond)
+        } else {
+            LineKind::DoWhile(cond)
+        },
+        span: Span::new(l, r),
+    }
+}
+
 /// A numeric literal spanning `l..r` (a literal too large for a double is infinite; the checker
 /// reports it).
 pub fn number(text: &str, l: usize, r: usize) -> Expr {
