@@ -666,3 +666,50 @@ fn chaining_using_last_after_a_wait_for_is_exact_and_caught_up_at_once() {
         "{position} at {t} s, not {expected}"
     );
 }
+
+/// SM-EZMotion User Guide p. 106: with FeedRate Deactivate on, index motion runs at its
+/// programmed velocity whatever FeedRate Override says; off again, the override scales it.
+#[test]
+fn feed_rate_deactivate_runs_motion_at_its_programmed_velocity() {
+    let program = "FeedRateOverride = 50\nFeedRateDeactivate = ON\nIndex.0.Initiate\n\
+                   Wait For Index.0.CommandComplete\nFeedRateDeactivate = OFF\nIndex.0.Initiate\n";
+    let (ends, _) = {
+        let r = run("feed-off", program, TWO_INDEXES, "");
+        assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+        let ends: Vec<f64> = r
+            .events
+            .iter()
+            .filter(|e| e["kind"] == "motion" && e["event"] == "done")
+            .map(|e| e["end"].as_f64().unwrap_or(f64::NAN))
+            .collect();
+        (ends, r)
+    };
+    // 3 s at full speed; then 3 more motion seconds at half speed (6 real seconds), on the
+    // motion clock that ran at 1 real second per second until then.
+    assert_eq!(ends.len(), 2, "{ends:?}");
+    assert!((ends[0] - 3.0).abs() < 1e-9, "{ends:?}");
+    assert!((ends[1] - 6.0).abs() < 1e-9, "{ends:?}");
+}
+
+#[test]
+fn a_stop_takes_on_profile_as_the_fm_manuals_write_it() {
+    // FM-3/FM-4 Programming Module Reference Manual p. 109: `On Profile.1` after `Gear.Stop`.
+    let program = "Index.0.Initiate On Profile.1\nWait For Time 1\nIndex.0.Stop On Profile.1\n\
+                   Gear.Stop On Profile.1\n";
+    let r = run("stop-on-profile", program, TWO_INDEXES, "");
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    let done = r
+        .events
+        .iter()
+        .find(|e| e["kind"] == "motion" && e["object"] == "Index.0" && e["event"] == "done")
+        .expect("the index ends");
+    // Stopped at 1 s, at 1 u/s from 0.5 u: 1 s of deceleration at 1 u/s², 0.5 u more.
+    assert!(
+        (done["end"].as_f64().unwrap_or(0.0) - 2.0).abs() < 1e-9,
+        "{done}"
+    );
+    assert!(
+        (done["position"].as_f64().unwrap_or(0.0) - 1.0).abs() < 1e-9,
+        "{done}"
+    );
+}

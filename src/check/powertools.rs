@@ -548,13 +548,17 @@ impl Rules for PowerTools {
             }
         }
         let mut on = 0;
+        // A stop takes `On Profile.N` too: the FM-3/FM-4 manual (p. 109) requires it after
+        // `Gear.Stop` when the gear runs on Profile.1. The object's motion stops on whichever
+        // profile it runs; the modifier names it.
+        let is_stop = r.hook == Hook::MotionStop;
         if let Some(p) = profile {
-            if !is_motion {
+            if !is_motion && !is_stop {
                 cx.push(Problem::error(
                     "pacer::check::profile",
                     p.span,
                     format!(
-                        "`On Profile` only applies to motion initiates, not {}",
+                        "`On Profile` only applies to motion initiates and stops, not {}",
                         r.name
                     ),
                     "not a motion",

@@ -687,6 +687,12 @@ pub const MOTION: &[MemberDef] = &[
         ),
     ),
     m(
+        "FeedRateDeactivate",
+        Bit,
+        ReadWrite,
+        "on: motion runs at its programmed velocity, FeedRateOverride ignored",
+    ),
+    m(
         "StopDeceleration",
         Real,
         ReadWrite,

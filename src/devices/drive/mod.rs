@@ -174,9 +174,14 @@ impl Drive {
         )
     }
 
-    /// Motion seconds per real second: the feed-rate override.
+    /// Motion seconds per real second: the feed-rate override, unless FeedRateDeactivate is on
+    /// (SM-EZMotion User Guide p. 106: motion then runs at its programmed velocity).
     fn rate(&self, v: &[f64]) -> f64 {
-        v[self.slots.axis.feed_rate as usize] / 100.0
+        if v[self.slots.axis.feed_rate_off as usize] != 0.0 {
+            1.0
+        } else {
+            v[self.slots.axis.feed_rate as usize] / 100.0
+        }
     }
 
     /// The motion clock at real time `t` (near the last update), at the present override.

@@ -84,6 +84,7 @@ crate::bind_slots! {
         counts: "MotorCounts",
         master_counts: "MasterCounts",
         feed_rate: "FeedRateOverride",
+        feed_rate_off: "FeedRateDeactivate",
         stop_decel: "StopDeceleration",
         free_run: "FreeRunTime",
     }
