@@ -713,3 +713,28 @@ fn a_stop_takes_on_profile_as_the_fm_manuals_write_it() {
         "{done}"
     );
 }
+
+#[test]
+fn a_jog_is_set_up_in_the_machine_file() {
+    let machine = "[jog.0]\nvelocity = 2.0\nacceleration = 10.0\ndeceleration = 10.0\n";
+    let r = run(
+        "jog-setup",
+        "Jog.0.PlusInitiate\nWait For Time 1\nJog.0.Stop\n",
+        machine,
+        "",
+    );
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    // 0.2 s to 2 u/s (0.2 u), 0.8 s at 2 u/s (1.6 u), then 0.2 s down (0.2 u).
+    let p = r.machine.value_of("PosnCommand").unwrap_or(f64::NAN);
+    assert!((p - 2.0).abs() < 1e-9, "{p}");
+    let bad = common::load_error(
+        "jog-bad",
+        &[
+            ("program0.pt", "Jog.0.PlusInitiate\n"),
+            ("machine.toml", "[jog.0]\nvelocity = -1.0\n"),
+        ],
+    );
+    assert!(bad
+        .render_plain()
+        .contains("[jog.0] velocity: -1 is out of range"));
+}

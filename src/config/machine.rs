@@ -40,6 +40,9 @@ pub struct MachineFile {
     /// Home set-up by instance number (`[home.0]`).
     #[serde(default)]
     pub home: IndexMap<String, Spanned<HomeSetup>>,
+    /// Jog set-up by instance number (`[jog.0]`).
+    #[serde(default)]
+    pub jog: IndexMap<String, Spanned<JogSetup>>,
     /// PLS set-up by instance number (`[pls.0]`).
     #[serde(default)]
     pub pls: IndexMap<String, Spanned<PlsSetup>>,
@@ -402,6 +405,18 @@ pub struct HomeSetup {
     /// Specified offset from the reference to the home position; without it the offset is
     /// calculated (the axis stops as soon as it can after the reference).
     pub offset: Option<f64>,
+}
+
+/// `[jog.N]`: the jog's settings at the start (programs may change them).
+#[derive(Debug, Clone, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct JogSetup {
+    /// Jog velocity, units per second (above 0; the initiate gives the direction).
+    pub velocity: Option<f64>,
+    /// Acceleration.
+    pub acceleration: Option<f64>,
+    /// Deceleration.
+    pub deceleration: Option<f64>,
 }
 
 /// `[pls.N]`.

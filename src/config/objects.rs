@@ -51,6 +51,7 @@ pub fn objects(
     queues(machine, &mut d, &mut drive, problems);
     indexes(machine, &mut d, &mut drive, problems);
     homes(machine, &mut d, problems);
+    jogs(machine, &mut d, problems);
     plss(machine, &mut d, &mut drive, problems);
     super::pickplace::initials(machine, &mut d, problems);
     axis_set_up(machine, &mut drive, problems);
@@ -467,6 +468,56 @@ fn homes(machine: &MachineFile, d: &mut ObjectsDesc, problems: &mut Vec<Problem>
                     ));
                 } else {
                     d.initial(t, n, index, v);
+                }
+            }
+        }
+    }
+}
+
+/// `[jog.N]` sections: the jogs' initial velocity and ramps.
+fn jogs(machine: &MachineFile, d: &mut ObjectsDesc, problems: &mut Vec<Problem>) {
+    let count = d.count_of(&catalog::JOG_TYPE);
+    for (key, setup) in &machine.jog {
+        let span = span_of(setup);
+        let Some(n) = section_instance(
+            key,
+            count,
+            span,
+            "pacer::machine::jog",
+            "jog",
+            ("jog", "jogs"),
+            problems,
+        ) else {
+            continue;
+        };
+        let s = setup.get_ref();
+        for (member, index, value) in [
+            (
+                "velocity",
+                crate::member_index!(catalog::JOG_TYPE, "Velocity"),
+                s.velocity,
+            ),
+            (
+                "acceleration",
+                crate::member_index!(catalog::JOG_TYPE, "Acceleration"),
+                s.acceleration,
+            ),
+            (
+                "deceleration",
+                crate::member_index!(catalog::JOG_TYPE, "Deceleration"),
+                s.deceleration,
+            ),
+        ] {
+            if let Some(v) = value {
+                if !(v.is_finite() && v > 0.0) {
+                    problems.push(Problem::error(
+                        "pacer::machine::jog",
+                        span,
+                        format!("[jog.{n}] {member}: {v} is out of range"),
+                        "must be above 0",
+                    ));
+                } else {
+                    d.initial(&catalog::JOG_TYPE, n, index, v);
                 }
             }
         }
