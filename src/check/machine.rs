@@ -9,6 +9,7 @@ use super::typed::{Expr, ExprKind, Op, Program, Stmt, StmtKind};
 use crate::devices::command::KernelFunc;
 use crate::diag::Problem;
 use crate::registry::{Hook, Kind, Registry, SlotId};
+use crate::span::Span;
 
 /// What the programs are checked against.
 pub struct MachineFacts<'a> {
@@ -67,6 +68,15 @@ struct Walk<'a, 'b> {
 }
 
 impl Walk<'_, '_> {
+    /// What the machine lacks is an error when a machine file describes it, else a warning.
+    fn level(&self) -> fn(&'static str, Span, String, &'static str) -> Problem {
+        if self.facts.described {
+            |code, span, message, label| Problem::error(code, span, message, label)
+        } else {
+            |code, span, message, label| Problem::warning(code, span, message, label)
+        }
+    }
+
     fn stmts(&mut self, stmts: &[Stmt]) {
         for s in stmts {
             self.stmt(s);
@@ -162,11 +172,7 @@ impl Walk<'_, '_> {
             .iter()
             .map(|m| format!("{ty}.{instance}.{m}"))
             .collect();
-        let problem = if self.facts.described {
-            Problem::error
-        } else {
-            Problem::warning
-        };
+        let problem = self.level();
         self.problems.push(
             problem(
                 "pacer::check::not_set_up",
@@ -272,11 +278,7 @@ impl Walk<'_, '_> {
             let list: Vec<String> = axes.iter().map(u32::to_string).collect();
             format!("its DSP axes are {}", list.join(", "))
         };
-        let problem = if self.facts.described {
-            Problem::error
-        } else {
-            Problem::warning
-        };
+        let problem = self.level();
         self.problems.push(
             problem(
                 "pacer::check::axis",
