@@ -85,6 +85,39 @@ pub enum Op {
         b: Reg,
         decimals: u8,
     },
+    /// MotionBASIC `MOD`. Whole operands within 32 bits (every long) take an integer
+    /// remainder; anything else is rounded first as [`BinaryOp::BasicMod`] says. Either way the
+    /// result is the same: the integer path only avoids libm's `fmod` and `rint`.
+    IMod { dst: Reg, a: Reg, b: Reg },
+    /// MotionBASIC `\`, with the same integer path as [`Op::IMod`].
+    IDiv { dst: Reg, a: Reg, b: Reg },
+    /// `AND` bitwise on integers (halves of fractions rounded to even).
+    BitAnd { dst: Reg, a: Reg, b: Reg },
+    /// `OR` bitwise on integers.
+    BitOr { dst: Reg, a: Reg, b: Reg },
+    /// `XOR` bitwise on integers.
+    BitXor { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a + b` stored into a MotionBASIC long: an `Add` fused with the `StoreLong` that
+    /// followed it. Counts as the two instructions it replaces ([`Op::weight`]).
+    AddLong { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a - b` stored into a MotionBASIC long (counts as two).
+    SubLong { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a * b` stored into a MotionBASIC long (counts as two).
+    MulLong { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a + b` of long integers with its Overflow check: an `Add` fused with its
+    /// `CheckLong` (counts as two).
+    AddCheck { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a - b` with its Overflow check (counts as two).
+    SubCheck { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a * b` with its Overflow check (counts as two).
+    MulCheck { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a + b` stored into a real: an `Add` fused with the `StoreReal` that followed it
+    /// (counts as two).
+    AddReal { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a - b` stored into a real (counts as two).
+    SubReal { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a * b` stored into a real (counts as two).
+    MulReal { dst: Reg, a: Reg, b: Reg },
     /// Any other binary operator (division checks for zero).
     Binary {
         op: BinaryOp,
@@ -219,4 +252,24 @@ pub enum Op {
     Return,
     /// End of this program (returns to a caller if called).
     End,
+}
+
+impl Op {
+    /// How many instructions this one counts as against a task's budget and in the run's
+    /// instruction count: a fused instruction counts as the ones it replaced, so fusing never
+    /// moves a yield or changes a trace.
+    pub fn weight(&self) -> u64 {
+        match self {
+            Op::AddLong { .. }
+            | Op::SubLong { .. }
+            | Op::MulLong { .. }
+            | Op::AddCheck { .. }
+            | Op::SubCheck { .. }
+            | Op::MulCheck { .. }
+            | Op::AddReal { .. }
+            | Op::SubReal { .. }
+            | Op::MulReal { .. } => 2,
+            _ => 1,
+        }
+    }
 }

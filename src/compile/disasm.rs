@@ -65,6 +65,20 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 let (name, sym) = op_names(op);
                 format!("{name:<9} {} <- {} {sym} {}", r(dst), r(a), r(b))
             }
+            Op::IMod { dst, a, b } => format!("imod      {} <- {} MOD {}", r(dst), r(a), r(b)),
+            Op::IDiv { dst, a, b } => format!("idiv      {} <- {} \\ {}", r(dst), r(a), r(b)),
+            Op::BitAnd { dst, a, b } => format!("band      {} <- {} AND {}", r(dst), r(a), r(b)),
+            Op::BitOr { dst, a, b } => format!("bor       {} <- {} OR {}", r(dst), r(a), r(b)),
+            Op::BitXor { dst, a, b } => format!("bxor      {} <- {} XOR {}", r(dst), r(a), r(b)),
+            Op::AddLong { dst, a, b } => format!("add.l     {} <- {} + {}", r(dst), r(a), r(b)),
+            Op::SubLong { dst, a, b } => format!("sub.l     {} <- {} - {}", r(dst), r(a), r(b)),
+            Op::MulLong { dst, a, b } => format!("mul.l     {} <- {} * {}", r(dst), r(a), r(b)),
+            Op::AddCheck { dst, a, b } => format!("add.chk   {} <- {} + {}", r(dst), r(a), r(b)),
+            Op::SubCheck { dst, a, b } => format!("sub.chk   {} <- {} - {}", r(dst), r(a), r(b)),
+            Op::MulCheck { dst, a, b } => format!("mul.chk   {} <- {} * {}", r(dst), r(a), r(b)),
+            Op::AddReal { dst, a, b } => format!("add.r     {} <- {} + {}", r(dst), r(a), r(b)),
+            Op::SubReal { dst, a, b } => format!("sub.r     {} <- {} - {}", r(dst), r(a), r(b)),
+            Op::MulReal { dst, a, b } => format!("mul.r     {} <- {} * {}", r(dst), r(a), r(b)),
             Op::Compare { cmp, dst, a, b } => {
                 format!("cmp       {} <- {} {} {}", r(dst), r(a), cmp.symbol(), r(b))
             }

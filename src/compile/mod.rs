@@ -229,6 +229,20 @@ impl<'a> Compiler<'a> {
         self.ops.len() - 1
     }
 
+    /// Replace the last instruction by `op`, which takes the current statement's place in the
+    /// source (a fused store: its faults are the store's).
+    fn replace_last(&mut self, op: Op) {
+        if let (Some(last), Some(line), Some(span)) = (
+            self.ops.last_mut(),
+            self.lines.last_mut(),
+            self.spans.last_mut(),
+        ) {
+            *last = op;
+            *line = self.line;
+            *span = self.span;
+        }
+    }
+
     fn here(&self) -> u32 {
         self.ops.len() as u32
     }
@@ -586,6 +600,27 @@ impl<'a> Compiler<'a> {
                     self.spans.pop();
                 }
             }
+            // The value was just computed into a temporary by this statement: compute it
+            // straight into the variable (one instruction counting as the two it replaces; a
+            // fault in it is the store's, so it takes the store's place in the source).
+            if self.ops.len() > self.stmt_start {
+                let fused = match self.ops.last() {
+                    Some(&(Op::Add { dst, a, b } | Op::AddCheck { dst, a, b })) if dst == src => {
+                        Some(Op::AddLong { dst: r.slot, a, b })
+                    }
+                    Some(&(Op::Sub { dst, a, b } | Op::SubCheck { dst, a, b })) if dst == src => {
+                        Some(Op::SubLong { dst: r.slot, a, b })
+                    }
+                    Some(&(Op::Mul { dst, a, b } | Op::MulCheck { dst, a, b })) if dst == src => {
+                        Some(Op::MulLong { dst: r.slot, a, b })
+                    }
+                    _ => None,
+                };
+                if let Some(op) = fused {
+                    self.replace_last(op);
+                    return;
+                }
+            }
             self.emit(Op::StoreLong { dst: r.slot, src });
             return;
         }
@@ -611,6 +646,11 @@ impl<'a> Compiler<'a> {
                     Some(&Op::Div { dst, a, b }) if dst == src => Some((BinaryOp::Div, a, b)),
                     Some(&Op::Mod { dst, a, b }) if dst == src => Some((BinaryOp::Mod, a, b)),
                     Some(&Op::Binary { op, dst, a, b }) if dst == src => Some((op, a, b)),
+                    Some(&Op::IMod { dst, a, b }) if dst == src => Some((BinaryOp::BasicMod, a, b)),
+                    Some(&Op::IDiv { dst, a, b }) if dst == src => Some((BinaryOp::IntDiv, a, b)),
+                    Some(&Op::BitAnd { dst, a, b }) if dst == src => Some((BinaryOp::BitAnd, a, b)),
+                    Some(&Op::BitOr { dst, a, b }) if dst == src => Some((BinaryOp::BitOr, a, b)),
+                    Some(&Op::BitXor { dst, a, b }) if dst == src => Some((BinaryOp::BitXor, a, b)),
                     _ => None,
                 };
                 if let (Some((op, a, b)), Some(last)) = (fused, self.ops.last_mut()) {
@@ -666,7 +706,29 @@ impl<'a> Compiler<'a> {
                 src,
                 decimals: d,
             },
-            ValueType::Real => Op::StoreReal { dst: r.slot, src },
+            ValueType::Real => {
+                // As for longs: an add, subtract or multiply just computed into a temporary is
+                // computed straight into the real (counting as two instructions).
+                if self.ops.len() > self.stmt_start {
+                    let fused = match self.ops.last() {
+                        Some(&Op::Add { dst, a, b }) if dst == src => {
+                            Some(Op::AddReal { dst: r.slot, a, b })
+                        }
+                        Some(&Op::Sub { dst, a, b }) if dst == src => {
+                            Some(Op::SubReal { dst: r.slot, a, b })
+                        }
+                        Some(&Op::Mul { dst, a, b }) if dst == src => {
+                            Some(Op::MulReal { dst: r.slot, a, b })
+                        }
+                        _ => None,
+                    };
+                    if let Some(op) = fused {
+                        self.replace_last(op);
+                        return;
+                    }
+                }
+                Op::StoreReal { dst: r.slot, src }
+            }
         };
         self.emit(op);
     }
@@ -810,15 +872,15 @@ impl<'a> Compiler<'a> {
                     TypedOp::Mul => Op::Mul { dst, a, b },
                     TypedOp::Div => Op::Div { dst, a, b },
                     TypedOp::Mod => Op::Mod { dst, a, b },
-                    TypedOp::BasicMod => binary(BinaryOp::BasicMod),
-                    TypedOp::IntDiv => binary(BinaryOp::IntDiv),
+                    TypedOp::BasicMod => Op::IMod { dst, a, b },
+                    TypedOp::IntDiv => Op::IDiv { dst, a, b },
                     TypedOp::Pow => binary(BinaryOp::Pow),
                     TypedOp::And => binary(BinaryOp::And),
                     TypedOp::Or => binary(BinaryOp::Or),
                     TypedOp::Xor => binary(BinaryOp::Xor),
-                    TypedOp::BitAnd => binary(BinaryOp::BitAnd),
-                    TypedOp::BitOr => binary(BinaryOp::BitOr),
-                    TypedOp::BitXor => binary(BinaryOp::BitXor),
+                    TypedOp::BitAnd => Op::BitAnd { dst, a, b },
+                    TypedOp::BitOr => Op::BitOr { dst, a, b },
+                    TypedOp::BitXor => Op::BitXor { dst, a, b },
                     TypedOp::Cmp(cmp) => Op::Compare {
                         cmp: *cmp,
                         dst,
@@ -830,8 +892,18 @@ impl<'a> Compiler<'a> {
                 if *negate {
                     // MotionBASIC's comparisons give -1 or 0.
                     self.emit(Op::Neg { dst, a: dst });
-                } else if e.long && matches!(op, TypedOp::Add | TypedOp::Sub | TypedOp::Mul) {
-                    self.emit(Op::CheckLong { r: dst });
+                } else if e.long {
+                    // Long arithmetic checks its range where it is computed: the operation and
+                    // its check are one instruction (counting as two).
+                    let checked = match instruction {
+                        Op::Add { dst, a, b } => Some(Op::AddCheck { dst, a, b }),
+                        Op::Sub { dst, a, b } => Some(Op::SubCheck { dst, a, b }),
+                        Op::Mul { dst, a, b } => Some(Op::MulCheck { dst, a, b }),
+                        _ => None,
+                    };
+                    if let (Some(op), Some(last)) = (checked, self.ops.last_mut()) {
+                        *last = op;
+                    }
                 }
                 dst
             }

@@ -89,6 +89,59 @@ pub fn run(
             }
         }};
     }
+    // Store `$x` into the MotionBASIC long `$dst`: a whole number within 32 bits as it is (one
+    // conversion each way, no libm), anything else rounded half to even; an Overflow at this
+    // instruction outside 32 bits.
+    macro_rules! store_long {
+        ($dst:expr, $x:expr, $here:expr) => {{
+            let (dst, x) = ($dst, $x);
+            let i = x as i32;
+            let val = if f64::from(i) == x {
+                f64::from(i)
+            } else {
+                match round_long(x) {
+                    Some(val) => val,
+                    None => {
+                        pc = $here;
+                        let name = name_of(ctx, dst);
+                        fault!(
+                            "Overflow: {x} does not fit {name} (a long integer: -2147483648 to 2147483647)"
+                        );
+                    }
+                }
+            };
+            v[dst as usize] = val;
+            if trace_on && dst < ctx.slot_count {
+                traced_write(ctx, dst, val);
+            }
+        }};
+    }
+    // `$x` into the temporary `$dst` unless it is outside 32 bits (long arithmetic's Overflow).
+    macro_rules! check_long {
+        ($dst:expr, $x:expr, $here:expr) => {{
+            let x = $x;
+            if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
+                pc = $here;
+                fault!("Overflow: {x} does not fit a long integer (-2147483648 to 2147483647)");
+            }
+            v[$dst as usize] = x;
+        }};
+    }
+    // Store `$x` into a real, which must be finite.
+    macro_rules! store_real {
+        ($dst:expr, $x:expr, $here:expr) => {{
+            let (dst, x) = ($dst, $x);
+            if !x.is_finite() {
+                pc = $here;
+                let name = name_of(ctx, dst);
+                fault!("{name} cannot take {x}: the result is not a finite number");
+            }
+            v[dst as usize] = x;
+            if trace_on && dst < ctx.slot_count {
+                traced_write(ctx, dst, x);
+            }
+        }};
+    }
     loop {
         let Some(op) = ops.get(pc as usize) else {
             *executed = n;
@@ -118,6 +171,91 @@ pub fn run(
                 }
                 v[dst as usize] = int_rem(v[a as usize], y);
             }
+            Op::IMod { dst, a, b } => {
+                let (x, y) = (v[a as usize], v[b as usize]);
+                let (i, j) = (x as i32, y as i32);
+                if f64::from(i) == x && f64::from(j) == y && j != 0 {
+                    // The remainder has the sign of x, zero included (as `fmod` gives it).
+                    v[dst as usize] = f64::from(i.wrapping_rem(j)).copysign(x);
+                } else {
+                    match basic_integer(BinaryOp::BasicMod, x, y) {
+                        Ok(r) => v[dst as usize] = r,
+                        Err(message) => {
+                            pc = here;
+                            fault!("{message}");
+                        }
+                    }
+                }
+            }
+            Op::IDiv { dst, a, b } => {
+                let (x, y) = (v[a as usize], v[b as usize]);
+                let (i, j) = (x as i32, y as i32);
+                if f64::from(i) == x && f64::from(j) == y && j != 0 && !(i == i32::MIN && j == -1) {
+                    let q = i / j;
+                    // A zero quotient keeps the sign `(x / y).trunc()` gives it.
+                    v[dst as usize] = if q == 0 && x.is_sign_negative() != y.is_sign_negative() {
+                        -0.0
+                    } else {
+                        f64::from(q)
+                    };
+                } else {
+                    match basic_integer(BinaryOp::IntDiv, x, y) {
+                        Ok(r) => v[dst as usize] = r,
+                        Err(message) => {
+                            pc = here;
+                            fault!("{message}");
+                        }
+                    }
+                }
+            }
+            Op::BitAnd { dst, a, b } => {
+                v[dst as usize] = (int(v[a as usize]) & int(v[b as usize])) as f64
+            }
+            Op::BitOr { dst, a, b } => {
+                v[dst as usize] = (int(v[a as usize]) | int(v[b as usize])) as f64
+            }
+            Op::BitXor { dst, a, b } => {
+                v[dst as usize] = (int(v[a as usize]) ^ int(v[b as usize])) as f64
+            }
+            // Fused instructions count as the two they replace.
+            Op::AddLong { dst, a, b } => {
+                n += 1;
+                store_long!(dst, v[a as usize] + v[b as usize], here)
+            }
+            Op::SubLong { dst, a, b } => {
+                n += 1;
+                store_long!(dst, v[a as usize] - v[b as usize], here)
+            }
+            Op::MulLong { dst, a, b } => {
+                n += 1;
+                store_long!(dst, v[a as usize] * v[b as usize], here)
+            }
+            Op::AddCheck { dst, a, b } => {
+                n += 1;
+                check_long!(dst, v[a as usize] + v[b as usize], here)
+            }
+            Op::SubCheck { dst, a, b } => {
+                n += 1;
+                check_long!(dst, v[a as usize] - v[b as usize], here)
+            }
+            Op::MulCheck { dst, a, b } => {
+                n += 1;
+                check_long!(dst, v[a as usize] * v[b as usize], here)
+            }
+            Op::AddReal { dst, a, b } => {
+                n += 1;
+                store_real!(dst, v[a as usize] + v[b as usize], here)
+            }
+            Op::SubReal { dst, a, b } => {
+                n += 1;
+                store_real!(dst, v[a as usize] - v[b as usize], here)
+            }
+            Op::MulReal { dst, a, b } => {
+                n += 1;
+                store_real!(dst, v[a as usize] * v[b as usize], here)
+            }
+            Op::StoreLong { dst, src } => store_long!(dst, v[src as usize], here),
+            Op::CheckLong { r } => check_long!(r, v[r as usize], here),
             Op::Binary { op, dst, a, b } => match binary(op, v[a as usize], v[b as usize]) {
                 Ok(x) => v[dst as usize] = x,
                 Err(message) => {
@@ -174,18 +312,7 @@ pub fn run(
             Op::StoreFixed { dst, src, decimals } => {
                 store_fixed!(dst, v[src as usize], decimals, here)
             }
-            Op::StoreReal { dst, src } => {
-                let x = v[src as usize];
-                if !x.is_finite() {
-                    pc = here;
-                    let name = name_of(ctx, dst);
-                    fault!("{name} cannot take {x}: the result is not a finite number");
-                }
-                v[dst as usize] = x;
-                if trace_on && dst < ctx.slot_count {
-                    traced_write(ctx, dst, x);
-                }
-            }
+            Op::StoreReal { dst, src } => store_real!(dst, v[src as usize], here),
             Op::StoreBit { dst, src } => {
                 let x = f64::from(v[src as usize] != 0.0);
                 v[dst as usize] = x;
@@ -438,9 +565,7 @@ pub fn run(
                 *executed = n;
                 return Exit::Return { pc: here };
             }
-            Op::StoreLong { .. }
-            | Op::CheckLong { .. }
-            | Op::AxisBit { .. }
+            Op::AxisBit { .. }
             | Op::AxisRead { .. }
             | Op::AxisWrite { .. }
             | Op::Motion { .. }
@@ -506,28 +631,6 @@ fn motionbasic(
 ) -> Result<Option<Exit>, String> {
     const NO_AXES: &str = "this machine has no DSP axes: define them in machine.toml ([axis.1] …)";
     match op {
-        Op::StoreLong { dst, src } => {
-            let raw = v[src as usize];
-            let x = raw.round_ties_even() + 0.0;
-            if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
-                let name = name_of(ctx, dst);
-                return Err(format!(
-                    "Overflow: {raw} does not fit {name} (a long integer: -2147483648 to 2147483647)"
-                ));
-            }
-            v[dst as usize] = x;
-            if ctx.now.trace.enabled() && dst < ctx.slot_count {
-                traced_write(ctx, dst, x);
-            }
-        }
-        Op::CheckLong { r } => {
-            let x = v[r as usize];
-            if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
-                return Err(format!(
-                    "Overflow: {x} does not fit a long integer (-2147483648 to 2147483647)"
-                ));
-            }
-        }
         Op::AxisBit { dst, a } => {
             let x = v[a as usize];
             if !(x.fract() == 0.0 && (1.0..=16.0).contains(&x)) {
@@ -684,6 +787,18 @@ fn basic_integer(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
         return Err("Overflow: the quotient does not fit a long integer");
     }
     Ok(q)
+}
+
+/// A real stored into a long, when it is not already a whole number within 32 bits: halves
+/// rounded to even (Microsoft BASIC's CLNG), `None` outside 32 bits.
+#[cold]
+#[inline(never)]
+fn round_long(raw: f64) -> Option<f64> {
+    // `+ 0.0` turns a rounded -0.0 into 0.
+    let x = raw.round_ties_even() + 0.0;
+    (f64::from(i32::MIN)..=f64::from(i32::MAX))
+        .contains(&x)
+        .then_some(x)
 }
 
 /// The integer a bitwise operator works on: halves rounded to even, as Microsoft BASIC does.
