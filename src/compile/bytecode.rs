@@ -97,27 +97,38 @@ pub enum Op {
     BitOr { dst: Reg, a: Reg, b: Reg },
     /// `XOR` bitwise on integers.
     BitXor { dst: Reg, a: Reg, b: Reg },
-    /// `dst = a + b` stored into a MotionBASIC long: an `Add` fused with the `StoreLong` that
-    /// followed it. Counts as the two instructions it replaces ([`Op::weight`]).
-    AddLong { dst: Reg, a: Reg, b: Reg },
-    /// `dst = a - b` stored into a MotionBASIC long (counts as two).
-    SubLong { dst: Reg, a: Reg, b: Reg },
-    /// `dst = a * b` stored into a MotionBASIC long (counts as two).
-    MulLong { dst: Reg, a: Reg, b: Reg },
-    /// `dst = a + b` of long integers with its Overflow check: an `Add` fused with its
-    /// `CheckLong` (counts as two).
+    // Superinstructions. The compiler emits none of them: `fuse` (at the end of compiling)
+    // rewrites the first of two adjacent instructions into one that does the work of both and
+    // skips the second, which stays in place (a jump to it still runs it alone). A fused
+    // instruction counts as two against the budget, reports a fault in its second half at the
+    // second's place, and still writes the temporary that joined them, so the program, its
+    // instruction counts, its faults and its disassembly are exactly those without fusion.
+    /// `add t <- a + b` then `store.l dst <- t`.
+    AddLong { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `sub t <- a - b` then `store.l dst <- t`.
+    SubLong { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `mul t <- a * b` then `store.l dst <- t`.
+    MulLong { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `imod`/`idiv`/`band`/`bor`/`bxor` (`op`) `t <- a op b` then `store.l dst <- t`.
+    IntLong {
+        op: BinaryOp,
+        t: Reg,
+        dst: Reg,
+        a: Reg,
+        b: Reg,
+    },
+    /// `add dst <- a + b` then `chk.long dst`.
     AddCheck { dst: Reg, a: Reg, b: Reg },
-    /// `dst = a - b` with its Overflow check (counts as two).
+    /// `sub dst <- a - b` then `chk.long dst`.
     SubCheck { dst: Reg, a: Reg, b: Reg },
-    /// `dst = a * b` with its Overflow check (counts as two).
+    /// `mul dst <- a * b` then `chk.long dst`.
     MulCheck { dst: Reg, a: Reg, b: Reg },
-    /// `dst = a + b` stored into a real: an `Add` fused with the `StoreReal` that followed it
-    /// (counts as two).
-    AddReal { dst: Reg, a: Reg, b: Reg },
-    /// `dst = a - b` stored into a real (counts as two).
-    SubReal { dst: Reg, a: Reg, b: Reg },
-    /// `dst = a * b` stored into a real (counts as two).
-    MulReal { dst: Reg, a: Reg, b: Reg },
+    /// `add t <- a + b` then `store.r dst <- t`.
+    AddReal { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `sub t <- a - b` then `store.r dst <- t`.
+    SubReal { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `mul t <- a * b` then `store.r dst <- t`.
+    MulReal { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// Any other binary operator (division checks for zero).
     Binary {
         op: BinaryOp,
@@ -254,22 +265,108 @@ pub enum Op {
     End,
 }
 
-impl Op {
-    /// How many instructions this one counts as against a task's budget and in the run's
-    /// instruction count: a fused instruction counts as the ones it replaced, so fusing never
-    /// moves a yield or changes a trace.
-    pub fn weight(&self) -> u64 {
-        match self {
-            Op::AddLong { .. }
-            | Op::SubLong { .. }
-            | Op::MulLong { .. }
-            | Op::AddCheck { .. }
-            | Op::SubCheck { .. }
-            | Op::MulCheck { .. }
-            | Op::AddReal { .. }
-            | Op::SubReal { .. }
-            | Op::MulReal { .. } => 2,
-            _ => 1,
+/// Fuse adjacent pairs of instructions into superinstructions (see [`Op::AddLong`]). Only a pair
+/// joined by a temporary in `temps` is fused.
+pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
+    let mut i = 0;
+    while i + 1 < ops.len() {
+        let fused = match (ops[i], ops[i + 1]) {
+            (Op::Add { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::AddLong { t, dst, a, b })
+            }
+            (Op::Sub { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::SubLong { t, dst, a, b })
+            }
+            (Op::Mul { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::MulLong { t, dst, a, b })
+            }
+            (Op::IMod { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::IntLong {
+                    op: BinaryOp::BasicMod,
+                    t,
+                    dst,
+                    a,
+                    b,
+                })
+            }
+            (Op::IDiv { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::IntLong {
+                    op: BinaryOp::IntDiv,
+                    t,
+                    dst,
+                    a,
+                    b,
+                })
+            }
+            (Op::BitAnd { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::IntLong {
+                    op: BinaryOp::BitAnd,
+                    t,
+                    dst,
+                    a,
+                    b,
+                })
+            }
+            (Op::BitOr { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::IntLong {
+                    op: BinaryOp::BitOr,
+                    t,
+                    dst,
+                    a,
+                    b,
+                })
+            }
+            (Op::BitXor { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::IntLong {
+                    op: BinaryOp::BitXor,
+                    t,
+                    dst,
+                    a,
+                    b,
+                })
+            }
+            (Op::Add { dst, a, b }, Op::CheckLong { r }) if r == dst => {
+                Some(Op::AddCheck { dst, a, b })
+            }
+            (Op::Sub { dst, a, b }, Op::CheckLong { r }) if r == dst => {
+                Some(Op::SubCheck { dst, a, b })
+            }
+            (Op::Mul { dst, a, b }, Op::CheckLong { r }) if r == dst => {
+                Some(Op::MulCheck { dst, a, b })
+            }
+            (Op::Add { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
+                Some(Op::AddReal { t, dst, a, b })
+            }
+            (Op::Sub { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
+                Some(Op::SubReal { t, dst, a, b })
+            }
+            (Op::Mul { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
+                Some(Op::MulReal { t, dst, a, b })
+            }
+            _ => None,
+        };
+        // The joining register must be a temporary: a pair through a variable is left alone
+        // (the first half's write would be traced).
+        let joined = match fused {
+            Some(
+                Op::AddLong { t, .. }
+                | Op::SubLong { t, .. }
+                | Op::MulLong { t, .. }
+                | Op::IntLong { t, .. }
+                | Op::AddReal { t, .. }
+                | Op::SubReal { t, .. }
+                | Op::MulReal { t, .. }
+                | Op::AddCheck { dst: t, .. }
+                | Op::SubCheck { dst: t, .. }
+                | Op::MulCheck { dst: t, .. },
+            ) => temps.contains(&t),
+            _ => false,
+        };
+        if let (true, Some(op)) = (joined, fused) {
+            ops[i] = op;
+            i += 2;
+        } else {
+            i += 1;
         }
     }
 }

@@ -208,10 +208,12 @@ impl<'a> Compiler<'a> {
         }
     }
 
-    fn finish(self, program: u32, file: &str, src: &str) -> Result<Chunk, Vec<Problem>> {
+    fn finish(mut self, program: u32, file: &str, src: &str) -> Result<Chunk, Vec<Problem>> {
         if !self.problems.is_empty() {
             return Err(self.problems);
         }
+        let temps = self.layout.temp_base()..self.layout.temp_base() + MAX_TEMPS;
+        bytecode::fuse(&mut self.ops, temps);
         Ok(Chunk {
             program,
             file: file.to_string(),
@@ -227,20 +229,6 @@ impl<'a> Compiler<'a> {
         self.lines.push(self.line);
         self.spans.push(self.span);
         self.ops.len() - 1
-    }
-
-    /// Replace the last instruction by `op`, which takes the current statement's place in the
-    /// source (a fused store: its faults are the store's).
-    fn replace_last(&mut self, op: Op) {
-        if let (Some(last), Some(line), Some(span)) = (
-            self.ops.last_mut(),
-            self.lines.last_mut(),
-            self.spans.last_mut(),
-        ) {
-            *last = op;
-            *line = self.line;
-            *span = self.span;
-        }
     }
 
     fn here(&self) -> u32 {
@@ -600,27 +588,6 @@ impl<'a> Compiler<'a> {
                     self.spans.pop();
                 }
             }
-            // The value was just computed into a temporary by this statement: compute it
-            // straight into the variable (one instruction counting as the two it replaces; a
-            // fault in it is the store's, so it takes the store's place in the source).
-            if self.ops.len() > self.stmt_start {
-                let fused = match self.ops.last() {
-                    Some(&(Op::Add { dst, a, b } | Op::AddCheck { dst, a, b })) if dst == src => {
-                        Some(Op::AddLong { dst: r.slot, a, b })
-                    }
-                    Some(&(Op::Sub { dst, a, b } | Op::SubCheck { dst, a, b })) if dst == src => {
-                        Some(Op::SubLong { dst: r.slot, a, b })
-                    }
-                    Some(&(Op::Mul { dst, a, b } | Op::MulCheck { dst, a, b })) if dst == src => {
-                        Some(Op::MulLong { dst: r.slot, a, b })
-                    }
-                    _ => None,
-                };
-                if let Some(op) = fused {
-                    self.replace_last(op);
-                    return;
-                }
-            }
             self.emit(Op::StoreLong { dst: r.slot, src });
             return;
         }
@@ -706,29 +673,7 @@ impl<'a> Compiler<'a> {
                 src,
                 decimals: d,
             },
-            ValueType::Real => {
-                // As for longs: an add, subtract or multiply just computed into a temporary is
-                // computed straight into the real (counting as two instructions).
-                if self.ops.len() > self.stmt_start {
-                    let fused = match self.ops.last() {
-                        Some(&Op::Add { dst, a, b }) if dst == src => {
-                            Some(Op::AddReal { dst: r.slot, a, b })
-                        }
-                        Some(&Op::Sub { dst, a, b }) if dst == src => {
-                            Some(Op::SubReal { dst: r.slot, a, b })
-                        }
-                        Some(&Op::Mul { dst, a, b }) if dst == src => {
-                            Some(Op::MulReal { dst: r.slot, a, b })
-                        }
-                        _ => None,
-                    };
-                    if let Some(op) = fused {
-                        self.replace_last(op);
-                        return;
-                    }
-                }
-                Op::StoreReal { dst: r.slot, src }
-            }
+            ValueType::Real => Op::StoreReal { dst: r.slot, src },
         };
         self.emit(op);
     }
@@ -892,18 +837,8 @@ impl<'a> Compiler<'a> {
                 if *negate {
                     // MotionBASIC's comparisons give -1 or 0.
                     self.emit(Op::Neg { dst, a: dst });
-                } else if e.long {
-                    // Long arithmetic checks its range where it is computed: the operation and
-                    // its check are one instruction (counting as two).
-                    let checked = match instruction {
-                        Op::Add { dst, a, b } => Some(Op::AddCheck { dst, a, b }),
-                        Op::Sub { dst, a, b } => Some(Op::SubCheck { dst, a, b }),
-                        Op::Mul { dst, a, b } => Some(Op::MulCheck { dst, a, b }),
-                        _ => None,
-                    };
-                    if let (Some(op), Some(last)) = (checked, self.ops.last_mut()) {
-                        *last = op;
-                    }
+                } else if e.long && matches!(op, TypedOp::Add | TypedOp::Sub | TypedOp::Mul) {
+                    self.emit(Op::CheckLong { r: dst });
                 }
                 dst
             }

@@ -171,43 +171,20 @@ pub fn run(
                 }
                 v[dst as usize] = int_rem(v[a as usize], y);
             }
-            Op::IMod { dst, a, b } => {
-                let (x, y) = (v[a as usize], v[b as usize]);
-                let (i, j) = (x as i32, y as i32);
-                if f64::from(i) == x && f64::from(j) == y && j != 0 {
-                    // The remainder has the sign of x, zero included (as `fmod` gives it).
-                    v[dst as usize] = f64::from(i.wrapping_rem(j)).copysign(x);
-                } else {
-                    match basic_integer(BinaryOp::BasicMod, x, y) {
-                        Ok(r) => v[dst as usize] = r,
-                        Err(message) => {
-                            pc = here;
-                            fault!("{message}");
-                        }
-                    }
+            Op::IMod { dst, a, b } => match basic_mod(v[a as usize], v[b as usize]) {
+                Ok(r) => v[dst as usize] = r,
+                Err(message) => {
+                    pc = here;
+                    fault!("{message}");
                 }
-            }
-            Op::IDiv { dst, a, b } => {
-                let (x, y) = (v[a as usize], v[b as usize]);
-                let (i, j) = (x as i32, y as i32);
-                if f64::from(i) == x && f64::from(j) == y && j != 0 && !(i == i32::MIN && j == -1) {
-                    let q = i / j;
-                    // A zero quotient keeps the sign `(x / y).trunc()` gives it.
-                    v[dst as usize] = if q == 0 && x.is_sign_negative() != y.is_sign_negative() {
-                        -0.0
-                    } else {
-                        f64::from(q)
-                    };
-                } else {
-                    match basic_integer(BinaryOp::IntDiv, x, y) {
-                        Ok(r) => v[dst as usize] = r,
-                        Err(message) => {
-                            pc = here;
-                            fault!("{message}");
-                        }
-                    }
+            },
+            Op::IDiv { dst, a, b } => match basic_div(v[a as usize], v[b as usize]) {
+                Ok(r) => v[dst as usize] = r,
+                Err(message) => {
+                    pc = here;
+                    fault!("{message}");
                 }
-            }
+            },
             Op::BitAnd { dst, a, b } => {
                 v[dst as usize] = (int(v[a as usize]) & int(v[b as usize])) as f64
             }
@@ -217,42 +194,80 @@ pub fn run(
             Op::BitXor { dst, a, b } => {
                 v[dst as usize] = (int(v[a as usize]) ^ int(v[b as usize])) as f64
             }
-            // Fused instructions count as the two they replace.
-            Op::AddLong { dst, a, b } => {
+            // Superinstructions: the work of this instruction and the next, which is skipped;
+            // they count as two, and a fault in the second half is reported at the second.
+            Op::AddLong { t, dst, a, b } => {
                 n += 1;
-                store_long!(dst, v[a as usize] + v[b as usize], here)
+                let x = v[a as usize] + v[b as usize];
+                v[t as usize] = x;
+                store_long!(dst, x, here + 1);
+                pc = here + 2;
             }
-            Op::SubLong { dst, a, b } => {
+            Op::SubLong { t, dst, a, b } => {
                 n += 1;
-                store_long!(dst, v[a as usize] - v[b as usize], here)
+                let x = v[a as usize] - v[b as usize];
+                v[t as usize] = x;
+                store_long!(dst, x, here + 1);
+                pc = here + 2;
             }
-            Op::MulLong { dst, a, b } => {
+            Op::MulLong { t, dst, a, b } => {
                 n += 1;
-                store_long!(dst, v[a as usize] * v[b as usize], here)
+                let x = v[a as usize] * v[b as usize];
+                v[t as usize] = x;
+                store_long!(dst, x, here + 1);
+                pc = here + 2;
+            }
+            Op::IntLong { op, t, dst, a, b } => {
+                n += 1;
+                match integer(op, v[a as usize], v[b as usize]) {
+                    Ok(x) => {
+                        v[t as usize] = x;
+                        store_long!(dst, x, here + 1);
+                        pc = here + 2;
+                    }
+                    Err(message) => {
+                        // The first half failed: the second was not reached.
+                        n -= 1;
+                        pc = here;
+                        fault!("{message}");
+                    }
+                }
             }
             Op::AddCheck { dst, a, b } => {
                 n += 1;
-                check_long!(dst, v[a as usize] + v[b as usize], here)
+                check_long!(dst, v[a as usize] + v[b as usize], here + 1);
+                pc = here + 2;
             }
             Op::SubCheck { dst, a, b } => {
                 n += 1;
-                check_long!(dst, v[a as usize] - v[b as usize], here)
+                check_long!(dst, v[a as usize] - v[b as usize], here + 1);
+                pc = here + 2;
             }
             Op::MulCheck { dst, a, b } => {
                 n += 1;
-                check_long!(dst, v[a as usize] * v[b as usize], here)
+                check_long!(dst, v[a as usize] * v[b as usize], here + 1);
+                pc = here + 2;
             }
-            Op::AddReal { dst, a, b } => {
+            Op::AddReal { t, dst, a, b } => {
                 n += 1;
-                store_real!(dst, v[a as usize] + v[b as usize], here)
+                let x = v[a as usize] + v[b as usize];
+                v[t as usize] = x;
+                store_real!(dst, x, here + 1);
+                pc = here + 2;
             }
-            Op::SubReal { dst, a, b } => {
+            Op::SubReal { t, dst, a, b } => {
                 n += 1;
-                store_real!(dst, v[a as usize] - v[b as usize], here)
+                let x = v[a as usize] - v[b as usize];
+                v[t as usize] = x;
+                store_real!(dst, x, here + 1);
+                pc = here + 2;
             }
-            Op::MulReal { dst, a, b } => {
+            Op::MulReal { t, dst, a, b } => {
                 n += 1;
-                store_real!(dst, v[a as usize] * v[b as usize], here)
+                let x = v[a as usize] * v[b as usize];
+                v[t as usize] = x;
+                store_real!(dst, x, here + 1);
+                pc = here + 2;
             }
             Op::StoreLong { dst, src } => store_long!(dst, v[src as usize], here),
             Op::CheckLong { r } => check_long!(r, v[r as usize], here),
@@ -789,6 +804,54 @@ fn basic_integer(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
     Ok(q)
 }
 
+/// MotionBASIC `MOD`. Whole operands within 32 bits (every long is one) take the integer
+/// remainder: exactly what rounding them and `fmod` give, sign of a zero included, without
+/// libm. Anything else goes the general way ([`basic_integer`]).
+#[inline(always)]
+fn basic_mod(x: f64, y: f64) -> Result<f64, &'static str> {
+    let (i, j) = (x as i32, y as i32);
+    // `as i32` saturates, and i32's limits are exact in f64, so out-of-range (and NaN) operands
+    // fail this test.
+    if f64::from(i) == x && f64::from(j) == y && j != 0 {
+        // The remainder has the sign of x, a zero one included.
+        Ok(f64::from(i.wrapping_rem(j)).copysign(x))
+    } else {
+        basic_integer(BinaryOp::BasicMod, x, y)
+    }
+}
+
+/// MotionBASIC `\`, with the integer path of [`basic_mod`]: the quotient truncated toward
+/// zero, as `(x / y).trunc()` gives it (a float quotient of two 32-bit integers is never
+/// rounded across an integer).
+#[inline(always)]
+fn basic_div(x: f64, y: f64) -> Result<f64, &'static str> {
+    let (i, j) = (x as i32, y as i32);
+    if f64::from(i) == x && f64::from(j) == y && j != 0 && !(i == i32::MIN && j == -1) {
+        let q = i / j;
+        // A zero quotient has the sign of x / y.
+        Ok(if q == 0 && x.is_sign_negative() != y.is_sign_negative() {
+            -0.0
+        } else {
+            f64::from(q)
+        })
+    } else {
+        basic_integer(BinaryOp::IntDiv, x, y)
+    }
+}
+
+/// The integer operators a superinstruction stores into a long.
+#[inline(always)]
+fn integer(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
+    match op {
+        BinaryOp::BasicMod => basic_mod(x, y),
+        BinaryOp::IntDiv => basic_div(x, y),
+        BinaryOp::BitAnd => Ok((int(x) & int(y)) as f64),
+        BinaryOp::BitOr => Ok((int(x) | int(y)) as f64),
+        BinaryOp::BitXor => Ok((int(x) ^ int(y)) as f64),
+        _ => binary(op, x, y),
+    }
+}
+
 /// A real stored into a long, when it is not already a whole number within 32 bits: halves
 /// rounded to even (Microsoft BASIC's CLNG), `None` outside 32 bits.
 #[cold]
@@ -941,7 +1004,59 @@ fn sync_snapshot(ctx: &mut Ctx<'_, '_>, v: &[f64]) {
 
 #[cfg(test)]
 mod tests {
-    use super::int_rem;
+    use super::{basic_div, basic_integer, basic_mod, int_rem, BinaryOp};
+
+    /// The integer paths of MOD and `\` give exactly (bit for bit, the sign of zero and every
+    /// error included) what rounding both operands and dividing as reals gives.
+    #[test]
+    fn integer_paths_match_the_general_ones() {
+        let values = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            2.0,
+            -2.0,
+            3.0,
+            -3.0,
+            7.0,
+            -7.0,
+            0.5,
+            -0.5,
+            1.5,
+            -1.5,
+            2.5,
+            -2.5,
+            6.5,
+            -6.5,
+            2147483647.0,
+            -2147483648.0,
+            2147483648.0,
+            -2147483649.0,
+            2147483647.5,
+            1e10,
+            -1e10,
+            f64::NAN,
+            f64::INFINITY,
+        ];
+        fn bits(r: Result<f64, &'static str>) -> Result<u64, &'static str> {
+            r.map(f64::to_bits)
+        }
+        for &x in &values {
+            for &y in &values {
+                assert_eq!(
+                    bits(basic_mod(x, y)),
+                    bits(basic_integer(BinaryOp::BasicMod, x, y)),
+                    "{x} MOD {y}"
+                );
+                assert_eq!(
+                    bits(basic_div(x, y)),
+                    bits(basic_integer(BinaryOp::IntDiv, x, y)),
+                    "{x} \\ {y}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn remainder_matches_fmod() {
