@@ -8,6 +8,7 @@
 #
 #   bash bench/run.sh                 # the whole set
 #   RUNS=3 bash bench/run.sh int      # a quicker look at some benchmarks
+#   PACER_BEFORE=/path/to/old/pacer bash bench/run.sh   # also time an older pacer, same rounds
 #
 # Results: Lua and Python print `NAME=value …`; pacer's values are read from the last row of a
 # `--csv` of the variables its `results` file names (one line each: NAME, variable, printf
@@ -17,7 +18,8 @@ set -euo pipefail
 RUNS="${RUNS:-5}"
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
-PACER="${CARGO_TARGET_DIR:-$ROOT/target}/release/pacer"
+PACER="${PACER:-${CARGO_TARGET_DIR:-$ROOT/target}/release/pacer}"
+BEFORE="${PACER_BEFORE:-}"
 BENCHES=("$@")
 if [ ${#BENCHES[@]} -eq 0 ]; then
     BENCHES=(arith loop unseen int branch filter call kernel)
@@ -110,19 +112,28 @@ for ((round = 0; round < RUNS; round++)); do
     for b in "${BENCHES[@]}"; do
         while read -r dir label; do
             keep "pacer $label" "$(seconds "$PACER" run -q "$dir")"
+            if [ -n "$BEFORE" ]; then
+                keep "before $label" "$(seconds "$BEFORE" run -q "$dir")"
+            fi
         done < <(variants "$b")
         keep "lua $b" "$(seconds lua5.4 "bench/$b/bench.lua")"
         keep "python $b" "$(seconds python3 "bench/$b/bench.py")"
     done
 done
 
-printf '| %-14s | %8s | %8s | %8s | %9s | %12s |\n' benchmark pacer "Lua 5.4" "Python 3" pacer/Lua pacer/Python
-printf '|%s|%s:|%s:|%s:|%s:|%s:|\n' ---------------- --------- --------- --------- ---------- -------------
+if [ -n "$BEFORE" ]; then
+    printf '| %-14s | %8s | %8s | %8s | %8s | %9s | %12s |\n' benchmark before pacer "Lua 5.4" "Python 3" pacer/Lua pacer/Python
+    printf '|%s|%s:|%s:|%s:|%s:|%s:|%s:|\n' ---------------- --------- --------- --------- --------- ---------- -------------
+else
+    printf '| %-14s | %8s | %8s | %8s | %9s | %12s |\n' benchmark pacer "Lua 5.4" "Python 3" pacer/Lua pacer/Python
+    printf '|%s|%s:|%s:|%s:|%s:|%s:|\n' ---------------- --------- --------- --------- ---------- -------------
+fi
 for b in "${BENCHES[@]}"; do
     while read -r dir label; do
         awk -v name="$label" -v p="${best[pacer $label]}" -v l="${best[lua $b]}" \
-            -v y="${best[python $b]}" 'BEGIN {
-            printf "| %-14s | %6.3f s | %6.3f s | %6.3f s | %9.2f | %12.2f |\n", name, p, l, y, p / l, p / y
+            -v y="${best[python $b]}" -v o="${best[before $label]:-}" 'BEGIN {
+            before = (o == "") ? "" : sprintf(" %6.3f s |", o)
+            printf "| %-14s |%s %6.3f s | %6.3f s | %6.3f s | %9.2f | %12.2f |\n", name, before, p, l, y, p / l, p / y
         }'
     done < <(variants "$b")
 done

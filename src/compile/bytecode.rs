@@ -370,3 +370,90 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
         }
     }
 }
+
+impl Op {
+    /// Where this instruction may send the interpreter, besides the next instruction.
+    pub fn target(&self) -> Option<u32> {
+        match *self {
+            Op::Jump { target }
+            | Op::Loop { target }
+            | Op::JumpIfFalse { target, .. }
+            | Op::JumpIfTrue { target, .. }
+            | Op::JumpUnlessLt { target, .. }
+            | Op::JumpUnlessLe { target, .. }
+            | Op::JumpUnlessEq { target, .. }
+            | Op::JumpUnlessNe { target, .. }
+            | Op::JumpWhenLt { target, .. }
+            | Op::JumpWhenLe { target, .. }
+            | Op::JumpWhenEq { target, .. }
+            | Op::JumpWhenNe { target, .. }
+            | Op::Gosub { target } => Some(target),
+            Op::ForCheck { exit, .. } => Some(exit),
+            Op::ForNext { body, .. } => Some(body),
+            Op::WaitUntil { retry, .. } => Some(retry),
+            _ => None,
+        }
+    }
+
+    /// The largest register the interpreter's loop reads or writes directly for this
+    /// instruction (the step of a `For` is the register after its limit); `None` for an
+    /// instruction with no register or whose registers are read in a function of its own (with
+    /// bounds checks). The interpreter checks once per entry that the value array holds every
+    /// such register of a chunk, then reads them without a bounds check each.
+    pub fn max_register(&self) -> Option<Reg> {
+        let max = match *self {
+            Op::Move { dst, src }
+            | Op::StoreFixed { dst, src, .. }
+            | Op::StoreLong { dst, src }
+            | Op::StoreReal { dst, src }
+            | Op::StoreBit { dst, src } => dst.max(src),
+            Op::Add { dst, a, b }
+            | Op::Sub { dst, a, b }
+            | Op::Mul { dst, a, b }
+            | Op::Div { dst, a, b }
+            | Op::Mod { dst, a, b }
+            | Op::IMod { dst, a, b }
+            | Op::IDiv { dst, a, b }
+            | Op::BitAnd { dst, a, b }
+            | Op::BitOr { dst, a, b }
+            | Op::BitXor { dst, a, b }
+            | Op::AddCheck { dst, a, b }
+            | Op::SubCheck { dst, a, b }
+            | Op::MulCheck { dst, a, b }
+            | Op::AddFixed { dst, a, b, .. }
+            | Op::SubFixed { dst, a, b, .. }
+            | Op::MulFixed { dst, a, b, .. }
+            | Op::ArithFixed { dst, a, b, .. }
+            | Op::Binary { dst, a, b, .. }
+            | Op::Compare { dst, a, b, .. }
+            | Op::Call { dst, a, b, .. } => dst.max(a).max(b),
+            Op::AddLong { t, dst, a, b }
+            | Op::SubLong { t, dst, a, b }
+            | Op::MulLong { t, dst, a, b }
+            | Op::IntLong { t, dst, a, b, .. }
+            | Op::AddReal { t, dst, a, b }
+            | Op::SubReal { t, dst, a, b }
+            | Op::MulReal { t, dst, a, b } => t.max(dst).max(a).max(b),
+            Op::Neg { dst, a } | Op::Not { dst, a } | Op::BitNot { dst, a } => dst.max(a),
+            Op::Write { slot, src, .. } => slot.max(src),
+            Op::JumpIfFalse { cond, .. }
+            | Op::JumpIfTrue { cond, .. }
+            | Op::WaitUntil { cond, .. }
+            | Op::CheckLong { r: cond } => cond,
+            Op::JumpUnlessLt { a, b, .. }
+            | Op::JumpUnlessLe { a, b, .. }
+            | Op::JumpUnlessEq { a, b, .. }
+            | Op::JumpUnlessNe { a, b, .. }
+            | Op::JumpWhenLt { a, b, .. }
+            | Op::JumpWhenLe { a, b, .. }
+            | Op::JumpWhenEq { a, b, .. }
+            | Op::JumpWhenNe { a, b, .. } => a.max(b),
+            Op::WaitTime { src } | Op::Dwell { src, .. } => src,
+            Op::ForCheck { var, limit, .. } | Op::ForNext { var, limit, .. } => {
+                var.max(limit.saturating_add(1))
+            }
+            _ => return None,
+        };
+        Some(max)
+    }
+}

@@ -122,6 +122,12 @@ pub struct Chunk {
     pub file: String,
     /// The instructions.
     pub ops: Vec<Op>,
+    /// One past the largest register the interpreter's loop uses unchecked
+    /// ([`Op::max_register`]): the value array must be at least this long.
+    pub regs_end: usize,
+    /// The chunk ends with `End` and every jump stays inside it, so the interpreter fetches
+    /// instructions without a bounds check (it refuses a chunk that is not closed).
+    pub closed: bool,
     /// Source line of each instruction.
     pub lines: Vec<u32>,
     /// The source each instruction evaluates: an operator's whole expression, a call, a
@@ -214,7 +220,24 @@ impl<'a> Compiler<'a> {
         }
         let temps = self.layout.temp_base()..self.layout.temp_base() + MAX_TEMPS;
         bytecode::fuse(&mut self.ops, temps);
+        let regs_end = self
+            .ops
+            .iter()
+            .filter_map(Op::max_register)
+            .map(|r| r as usize + 1)
+            .max()
+            .unwrap_or(0);
+        // Every instruction the interpreter can reach is inside the chunk: it ends with `End`
+        // (so running on from any other instruction stays inside), and every target is inside.
+        let len = self.ops.len();
+        let closed = matches!(self.ops.last(), Some(Op::End))
+            && self
+                .ops
+                .iter()
+                .all(|op| op.target().is_none_or(|t| (t as usize) < len));
         Ok(Chunk {
+            regs_end,
+            closed,
             program,
             file: file.to_string(),
             ops: self.ops,

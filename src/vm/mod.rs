@@ -818,6 +818,9 @@ impl Machine {
     }
 
     fn exec(&mut self, task: usize, chunk: usize, pc: u32, probe: bool, budget: u64) -> Exit {
+        // A task's turn runs GOSUB and RETURN in the interpreter (on the task's frames); a
+        // probe of a `Wait For` condition runs no subroutine.
+        let mut frames = (!probe).then(|| std::mem::take(&mut self.tasks[task].frames));
         let slot_count = self.image.registry.slot_count() as u32;
         let mut ctx = Ctx {
             task,
@@ -838,8 +841,12 @@ impl Machine {
             budget,
             &mut executed,
             probe,
+            frames.as_mut(),
         );
         self.instructions = executed;
+        if let Some(frames) = frames {
+            self.tasks[task].frames = frames;
+        }
         exit
     }
 
@@ -955,7 +962,10 @@ impl Machine {
                     }
                 }
                 Exit::Return { pc } => {
-                    if !frame.gosub {
+                    // The frame running now (the interpreter may have entered and left
+                    // subroutines since `frame` was read).
+                    let in_subroutine = self.tasks[ti].frames.last().is_some_and(|f| f.gosub);
+                    if !in_subroutine {
                         self.fault(ti, frame.chunk, pc, "RETURN without GOSUB".into());
                         return;
                     }
