@@ -1001,7 +1001,12 @@ fn round_long(raw: f64) -> Option<f64> {
 /// The integer a bitwise operator works on: halves rounded to even, as Microsoft BASIC does.
 #[inline]
 fn int(x: f64) -> i64 {
-    // Integers (the common case) convert with one instruction; only fractions need rounding.
+    // Integers (the common case) convert with one instruction each way; only fractions need
+    // rounding, and only values past 32 bits the 64-bit conversion.
+    let i = trunc_i32(x);
+    if f64::from(i) == x {
+        return i64::from(i);
+    }
     let i = x as i64;
     if i as f64 == x {
         i
@@ -1091,6 +1096,12 @@ fn overflow_message(ctx: &Ctx<'_, '_>, slot: u32, x: f64, decimals: u8) -> Strin
 /// `x MOD y` with the sign of `x`; exact and fast (no libm `fmod`) when both are whole numbers.
 #[inline(always)]
 fn int_rem(x: f64, y: f64) -> f64 {
+    // Within 32 bits (every integer variable) a 32-bit division, quicker than a 64-bit one;
+    // both give the same remainder, a zero one as 0.
+    let (i, j) = (trunc_i32(x), trunc_i32(y));
+    if f64::from(i) == x && f64::from(j) == y && j != 0 {
+        return f64::from(i.wrapping_rem(j));
+    }
     let (a, b) = (x as i64, y as i64);
     if a as f64 == x && b as f64 == y && b != 0 && a != i64::MIN {
         (a % b) as f64
