@@ -818,9 +818,6 @@ impl Machine {
     }
 
     fn exec(&mut self, task: usize, chunk: usize, pc: u32, probe: bool, budget: u64) -> Exit {
-        // A task's turn runs GOSUB and RETURN in the interpreter (on the task's frames); a
-        // probe of a `Wait For` condition runs no subroutine.
-        let mut frames = (!probe).then(|| std::mem::take(&mut self.tasks[task].frames));
         let slot_count = self.image.registry.slot_count() as u32;
         let mut ctx = Ctx {
             task,
@@ -833,6 +830,7 @@ impl Machine {
             strings: &self.image.strings,
         };
         let mut executed = self.instructions;
+        let frames = self.tasks.get_mut(task).map(|t| &mut t.frames);
         let exit = exec::run(
             &self.image.chunks[chunk],
             pc,
@@ -841,12 +839,11 @@ impl Machine {
             budget,
             &mut executed,
             probe,
-            frames.as_mut(),
+            // A task's turn runs GOSUB and RETURN in the interpreter, on the task's frames; a
+            // probe of a `Wait For` condition runs no subroutine.
+            frames.filter(|_| !probe),
         );
         self.instructions = executed;
-        if let Some(frames) = frames {
-            self.tasks[task].frames = frames;
-        }
         exit
     }
 
