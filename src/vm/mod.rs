@@ -984,7 +984,10 @@ impl Machine {
                 }
                 Exit::Call { program, pc } => {
                     set_pc(self, pc);
-                    let Some(&chunk) = self.image.programs.get(&program) else {
+                    // A machine has few programs: comparing their numbers is quicker than
+                    // hashing one (a program may call another every few instructions).
+                    let found = self.image.programs.iter().find(|(&p, _)| p == program);
+                    let Some((_, &chunk)) = found else {
                         self.fault(
                             ti,
                             frame.chunk,
