@@ -3,11 +3,12 @@
 # wall time, updates per second, real-time factor and peak memory.
 #
 #   bash bench/labeling.sh
+#   PACER=/path/to/pacer bash bench/labeling.sh   # another build (default: this tree's release)
 set -euo pipefail
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 cargo build --release --quiet
-PACER="$ROOT/target/release/pacer"
+PACER="${PACER:-${CARGO_TARGET_DIR:-$ROOT/target}/release/pacer}"
 TMP="$(mktemp -d)"
 trap 'rm -rf "$TMP"' EXIT
 cp programs/labeling/*.pt "$TMP/"

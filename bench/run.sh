@@ -1,16 +1,29 @@
 #!/usr/bin/env bash
-# Times the arithmetic benchmark (bench/arith) on pacer, Lua 5.4 and Python 3: the best wall
-# clock time of RUNS runs each (default 5), the ratios pacer/lua and pacer/python, and a check
-# that all three computed the same results.
+# The interpreter against Lua 5.4 and Python 3 on the benchmark set: every benchmark folder
+# below holds the same algorithm for pacer (a machine folder, or one per dialect in pt/ and
+# mb/), bench.lua and bench.py. The script checks that all of them compute the same results,
+# then times them interleaved (each round runs every program once, so a slow moment of the
+# machine hits all of them alike) and prints the best of RUNS rounds (default 5) and the ratios
+# pacer/Lua and pacer/Python.
 #
-#   bash bench/run.sh            # RUNS=3 bash bench/run.sh for a quicker look
+#   bash bench/run.sh                 # the whole set
+#   RUNS=3 bash bench/run.sh int      # a quicker look at some benchmarks
+#   PACER_BEFORE=/path/to/old/pacer bash bench/run.sh   # also time an older pacer, same rounds
+#
+# Results: Lua and Python print `NAME=value …`; pacer's values are read from the last row of a
+# `--csv` of the variables its `results` file names (one line each: NAME, variable, printf
+# format), written by an untimed run.
 set -euo pipefail
 
 RUNS="${RUNS:-5}"
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
-BENCH=bench/arith
-PACER="$ROOT/target/release/pacer"
+PACER="${PACER:-${CARGO_TARGET_DIR:-$ROOT/target}/release/pacer}"
+BEFORE="${PACER_BEFORE:-}"
+BENCHES=("$@")
+if [ ${#BENCHES[@]} -eq 0 ]; then
+    BENCHES=(arith loop unseen int branch filter call kernel)
+fi
 
 # --- tools ------------------------------------------------------------------------------------
 if ! command -v lua5.4 >/dev/null 2>&1; then
@@ -28,89 +41,99 @@ cargo build --release --quiet
 echo "lua:    $(lua5.4 -v 2>&1 | head -n 1)" >&2
 echo "python: $(python3 --version 2>&1)" >&2
 
-# --- results ----------------------------------------------------------------------------------
-# Lua and Python print their results. pacer prints none: its results are read from a trace
-# (with `--trace-writes` every write is a `change` event; the program writes each result once more after its loop,
-# so the last events hold them all). This run is for checking only and is not timed.
-lua_out="$(lua5.4 "$BENCH/bench.lua")"
-py_out="$(python3 "$BENCH/bench.py")"
-pacer_out="$("$PACER" run -q "$BENCH" --trace-writes --trace /dev/stdout | tail -n 40 | awk '
-    /"kind":"change"/ {
-        name = $0; sub(/.*"name":"Var\./, "", name); sub(/".*/, "", name)
-        value = $0; sub(/.*"value":/, "", value); sub(/[},].*/, "", value)
-        v[name] = value
-    }
-    END {
-        printf "N=%d Acc=%d Hits=%d Odd=%d Chk=%d Mix=%d Ema=%.6f Harm=%.6f\n",
-            v["N"], v["Acc"], v["Hits"], v["Odd"], v["Chk"], v["Mix"], v["Ema"], v["Harm"]
-    }')"
+# The pacer machine folders of a benchmark, each with its label: `DIR LABEL` lines.
+variants() {
+    local b="bench/$1"
+    if [ -f "$b/machine.toml" ]; then echo "$b $1"; fi
+    for d in pt mb; do
+        if [ -f "$b/$d/machine.toml" ]; then echo "$b/$d $1 ($d)"; fi
+    done
+}
 
+# pacer's results for machine folder $1, formatted as Lua and Python print theirs.
+pacer_results() {
+    local dir="$1" csv signals
+    csv="$(mktemp)"
+    signals="$(awk '{ print $2 }' "$dir/results" | paste -sd, -)"
+    "$PACER" run -q "$dir" --csv "$csv" --signals "$signals" >/dev/null
+    tail -n 1 "$csv" | awk -F, -v spec="$dir/results" '{
+        n = 0
+        while ((getline line < spec) > 0) {
+            split(line, f, " ")
+            n++
+            out = out (n > 1 ? " " : "") f[1] "=" sprintf(f[3], $(n + 2))
+        }
+        print out
+    }'
+    rm -f "$csv"
+}
+
+# --- results ----------------------------------------------------------------------------------
 echo
 echo "results:"
-printf '  %-7s %s\n' pacer "$pacer_out" lua "$lua_out" python "$py_out"
-if [ "$pacer_out" != "$lua_out" ] || [ "$pacer_out" != "$py_out" ]; then
-    echo "MISMATCH: the three results differ" >&2
-    exit 1
-fi
-echo "  all three agree"
+for b in "${BENCHES[@]}"; do
+    lua_out="$(lua5.4 "bench/$b/bench.lua")"
+    py_out="$(python3 "bench/$b/bench.py")"
+    printf '  %-14s %-8s %s\n' "$b" lua "$lua_out" "" python "$py_out"
+    if [ "$lua_out" != "$py_out" ]; then
+        echo "MISMATCH in $b: Lua and Python differ" >&2
+        exit 1
+    fi
+    while read -r dir label; do
+        out="$(pacer_results "$dir")"
+        printf '  %-14s %-8s %s\n' "" "pacer" "$out  [$label]"
+        if [ "$out" != "$lua_out" ]; then
+            echo "MISMATCH in $label: pacer differs from Lua and Python" >&2
+            exit 1
+        fi
+    done < <(variants "$b")
+done
+echo "  all agree"
 
 # --- timing -----------------------------------------------------------------------------------
-# best_of CMD...: the least wall clock time, in seconds, of $RUNS runs (output discarded).
-best_of() {
-    local best="" start end t i
-    for ((i = 0; i < RUNS; i++)); do
-        start=$(date +%s.%N)
-        "$@" >/dev/null
-        end=$(date +%s.%N)
-        t=$(awk -v s="$start" -v e="$end" 'BEGIN { printf "%.3f", e - s }')
-        if [ -z "$best" ] || awk -v t="$t" -v b="$best" 'BEGIN { exit !(t < b) }'; then
-            best=$t
-        fi
-    done
-    echo "$best"
+# seconds CMD...: the wall clock time of one run, output discarded.
+seconds() {
+    local start end
+    start=$(date +%s.%N)
+    "$@" >/dev/null
+    end=$(date +%s.%N)
+    awk -v s="$start" -v e="$end" 'BEGIN { printf "%.3f", e - s }'
+}
+declare -A best
+keep() { # keep KEY SECONDS: the least so far
+    if [ -z "${best[$1]:-}" ] || awk -v t="$2" -v b="${best[$1]}" 'BEGIN { exit !(t < b) }'; then
+        best[$1]=$2
+    fi
 }
 
 echo
-echo "timing (best of $RUNS, wall clock) ..." >&2
-t_pacer=$(best_of "$PACER" run -q "$BENCH")
-t_lua=$(best_of lua5.4 "$BENCH/bench.lua")
-t_py=$(best_of python3 "$BENCH/bench.py")
+echo "timing (best of $RUNS, interleaved, wall clock) ..." >&2
+for ((round = 0; round < RUNS; round++)); do
+    for b in "${BENCHES[@]}"; do
+        while read -r dir label; do
+            keep "pacer $label" "$(seconds "$PACER" run -q "$dir")"
+            if [ -n "$BEFORE" ]; then
+                keep "before $label" "$(seconds "$BEFORE" run -q "$dir")"
+            fi
+        done < <(variants "$b")
+        keep "lua $b" "$(seconds lua5.4 "bench/$b/bench.lua")"
+        keep "python $b" "$(seconds python3 "bench/$b/bench.py")"
+    done
+done
 
-awk -v p="$t_pacer" -v l="$t_lua" -v y="$t_py" -v runs="$RUNS" 'BEGIN {
-    printf "%-10s %10s\n", "runtime", "seconds"
-    printf "%-10s %10.3f\n", "pacer", p
-    printf "%-10s %10.3f\n", "lua5.4", l
-    printf "%-10s %10.3f\n", "python3", y
-    printf "\n"
-    printf "pacer/lua    = %.2f\n", p / l
-    printf "pacer/python = %.2f\n", p / y
-}'
-
-# --- the counting loop (bench/loop): dispatch cost alone ---------------------------------------
-LOOP=bench/loop
-loop_lua="$(lua5.4 "$LOOP/bench.lua")"
-loop_py="$(python3 "$LOOP/bench.py")"
-loop_pacer="$("$PACER" run -q "$LOOP" --trace-writes --trace /dev/stdout | tail -n 8 | awk '
-    /"kind":"change"/ {
-        name = $0; sub(/.*"name":"Var\./, "", name); sub(/".*/, "", name)
-        value = $0; sub(/.*"value":/, "", value); sub(/[},].*/, "", value)
-        v[name] = value
-    }
-    END { printf "S=%d T=%d\n", v["S"], v["T"] }')"
-echo
-echo "counting loop results:"
-printf '  %-7s %s\n' pacer "$loop_pacer" lua "$loop_lua" python "$loop_py"
-if [ "$loop_pacer" != "$loop_lua" ] || [ "$loop_pacer" != "$loop_py" ]; then
-    echo "MISMATCH: the three results differ" >&2
-    exit 1
+if [ -n "$BEFORE" ]; then
+    printf '| %-14s | %8s | %8s | %8s | %8s | %9s | %12s |\n' benchmark before pacer "Lua 5.4" "Python 3" pacer/Lua pacer/Python
+    printf '|%s|%s:|%s:|%s:|%s:|%s:|%s:|\n' ---------------- --------- --------- --------- --------- ---------- -------------
+else
+    printf '| %-14s | %8s | %8s | %8s | %9s | %12s |\n' benchmark pacer "Lua 5.4" "Python 3" pacer/Lua pacer/Python
+    printf '|%s|%s:|%s:|%s:|%s:|%s:|\n' ---------------- --------- --------- --------- ---------- -------------
 fi
-t_pacer=$(best_of "$PACER" run -q "$LOOP")
-t_lua=$(best_of lua5.4 "$LOOP/bench.lua")
-t_py=$(best_of python3 "$LOOP/bench.py")
-awk -v p="$t_pacer" -v l="$t_lua" -v y="$t_py" 'BEGIN {
-    printf "%-10s %10s\n", "runtime", "seconds"
-    printf "%-10s %10.3f\n", "pacer", p
-    printf "%-10s %10.3f\n", "lua5.4", l
-    printf "%-10s %10.3f\n", "python3", y
-    printf "\npacer/lua    = %.2f\npacer/python = %.2f\n", p / l, p / y
-}'
+for b in "${BENCHES[@]}"; do
+    while read -r dir label; do
+        awk -v name="$label" -v p="${best[pacer $label]}" -v l="${best[lua $b]}" \
+            -v y="${best[python $b]}" -v o="${best[before $label]:-}" 'BEGIN {
+            before = (o == "") ? "" : sprintf(" %6.3f s |", o)
+            printf "| %-14s |%s %6.3f s | %6.3f s | %6.3f s | %9.2f | %12.2f |\n", name, before, p, l, y, p / l, p / y
+        }'
+    done < <(variants "$b")
+done

@@ -41,7 +41,8 @@ pub fn to_fixed(x: f64, decimals: u8) -> Option<f64> {
         // SAFETY: x is within the i32 range, and not NaN (the range test fails for NaN).
         let i: i32 = unsafe { x.to_int_unchecked() };
         if f64::from(i) == x {
-            return Some(f64::from(i));
+            // x itself (-0 made 0): a value computed from the conversions would wait for them.
+            return Some(x + 0.0);
         }
     }
     let scale = POW10[decimals.min(9) as usize];

@@ -85,6 +85,50 @@ pub enum Op {
         b: Reg,
         decimals: u8,
     },
+    /// MotionBASIC `MOD`. Whole operands within 32 bits (every long) take an integer
+    /// remainder; anything else is rounded first as [`BinaryOp::BasicMod`] says. Either way the
+    /// result is the same: the integer path only avoids libm's `fmod` and `rint`.
+    IMod { dst: Reg, a: Reg, b: Reg },
+    /// MotionBASIC `\`, with the same integer path as [`Op::IMod`].
+    IDiv { dst: Reg, a: Reg, b: Reg },
+    /// `AND` bitwise on integers (halves of fractions rounded to even).
+    BitAnd { dst: Reg, a: Reg, b: Reg },
+    /// `OR` bitwise on integers.
+    BitOr { dst: Reg, a: Reg, b: Reg },
+    /// `XOR` bitwise on integers.
+    BitXor { dst: Reg, a: Reg, b: Reg },
+    // Superinstructions. The compiler emits none of them: `fuse` (at the end of compiling)
+    // rewrites the first of two adjacent instructions into one that does the work of both and
+    // skips the second, which stays in place (a jump to it still runs it alone). A fused
+    // instruction counts as two against the budget, reports a fault in its second half at the
+    // second's place, and still writes the temporary that joined them, so the program, its
+    // instruction counts, its faults and its disassembly are exactly those without fusion.
+    /// `add t <- a + b` then `store.l dst <- t`.
+    AddLong { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `sub t <- a - b` then `store.l dst <- t`.
+    SubLong { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `mul t <- a * b` then `store.l dst <- t`.
+    MulLong { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `imod`/`idiv`/`band`/`bor`/`bxor` (`op`) `t <- a op b` then `store.l dst <- t`.
+    IntLong {
+        op: BinaryOp,
+        t: Reg,
+        dst: Reg,
+        a: Reg,
+        b: Reg,
+    },
+    /// `add dst <- a + b` then `chk.long dst`.
+    AddCheck { dst: Reg, a: Reg, b: Reg },
+    /// `sub dst <- a - b` then `chk.long dst`.
+    SubCheck { dst: Reg, a: Reg, b: Reg },
+    /// `mul dst <- a * b` then `chk.long dst`.
+    MulCheck { dst: Reg, a: Reg, b: Reg },
+    /// `add t <- a + b` then `store.r dst <- t`.
+    AddReal { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `sub t <- a - b` then `store.r dst <- t`.
+    SubReal { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `mul t <- a * b` then `store.r dst <- t`.
+    MulReal { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// Any other binary operator (division checks for zero).
     Binary {
         op: BinaryOp,
@@ -219,4 +263,197 @@ pub enum Op {
     Return,
     /// End of this program (returns to a caller if called).
     End,
+}
+
+/// Fuse adjacent pairs of instructions into superinstructions (see [`Op::AddLong`]). Only a pair
+/// joined by a temporary in `temps` is fused.
+pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
+    let mut i = 0;
+    while i + 1 < ops.len() {
+        let fused = match (ops[i], ops[i + 1]) {
+            (Op::Add { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::AddLong { t, dst, a, b })
+            }
+            (Op::Sub { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::SubLong { t, dst, a, b })
+            }
+            (Op::Mul { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::MulLong { t, dst, a, b })
+            }
+            (Op::IMod { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::IntLong {
+                    op: BinaryOp::BasicMod,
+                    t,
+                    dst,
+                    a,
+                    b,
+                })
+            }
+            (Op::IDiv { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::IntLong {
+                    op: BinaryOp::IntDiv,
+                    t,
+                    dst,
+                    a,
+                    b,
+                })
+            }
+            (Op::BitAnd { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::IntLong {
+                    op: BinaryOp::BitAnd,
+                    t,
+                    dst,
+                    a,
+                    b,
+                })
+            }
+            (Op::BitOr { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::IntLong {
+                    op: BinaryOp::BitOr,
+                    t,
+                    dst,
+                    a,
+                    b,
+                })
+            }
+            (Op::BitXor { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+                Some(Op::IntLong {
+                    op: BinaryOp::BitXor,
+                    t,
+                    dst,
+                    a,
+                    b,
+                })
+            }
+            (Op::Add { dst, a, b }, Op::CheckLong { r }) if r == dst => {
+                Some(Op::AddCheck { dst, a, b })
+            }
+            (Op::Sub { dst, a, b }, Op::CheckLong { r }) if r == dst => {
+                Some(Op::SubCheck { dst, a, b })
+            }
+            (Op::Mul { dst, a, b }, Op::CheckLong { r }) if r == dst => {
+                Some(Op::MulCheck { dst, a, b })
+            }
+            (Op::Add { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
+                Some(Op::AddReal { t, dst, a, b })
+            }
+            (Op::Sub { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
+                Some(Op::SubReal { t, dst, a, b })
+            }
+            (Op::Mul { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
+                Some(Op::MulReal { t, dst, a, b })
+            }
+            _ => None,
+        };
+        // The joining register must be a temporary: a pair through a variable is left alone
+        // (the first half's write would be traced).
+        let joined = match fused {
+            Some(
+                Op::AddLong { t, .. }
+                | Op::SubLong { t, .. }
+                | Op::MulLong { t, .. }
+                | Op::IntLong { t, .. }
+                | Op::AddReal { t, .. }
+                | Op::SubReal { t, .. }
+                | Op::MulReal { t, .. }
+                | Op::AddCheck { dst: t, .. }
+                | Op::SubCheck { dst: t, .. }
+                | Op::MulCheck { dst: t, .. },
+            ) => temps.contains(&t),
+            _ => false,
+        };
+        if let (true, Some(op)) = (joined, fused) {
+            ops[i] = op;
+            i += 2;
+        } else {
+            i += 1;
+        }
+    }
+}
+
+impl Op {
+    /// Where this instruction may send the interpreter, besides the next instruction.
+    pub fn target(&self) -> Option<u32> {
+        match *self {
+            Op::Jump { target }
+            | Op::Loop { target }
+            | Op::JumpIfFalse { target, .. }
+            | Op::JumpIfTrue { target, .. }
+            | Op::JumpUnlessLt { target, .. }
+            | Op::JumpUnlessLe { target, .. }
+            | Op::JumpUnlessEq { target, .. }
+            | Op::JumpUnlessNe { target, .. }
+            | Op::JumpWhenLt { target, .. }
+            | Op::JumpWhenLe { target, .. }
+            | Op::JumpWhenEq { target, .. }
+            | Op::JumpWhenNe { target, .. }
+            | Op::Gosub { target } => Some(target),
+            Op::ForCheck { exit, .. } => Some(exit),
+            Op::ForNext { body, .. } => Some(body),
+            Op::WaitUntil { retry, .. } => Some(retry),
+            _ => None,
+        }
+    }
+
+    /// The largest register the interpreter's loop reads or writes directly for this
+    /// instruction (the step of a `For` is the register after its limit); `None` for an
+    /// instruction with no register or whose registers are read in a function of its own (with
+    /// bounds checks). The interpreter checks once per entry that the value array holds every
+    /// such register of a chunk, then reads them without a bounds check each.
+    pub fn max_register(&self) -> Option<Reg> {
+        let max = match *self {
+            Op::Move { dst, src }
+            | Op::StoreFixed { dst, src, .. }
+            | Op::StoreLong { dst, src }
+            | Op::StoreReal { dst, src }
+            | Op::StoreBit { dst, src } => dst.max(src),
+            Op::Add { dst, a, b }
+            | Op::Sub { dst, a, b }
+            | Op::Mul { dst, a, b }
+            | Op::Div { dst, a, b }
+            | Op::Mod { dst, a, b }
+            | Op::IMod { dst, a, b }
+            | Op::IDiv { dst, a, b }
+            | Op::BitAnd { dst, a, b }
+            | Op::BitOr { dst, a, b }
+            | Op::BitXor { dst, a, b }
+            | Op::AddCheck { dst, a, b }
+            | Op::SubCheck { dst, a, b }
+            | Op::MulCheck { dst, a, b }
+            | Op::AddFixed { dst, a, b, .. }
+            | Op::SubFixed { dst, a, b, .. }
+            | Op::MulFixed { dst, a, b, .. }
+            | Op::ArithFixed { dst, a, b, .. }
+            | Op::Binary { dst, a, b, .. }
+            | Op::Compare { dst, a, b, .. }
+            | Op::Call { dst, a, b, .. } => dst.max(a).max(b),
+            Op::AddLong { t, dst, a, b }
+            | Op::SubLong { t, dst, a, b }
+            | Op::MulLong { t, dst, a, b }
+            | Op::IntLong { t, dst, a, b, .. }
+            | Op::AddReal { t, dst, a, b }
+            | Op::SubReal { t, dst, a, b }
+            | Op::MulReal { t, dst, a, b } => t.max(dst).max(a).max(b),
+            Op::Neg { dst, a } | Op::Not { dst, a } | Op::BitNot { dst, a } => dst.max(a),
+            Op::Write { slot, src, .. } => slot.max(src),
+            Op::JumpIfFalse { cond, .. }
+            | Op::JumpIfTrue { cond, .. }
+            | Op::WaitUntil { cond, .. }
+            | Op::CheckLong { r: cond } => cond,
+            Op::JumpUnlessLt { a, b, .. }
+            | Op::JumpUnlessLe { a, b, .. }
+            | Op::JumpUnlessEq { a, b, .. }
+            | Op::JumpUnlessNe { a, b, .. }
+            | Op::JumpWhenLt { a, b, .. }
+            | Op::JumpWhenLe { a, b, .. }
+            | Op::JumpWhenEq { a, b, .. }
+            | Op::JumpWhenNe { a, b, .. } => a.max(b),
+            Op::WaitTime { src } | Op::Dwell { src, .. } => src,
+            Op::ForCheck { var, limit, .. } | Op::ForNext { var, limit, .. } => {
+                var.max(limit.saturating_add(1))
+            }
+            _ => return None,
+        };
+        Some(max)
+    }
 }

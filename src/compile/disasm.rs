@@ -65,6 +65,29 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 let (name, sym) = op_names(op);
                 format!("{name:<9} {} <- {} {sym} {}", r(dst), r(a), r(b))
             }
+            Op::IMod { dst, a, b } => format!("imod      {} <- {} MOD {}", r(dst), r(a), r(b)),
+            Op::IDiv { dst, a, b } => format!("idiv      {} <- {} \\ {}", r(dst), r(a), r(b)),
+            Op::BitAnd { dst, a, b } => format!("band      {} <- {} AND {}", r(dst), r(a), r(b)),
+            Op::BitOr { dst, a, b } => format!("bor       {} <- {} OR {}", r(dst), r(a), r(b)),
+            Op::BitXor { dst, a, b } => format!("bxor      {} <- {} XOR {}", r(dst), r(a), r(b)),
+            // A superinstruction is listed as the first of the two instructions it runs; the
+            // second follows it.
+            Op::AddLong { t, a, b, .. } | Op::AddReal { t, a, b, .. } => {
+                format!("add       {} <- {} + {}", r(t), r(a), r(b))
+            }
+            Op::SubLong { t, a, b, .. } | Op::SubReal { t, a, b, .. } => {
+                format!("sub       {} <- {} - {}", r(t), r(a), r(b))
+            }
+            Op::MulLong { t, a, b, .. } | Op::MulReal { t, a, b, .. } => {
+                format!("mul       {} <- {} * {}", r(t), r(a), r(b))
+            }
+            Op::IntLong { op, t, a, b, .. } => {
+                let (name, sym) = op_names(op);
+                format!("{name:<9} {} <- {} {sym} {}", r(t), r(a), r(b))
+            }
+            Op::AddCheck { dst, a, b } => format!("add       {} <- {} + {}", r(dst), r(a), r(b)),
+            Op::SubCheck { dst, a, b } => format!("sub       {} <- {} - {}", r(dst), r(a), r(b)),
+            Op::MulCheck { dst, a, b } => format!("mul       {} <- {} * {}", r(dst), r(a), r(b)),
             Op::Compare { cmp, dst, a, b } => {
                 format!("cmp       {} <- {} {} {}", r(dst), r(a), cmp.symbol(), r(b))
             }

@@ -122,6 +122,12 @@ pub struct Chunk {
     pub file: String,
     /// The instructions.
     pub ops: Vec<Op>,
+    /// One past the largest register the interpreter's loop uses unchecked
+    /// ([`Op::max_register`]): the value array must be at least this long.
+    pub regs_end: usize,
+    /// The chunk ends with `End` and every jump stays inside it, so the interpreter fetches
+    /// instructions without a bounds check (it refuses a chunk that is not closed).
+    pub closed: bool,
     /// Source line of each instruction.
     pub lines: Vec<u32>,
     /// The source each instruction evaluates: an operator's whole expression, a call, a
@@ -208,11 +214,30 @@ impl<'a> Compiler<'a> {
         }
     }
 
-    fn finish(self, program: u32, file: &str, src: &str) -> Result<Chunk, Vec<Problem>> {
+    fn finish(mut self, program: u32, file: &str, src: &str) -> Result<Chunk, Vec<Problem>> {
         if !self.problems.is_empty() {
             return Err(self.problems);
         }
+        let temps = self.layout.temp_base()..self.layout.temp_base() + MAX_TEMPS;
+        bytecode::fuse(&mut self.ops, temps);
+        let regs_end = self
+            .ops
+            .iter()
+            .filter_map(Op::max_register)
+            .map(|r| r as usize + 1)
+            .max()
+            .unwrap_or(0);
+        // Every instruction the interpreter can reach is inside the chunk: it ends with `End`
+        // (so running on from any other instruction stays inside), and every target is inside.
+        let len = self.ops.len();
+        let closed = matches!(self.ops.last(), Some(Op::End))
+            && self
+                .ops
+                .iter()
+                .all(|op| op.target().is_none_or(|t| (t as usize) < len));
         Ok(Chunk {
+            regs_end,
+            closed,
             program,
             file: file.to_string(),
             ops: self.ops,
@@ -616,6 +641,11 @@ impl<'a> Compiler<'a> {
                     Some(&Op::Div { dst, a, b }) if dst == src => Some((BinaryOp::Div, a, b)),
                     Some(&Op::Mod { dst, a, b }) if dst == src => Some((BinaryOp::Mod, a, b)),
                     Some(&Op::Binary { op, dst, a, b }) if dst == src => Some((op, a, b)),
+                    Some(&Op::IMod { dst, a, b }) if dst == src => Some((BinaryOp::BasicMod, a, b)),
+                    Some(&Op::IDiv { dst, a, b }) if dst == src => Some((BinaryOp::IntDiv, a, b)),
+                    Some(&Op::BitAnd { dst, a, b }) if dst == src => Some((BinaryOp::BitAnd, a, b)),
+                    Some(&Op::BitOr { dst, a, b }) if dst == src => Some((BinaryOp::BitOr, a, b)),
+                    Some(&Op::BitXor { dst, a, b }) if dst == src => Some((BinaryOp::BitXor, a, b)),
                     _ => None,
                 };
                 if let (Some((op, a, b)), Some(last)) = (fused, self.ops.last_mut()) {
@@ -815,15 +845,15 @@ impl<'a> Compiler<'a> {
                     TypedOp::Mul => Op::Mul { dst, a, b },
                     TypedOp::Div => Op::Div { dst, a, b },
                     TypedOp::Mod => Op::Mod { dst, a, b },
-                    TypedOp::BasicMod => binary(BinaryOp::BasicMod),
-                    TypedOp::IntDiv => binary(BinaryOp::IntDiv),
+                    TypedOp::BasicMod => Op::IMod { dst, a, b },
+                    TypedOp::IntDiv => Op::IDiv { dst, a, b },
                     TypedOp::Pow => binary(BinaryOp::Pow),
                     TypedOp::And => binary(BinaryOp::And),
                     TypedOp::Or => binary(BinaryOp::Or),
                     TypedOp::Xor => binary(BinaryOp::Xor),
-                    TypedOp::BitAnd => binary(BinaryOp::BitAnd),
-                    TypedOp::BitOr => binary(BinaryOp::BitOr),
-                    TypedOp::BitXor => binary(BinaryOp::BitXor),
+                    TypedOp::BitAnd => Op::BitAnd { dst, a, b },
+                    TypedOp::BitOr => Op::BitOr { dst, a, b },
+                    TypedOp::BitXor => Op::BitXor { dst, a, b },
                     TypedOp::Cmp(cmp) => Op::Compare {
                         cmp: *cmp,
                         dst,

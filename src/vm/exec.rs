@@ -1,6 +1,7 @@
 //! The interpreter loop: runs one task's instructions until it ends, blocks, calls, or spends
 //! its budget.
 
+use super::task::Frame;
 use crate::compile::bytecode::{BinaryOp, Op, REAL_STORE};
 use crate::compile::Chunk;
 use crate::devices::command::{Domain, StartRef};
@@ -57,6 +58,10 @@ pub struct Ctx<'a, 'b> {
 
 /// Run `chunk` from `pc` on `v`. `executed` counts instructions against `budget`.
 /// In probe mode the first `WaitUntil` reached returns its condition instead of blocking.
+/// With the task's `frames` (the running frame last), `GOSUB` and `RETURN` run here, without
+/// leaving the interpreter; only their errors return (`Exit::Gosub`/`Exit::Return`) for the
+/// caller to report. Without them, every `GOSUB` and `RETURN` returns.
+#[allow(clippy::too_many_arguments)]
 pub fn run(
     chunk: &Chunk,
     mut pc: u32,
@@ -65,8 +70,46 @@ pub fn run(
     budget: u64,
     executed: &mut u64,
     probe: bool,
+    mut frames: Option<&mut Vec<Frame>>,
 ) -> Exit {
     let ops = &chunk.ops[..];
+    if pc as usize >= ops.len() {
+        return Exit::End;
+    }
+    if !chunk.closed {
+        return cold_fault(pc, || {
+            "internal error: a program that jumps outside itself".into()
+        });
+    }
+    if v.len() < chunk.regs_end {
+        return cold_fault(pc, || {
+            format!(
+                "internal error: {} values for a program using {}",
+                v.len(),
+                chunk.regs_end
+            )
+        });
+    }
+    // Registers of the instructions below are read and written without bounds checks: every
+    // one is below `chunk.regs_end` (`Op::max_register`, computed when the chunk was compiled),
+    // which was just checked against the slice, whose length cannot change while it runs.
+    macro_rules! rd {
+        ($i:expr) => {{
+            let i: usize = $i;
+            debug_assert!(i < chunk.regs_end);
+            // SAFETY: i < chunk.regs_end <= v.len(), as said above.
+            unsafe { *v.get_unchecked(i) }
+        }};
+    }
+    macro_rules! wr {
+        ($i:expr, $x:expr) => {{
+            let x: f64 = $x;
+            let i: usize = $i;
+            debug_assert!(i < chunk.regs_end);
+            // SAFETY: i < chunk.regs_end <= v.len(), as said above.
+            unsafe { *v.get_unchecked_mut(i) = x }
+        }};
+    }
     let trace_on = ctx.now.trace.enabled();
     let mut n: u64 = *executed;
     macro_rules! fault {
@@ -83,43 +126,210 @@ pub fn run(
             let Some(val) = fixed(x, decimals) else {
                 return cold_overflow(ctx, dst, x, decimals, $here, executed, n);
             };
-            v[dst as usize] = val;
+            wr!(dst as usize, val);
             if trace_on && dst < ctx.slot_count {
                 traced_write(ctx, dst, val);
             }
         }};
     }
+    // Store `$x` into the MotionBASIC long `$dst`: a whole number within 32 bits as it is (one
+    // conversion each way, no libm), anything else rounded half to even; an Overflow at this
+    // instruction outside 32 bits.
+    macro_rules! store_long {
+        ($dst:expr, $x:expr, $here:expr) => {{
+            let (dst, x) = ($dst, $x);
+            let i = trunc_i32(x);
+            // `x + 0.0` is x with a -0 made 0, as `f64::from(i)` would be, but does not wait
+            // for the conversions (the comparison only steers a predicted branch).
+            let val = if f64::from(i) == x {
+                x + 0.0
+            } else {
+                match round_long(x) {
+                    Some(val) => val,
+                    None => {
+                        pc = $here;
+                        let name = name_of(ctx, dst);
+                        fault!(
+                            "Overflow: {x} does not fit {name} (a long integer: -2147483648 to 2147483647)"
+                        );
+                    }
+                }
+            };
+            wr!(dst as usize, val);
+            if trace_on && dst < ctx.slot_count {
+                traced_write(ctx, dst, val);
+            }
+        }};
+    }
+    // `$x` into the temporary `$dst` unless it is outside 32 bits (long arithmetic's Overflow).
+    macro_rules! check_long {
+        ($dst:expr, $x:expr, $here:expr) => {{
+            let x = $x;
+            if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
+                pc = $here;
+                fault!("Overflow: {x} does not fit a long integer (-2147483648 to 2147483647)");
+            }
+            wr!($dst as usize, x);
+        }};
+    }
+    // Store `$x` into a real, which must be finite.
+    macro_rules! store_real {
+        ($dst:expr, $x:expr, $here:expr) => {{
+            let (dst, x) = ($dst, $x);
+            if !x.is_finite() {
+                pc = $here;
+                let name = name_of(ctx, dst);
+                fault!("{name} cannot take {x}: the result is not a finite number");
+            }
+            wr!(dst as usize, x);
+            if trace_on && dst < ctx.slot_count {
+                traced_write(ctx, dst, x);
+            }
+        }};
+    }
     loop {
-        let Some(op) = ops.get(pc as usize) else {
-            *executed = n;
-            return Exit::End;
-        };
+        debug_assert!((pc as usize) < ops.len());
+        // SAFETY: pc is inside the chunk: it was on entry (checked above) and every way it
+        // changes keeps it there: a jump goes to a target inside the chunk and running on past
+        // an instruction never passes the last one, `End`, which returns (both checked when the
+        // chunk was compiled: `chunk.closed`); a superinstruction skips its second half, never
+        // the last instruction.
+        let op = unsafe { ops.get_unchecked(pc as usize) };
         n += 1;
         let here = pc;
         pc += 1;
         match *op {
-            Op::Move { dst, src } => v[dst as usize] = v[src as usize],
-            Op::Add { dst, a, b } => v[dst as usize] = v[a as usize] + v[b as usize],
-            Op::Sub { dst, a, b } => v[dst as usize] = v[a as usize] - v[b as usize],
-            Op::Mul { dst, a, b } => v[dst as usize] = v[a as usize] * v[b as usize],
+            Op::Move { dst, src } => wr!(dst as usize, rd!(src as usize)),
+            Op::Add { dst, a, b } => wr!(dst as usize, rd!(a as usize) + rd!(b as usize)),
+            Op::Sub { dst, a, b } => wr!(dst as usize, rd!(a as usize) - rd!(b as usize)),
+            Op::Mul { dst, a, b } => wr!(dst as usize, rd!(a as usize) * rd!(b as usize)),
             Op::Div { dst, a, b } => {
-                let y = v[b as usize];
+                let y = rd!(b as usize);
                 if y == 0.0 {
                     pc = here;
                     fault!("division by zero");
                 }
-                v[dst as usize] = v[a as usize] / y;
+                wr!(dst as usize, rd!(a as usize) / y);
             }
             Op::Mod { dst, a, b } => {
-                let y = v[b as usize];
+                let y = rd!(b as usize);
                 if y == 0.0 {
                     pc = here;
                     fault!("MOD by zero");
                 }
-                v[dst as usize] = int_rem(v[a as usize], y);
+                wr!(dst as usize, int_rem(rd!(a as usize), y));
             }
-            Op::Binary { op, dst, a, b } => match binary(op, v[a as usize], v[b as usize]) {
-                Ok(x) => v[dst as usize] = x,
+            Op::IMod { dst, a, b } => match basic_mod(rd!(a as usize), rd!(b as usize)) {
+                Ok(r) => wr!(dst as usize, r),
+                Err(message) => {
+                    pc = here;
+                    fault!("{message}");
+                }
+            },
+            Op::IDiv { dst, a, b } => match basic_div(rd!(a as usize), rd!(b as usize)) {
+                Ok(r) => wr!(dst as usize, r),
+                Err(message) => {
+                    pc = here;
+                    fault!("{message}");
+                }
+            },
+            Op::BitAnd { dst, a, b } => {
+                wr!(
+                    dst as usize,
+                    (int(rd!(a as usize)) & int(rd!(b as usize))) as f64
+                )
+            }
+            Op::BitOr { dst, a, b } => {
+                wr!(
+                    dst as usize,
+                    (int(rd!(a as usize)) | int(rd!(b as usize))) as f64
+                )
+            }
+            Op::BitXor { dst, a, b } => {
+                wr!(
+                    dst as usize,
+                    (int(rd!(a as usize)) ^ int(rd!(b as usize))) as f64
+                )
+            }
+            // Superinstructions: the work of this instruction and the next, which is skipped;
+            // they count as two, and a fault in the second half is reported at the second.
+            Op::AddLong { t, dst, a, b } => {
+                n += 1;
+                let x = rd!(a as usize) + rd!(b as usize);
+                wr!(t as usize, x);
+                store_long!(dst, x, here + 1);
+                pc = here + 2;
+            }
+            Op::SubLong { t, dst, a, b } => {
+                n += 1;
+                let x = rd!(a as usize) - rd!(b as usize);
+                wr!(t as usize, x);
+                store_long!(dst, x, here + 1);
+                pc = here + 2;
+            }
+            Op::MulLong { t, dst, a, b } => {
+                n += 1;
+                let x = rd!(a as usize) * rd!(b as usize);
+                wr!(t as usize, x);
+                store_long!(dst, x, here + 1);
+                pc = here + 2;
+            }
+            Op::IntLong { op, t, dst, a, b } => {
+                n += 1;
+                match integer(op, rd!(a as usize), rd!(b as usize)) {
+                    Ok(x) => {
+                        wr!(t as usize, x);
+                        store_long!(dst, x, here + 1);
+                        pc = here + 2;
+                    }
+                    Err(message) => {
+                        // The first half failed: the second was not reached.
+                        n -= 1;
+                        pc = here;
+                        fault!("{message}");
+                    }
+                }
+            }
+            Op::AddCheck { dst, a, b } => {
+                n += 1;
+                check_long!(dst, rd!(a as usize) + rd!(b as usize), here + 1);
+                pc = here + 2;
+            }
+            Op::SubCheck { dst, a, b } => {
+                n += 1;
+                check_long!(dst, rd!(a as usize) - rd!(b as usize), here + 1);
+                pc = here + 2;
+            }
+            Op::MulCheck { dst, a, b } => {
+                n += 1;
+                check_long!(dst, rd!(a as usize) * rd!(b as usize), here + 1);
+                pc = here + 2;
+            }
+            Op::AddReal { t, dst, a, b } => {
+                n += 1;
+                let x = rd!(a as usize) + rd!(b as usize);
+                wr!(t as usize, x);
+                store_real!(dst, x, here + 1);
+                pc = here + 2;
+            }
+            Op::SubReal { t, dst, a, b } => {
+                n += 1;
+                let x = rd!(a as usize) - rd!(b as usize);
+                wr!(t as usize, x);
+                store_real!(dst, x, here + 1);
+                pc = here + 2;
+            }
+            Op::MulReal { t, dst, a, b } => {
+                n += 1;
+                let x = rd!(a as usize) * rd!(b as usize);
+                wr!(t as usize, x);
+                store_real!(dst, x, here + 1);
+                pc = here + 2;
+            }
+            Op::StoreLong { dst, src } => store_long!(dst, rd!(src as usize), here),
+            Op::CheckLong { r } => check_long!(r, rd!(r as usize), here),
+            Op::Binary { op, dst, a, b } => match binary(op, rd!(a as usize), rd!(b as usize)) {
+                Ok(x) => wr!(dst as usize, x),
                 Err(message) => {
                     pc = here;
                     fault!("{message}");
@@ -131,7 +341,7 @@ pub fn run(
                 b,
                 decimals,
             } => {
-                store_fixed!(dst, v[a as usize] + v[b as usize], decimals, here)
+                store_fixed!(dst, rd!(a as usize) + rd!(b as usize), decimals, here)
             }
             Op::SubFixed {
                 dst,
@@ -139,7 +349,7 @@ pub fn run(
                 b,
                 decimals,
             } => {
-                store_fixed!(dst, v[a as usize] - v[b as usize], decimals, here)
+                store_fixed!(dst, rd!(a as usize) - rd!(b as usize), decimals, here)
             }
             Op::MulFixed {
                 dst,
@@ -147,7 +357,7 @@ pub fn run(
                 b,
                 decimals,
             } => {
-                store_fixed!(dst, v[a as usize] * v[b as usize], decimals, here)
+                store_fixed!(dst, rd!(a as usize) * rd!(b as usize), decimals, here)
             }
             Op::ArithFixed {
                 op,
@@ -155,7 +365,7 @@ pub fn run(
                 a,
                 b,
                 decimals,
-            } => match binary(op, v[a as usize], v[b as usize]) {
+            } => match binary(op, rd!(a as usize), rd!(b as usize)) {
                 Ok(x) => store_fixed!(dst, x, decimals, here),
                 Err(message) => {
                     pc = here;
@@ -163,32 +373,24 @@ pub fn run(
                 }
             },
             Op::Compare { cmp, dst, a, b } => {
-                v[dst as usize] = f64::from(cmp.test(v[a as usize], v[b as usize]))
+                wr!(
+                    dst as usize,
+                    f64::from(cmp.test(rd!(a as usize), rd!(b as usize)))
+                )
             }
-            Op::Neg { dst, a } => v[dst as usize] = -v[a as usize],
-            Op::Not { dst, a } => v[dst as usize] = f64::from(v[a as usize] == 0.0),
-            Op::BitNot { dst, a } => v[dst as usize] = !int(v[a as usize]) as f64,
+            Op::Neg { dst, a } => wr!(dst as usize, -rd!(a as usize)),
+            Op::Not { dst, a } => wr!(dst as usize, f64::from(rd!(a as usize) == 0.0)),
+            Op::BitNot { dst, a } => wr!(dst as usize, !int(rd!(a as usize)) as f64),
             Op::Call { func, dst, a, b } => {
-                v[dst as usize] = func.apply(v[a as usize], v[b as usize])
+                wr!(dst as usize, func.apply(rd!(a as usize), rd!(b as usize)))
             }
             Op::StoreFixed { dst, src, decimals } => {
-                store_fixed!(dst, v[src as usize], decimals, here)
+                store_fixed!(dst, rd!(src as usize), decimals, here)
             }
-            Op::StoreReal { dst, src } => {
-                let x = v[src as usize];
-                if !x.is_finite() {
-                    pc = here;
-                    let name = name_of(ctx, dst);
-                    fault!("{name} cannot take {x}: the result is not a finite number");
-                }
-                v[dst as usize] = x;
-                if trace_on && dst < ctx.slot_count {
-                    traced_write(ctx, dst, x);
-                }
-            }
+            Op::StoreReal { dst, src } => store_real!(dst, rd!(src as usize), here),
             Op::StoreBit { dst, src } => {
-                let x = f64::from(v[src as usize] != 0.0);
-                v[dst as usize] = x;
+                let x = f64::from(rd!(src as usize) != 0.0);
+                wr!(dst as usize, x);
                 if trace_on && dst < ctx.slot_count {
                     traced_write(ctx, dst, x);
                 }
@@ -200,7 +402,7 @@ pub fn run(
                 instance,
             } => {
                 let ty = ctx.registry.slots[slot as usize].ty;
-                let raw = v[src as usize];
+                let raw = rd!(src as usize);
                 let x = match ty {
                     crate::registry::ValueType::Bit => f64::from(raw != 0.0),
                     crate::registry::ValueType::Integer => crate::fixed::round_to(raw, 0),
@@ -281,55 +483,55 @@ pub fn run(
                 }
             }
             Op::JumpIfFalse { cond, target } => {
-                if v[cond as usize] == 0.0 {
+                if rd!(cond as usize) == 0.0 {
                     pc = target;
                 }
             }
             Op::JumpUnlessLt { a, b, target } => {
                 // Not `>=`: a comparison with NaN is false, so NaN must jump here.
-                let holds = v[a as usize] < v[b as usize];
+                let holds = rd!(a as usize) < rd!(b as usize);
                 if !holds {
                     pc = target;
                 }
             }
             Op::JumpUnlessLe { a, b, target } => {
-                let holds = v[a as usize] <= v[b as usize];
+                let holds = rd!(a as usize) <= rd!(b as usize);
                 if !holds {
                     pc = target;
                 }
             }
             Op::JumpUnlessEq { a, b, target } => {
-                if v[a as usize] != v[b as usize] {
+                if rd!(a as usize) != rd!(b as usize) {
                     pc = target;
                 }
             }
             Op::JumpUnlessNe { a, b, target } => {
-                if v[a as usize] == v[b as usize] {
+                if rd!(a as usize) == rd!(b as usize) {
                     pc = target;
                 }
             }
             Op::JumpWhenLt { a, b, target } => {
-                if v[a as usize] < v[b as usize] {
+                if rd!(a as usize) < rd!(b as usize) {
                     pc = target;
                 }
             }
             Op::JumpWhenLe { a, b, target } => {
-                if v[a as usize] <= v[b as usize] {
+                if rd!(a as usize) <= rd!(b as usize) {
                     pc = target;
                 }
             }
             Op::JumpWhenEq { a, b, target } => {
-                if v[a as usize] == v[b as usize] {
+                if rd!(a as usize) == rd!(b as usize) {
                     pc = target;
                 }
             }
             Op::JumpWhenNe { a, b, target } => {
-                if v[a as usize] != v[b as usize] {
+                if rd!(a as usize) != rd!(b as usize) {
                     pc = target;
                 }
             }
             Op::JumpIfTrue { cond, target } => {
-                if v[cond as usize] != 0.0 {
+                if rd!(cond as usize) != 0.0 {
                     pc = target;
                 }
             }
@@ -339,8 +541,8 @@ pub fn run(
                 body,
                 decimals,
             } => {
-                let s = v[limit as usize + 1];
-                let x = v[var as usize] + s;
+                let s = rd!(limit as usize + 1);
+                let x = rd!(var as usize) + s;
                 let val = if decimals == REAL_STORE {
                     Some(x).filter(|x| x.is_finite())
                 } else {
@@ -351,11 +553,11 @@ pub fn run(
                     let message = overflow_message(ctx, var, x, decimals);
                     fault!("{message}");
                 };
-                v[var as usize] = val;
+                wr!(var as usize, val);
                 if trace_on && var < ctx.slot_count {
                     traced_write(ctx, var, val);
                 }
-                let l = v[limit as usize];
+                let l = rd!(limit as usize);
                 if (s > 0.0 && val <= l) || (s < 0.0 && val >= l) {
                     pc = body;
                     if n >= budget {
@@ -365,7 +567,7 @@ pub fn run(
                 }
             }
             Op::WaitUntil { cond, retry } => {
-                let value = v[cond as usize] != 0.0;
+                let value = rd!(cond as usize) != 0.0;
                 *executed = n;
                 if probe {
                     return Exit::Probed { value, resume: pc };
@@ -375,7 +577,7 @@ pub fn run(
                 }
             }
             Op::WaitTime { src } => {
-                let secs = v[src as usize];
+                let secs = rd!(src as usize);
                 let ns = match crate::config::values::seconds_to_ns(secs) {
                     Ok(ns) => ns,
                     Err(e) => {
@@ -393,7 +595,7 @@ pub fn run(
                 let domain = if master { Domain::Master } else { Domain::Time };
                 let start = if last { StartRef::Last } else { StartRef::Now };
                 let started = match ctx.devices.profiles() {
-                    Some(p) => p.dwell(v[src as usize], domain, start, v, &mut ctx.now),
+                    Some(p) => p.dwell(rd!(src as usize), domain, start, v, &mut ctx.now),
                     None => Err("this machine has no motion profiles to dwell on".into()),
                 };
                 match started {
@@ -412,7 +614,11 @@ pub fn run(
                 }
             }
             Op::ForCheck { var, limit, exit } => {
-                let (x, l, s) = (v[var as usize], v[limit as usize], v[limit as usize + 1]);
+                let (x, l, s) = (
+                    rd!(var as usize),
+                    rd!(limit as usize),
+                    rd!(limit as usize + 1),
+                );
                 if s == 0.0 {
                     pc = here;
                     fault!("For loop with a Step of 0 never ends");
@@ -432,16 +638,58 @@ pub fn run(
                 }
             }
             Op::Gosub { target } => {
-                *executed = n;
-                return Exit::Gosub { target, ret: pc };
+                // As the machine's loop does it (`Machine::run_task`): the caller's frame
+                // resumes after the GOSUB, the subroutine's frame runs from its label, and the
+                // task yields there if its budget is spent.
+                let pushed = match frames.as_deref_mut() {
+                    Some(frames) if frames.len() < super::MAX_CALL_DEPTH => {
+                        match frames.last_mut() {
+                            Some(top) => {
+                                top.pc = pc;
+                                let chunk = top.chunk;
+                                frames.push(Frame {
+                                    chunk,
+                                    pc: target,
+                                    gosub: true,
+                                });
+                                true
+                            }
+                            None => false,
+                        }
+                    }
+                    _ => false,
+                };
+                if !pushed {
+                    *executed = n;
+                    return Exit::Gosub { target, ret: pc };
+                }
+                pc = target;
+                if n >= budget {
+                    *executed = n;
+                    return Exit::Yield(pc);
+                }
             }
             Op::Return => {
-                *executed = n;
-                return Exit::Return { pc: here };
+                // Back to the frame below a subroutine's (the same program), where its GOSUB
+                // left it; a RETURN without a GOSUB is reported by the caller.
+                let back = match frames.as_deref_mut() {
+                    Some(frames) if frames.len() >= 2 && frames.last().is_some_and(|f| f.gosub) => {
+                        frames.pop();
+                        frames.last().map(|f| f.pc)
+                    }
+                    _ => None,
+                };
+                let Some(back) = back else {
+                    *executed = n;
+                    return Exit::Return { pc: here };
+                };
+                pc = back;
+                if n >= budget {
+                    *executed = n;
+                    return Exit::Yield(pc);
+                }
             }
-            Op::StoreLong { .. }
-            | Op::CheckLong { .. }
-            | Op::AxisBit { .. }
+            Op::AxisBit { .. }
             | Op::AxisRead { .. }
             | Op::AxisWrite { .. }
             | Op::Motion { .. }
@@ -507,28 +755,6 @@ fn motionbasic(
 ) -> Result<Option<Exit>, String> {
     const NO_AXES: &str = "this machine has no DSP axes: define them in machine.toml ([axis.1] …)";
     match op {
-        Op::StoreLong { dst, src } => {
-            let raw = v[src as usize];
-            let x = raw.round_ties_even() + 0.0;
-            if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
-                let name = name_of(ctx, dst);
-                return Err(format!(
-                    "Overflow: {raw} does not fit {name} (a long integer: -2147483648 to 2147483647)"
-                ));
-            }
-            v[dst as usize] = x;
-            if ctx.now.trace.enabled() && dst < ctx.slot_count {
-                traced_write(ctx, dst, x);
-            }
-        }
-        Op::CheckLong { r } => {
-            let x = v[r as usize];
-            if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
-                return Err(format!(
-                    "Overflow: {x} does not fit a long integer (-2147483648 to 2147483647)"
-                ));
-            }
-        }
         Op::AxisBit { dst, a } => {
             let x = v[a as usize];
             if !(x.fract() == 0.0 && (1.0..=16.0).contains(&x)) {
@@ -588,13 +814,21 @@ fn motionbasic(
                 .iter()
                 .find(|f| f.1 == func)
                 .map_or(0, |f| f.2);
-            let values: Vec<f64> = v.get(a..a + count).map(<[f64]>::to_vec).unwrap_or_default();
+            // The arguments on the stack (a kernel function has at most 7): no allocation.
+            let mut buf = [0.0; 8];
+            let values = match v.get(a..a + count) {
+                Some(args) if count <= buf.len() => {
+                    buf[..count].copy_from_slice(args);
+                    &buf[..count]
+                }
+                _ => &[][..],
+            };
             let axes = ctx
                 .devices
                 .axes()
                 .ok_or_else(|| format!("{} works on DSP axes: {NO_AXES}", func.name()))?;
             v[dst as usize] = axes
-                .call(func, &values, v, &mut ctx.now)
+                .call(func, values, v, &mut ctx.now)
                 .map_err(|m| format!("{}: {m}", func.name()))?;
         }
         _ => {}
@@ -687,10 +921,93 @@ fn basic_integer(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
     Ok(q)
 }
 
+/// `x` truncated to an `i32`, any `i32` when it is out of range or NaN: callers keep the result
+/// only when it converts back to `x`, so only a whole `x` within 32 bits is used. On x86-64 this
+/// is the bare conversion instruction (whose out-of-range answer, `i32::MIN`, converts back to
+/// `x` only when `x` is exactly that); Rust's `as` adds a clamp and a NaN test the round trip
+/// makes unnecessary.
+#[inline(always)]
+fn trunc_i32(x: f64) -> i32 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_cvttsd_si32, _mm_set_sd};
+        // SAFETY: SSE2 is part of the x86-64 baseline, so these instructions always exist.
+        unsafe { _mm_cvttsd_si32(_mm_set_sd(x)) }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        x as i32
+    }
+}
+
+/// MotionBASIC `MOD`. Whole operands within 32 bits (every long is one) take the integer
+/// remainder: exactly what rounding them and `fmod` give, sign of a zero included, without
+/// libm. Anything else goes the general way ([`basic_integer`]).
+#[inline(always)]
+fn basic_mod(x: f64, y: f64) -> Result<f64, &'static str> {
+    let (i, j) = (trunc_i32(x), trunc_i32(y));
+    // An out-of-range or NaN operand does not convert back to itself ([`trunc_i32`]).
+    if f64::from(i) == x && f64::from(j) == y && j != 0 {
+        // The remainder has the sign of x, a zero one included.
+        Ok(f64::from(i.wrapping_rem(j)).copysign(x))
+    } else {
+        basic_integer(BinaryOp::BasicMod, x, y)
+    }
+}
+
+/// MotionBASIC `\`, with the integer path of [`basic_mod`]: the quotient truncated toward
+/// zero, as `(x / y).trunc()` gives it (a float quotient of two 32-bit integers is never
+/// rounded across an integer).
+#[inline(always)]
+fn basic_div(x: f64, y: f64) -> Result<f64, &'static str> {
+    let (i, j) = (trunc_i32(x), trunc_i32(y));
+    if f64::from(i) == x && f64::from(j) == y && j != 0 && !(i == i32::MIN && j == -1) {
+        let q = i / j;
+        // A zero quotient has the sign of x / y.
+        Ok(if q == 0 && x.is_sign_negative() != y.is_sign_negative() {
+            -0.0
+        } else {
+            f64::from(q)
+        })
+    } else {
+        basic_integer(BinaryOp::IntDiv, x, y)
+    }
+}
+
+/// The integer operators a superinstruction stores into a long.
+#[inline(always)]
+fn integer(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
+    match op {
+        BinaryOp::BasicMod => basic_mod(x, y),
+        BinaryOp::IntDiv => basic_div(x, y),
+        BinaryOp::BitAnd => Ok((int(x) & int(y)) as f64),
+        BinaryOp::BitOr => Ok((int(x) | int(y)) as f64),
+        BinaryOp::BitXor => Ok((int(x) ^ int(y)) as f64),
+        _ => binary(op, x, y),
+    }
+}
+
+/// A real stored into a long, when it is not already a whole number within 32 bits: halves
+/// rounded to even (Microsoft BASIC's CLNG), `None` outside 32 bits.
+#[cold]
+#[inline(never)]
+fn round_long(raw: f64) -> Option<f64> {
+    // `+ 0.0` turns a rounded -0.0 into 0.
+    let x = raw.round_ties_even() + 0.0;
+    (f64::from(i32::MIN)..=f64::from(i32::MAX))
+        .contains(&x)
+        .then_some(x)
+}
+
 /// The integer a bitwise operator works on: halves rounded to even, as Microsoft BASIC does.
 #[inline]
 fn int(x: f64) -> i64 {
-    // Integers (the common case) convert with one instruction; only fractions need rounding.
+    // Integers (the common case) convert with one instruction each way; only fractions need
+    // rounding, and only values past 32 bits the 64-bit conversion.
+    let i = trunc_i32(x);
+    if f64::from(i) == x {
+        return i64::from(i);
+    }
     let i = x as i64;
     if i as f64 == x {
         i
@@ -780,6 +1097,12 @@ fn overflow_message(ctx: &Ctx<'_, '_>, slot: u32, x: f64, decimals: u8) -> Strin
 /// `x MOD y` with the sign of `x`; exact and fast (no libm `fmod`) when both are whole numbers.
 #[inline(always)]
 fn int_rem(x: f64, y: f64) -> f64 {
+    // Within 32 bits (every integer variable) a 32-bit division, quicker than a 64-bit one;
+    // both give the same remainder, a zero one as 0.
+    let (i, j) = (trunc_i32(x), trunc_i32(y));
+    if f64::from(i) == x && f64::from(j) == y && j != 0 {
+        return f64::from(i.wrapping_rem(j));
+    }
     let (a, b) = (x as i64, y as i64);
     if a as f64 == x && b as f64 == y && b != 0 && a != i64::MIN {
         (a % b) as f64
@@ -827,7 +1150,59 @@ fn sync_snapshot(ctx: &mut Ctx<'_, '_>, v: &[f64]) {
 
 #[cfg(test)]
 mod tests {
-    use super::int_rem;
+    use super::{basic_div, basic_integer, basic_mod, int_rem, BinaryOp};
+
+    /// The integer paths of MOD and `\` give exactly (bit for bit, the sign of zero and every
+    /// error included) what rounding both operands and dividing as reals gives.
+    #[test]
+    fn integer_paths_match_the_general_ones() {
+        let values = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.0,
+            2.0,
+            -2.0,
+            3.0,
+            -3.0,
+            7.0,
+            -7.0,
+            0.5,
+            -0.5,
+            1.5,
+            -1.5,
+            2.5,
+            -2.5,
+            6.5,
+            -6.5,
+            2147483647.0,
+            -2147483648.0,
+            2147483648.0,
+            -2147483649.0,
+            2147483647.5,
+            1e10,
+            -1e10,
+            f64::NAN,
+            f64::INFINITY,
+        ];
+        fn bits(r: Result<f64, &'static str>) -> Result<u64, &'static str> {
+            r.map(f64::to_bits)
+        }
+        for &x in &values {
+            for &y in &values {
+                assert_eq!(
+                    bits(basic_mod(x, y)),
+                    bits(basic_integer(BinaryOp::BasicMod, x, y)),
+                    "{x} MOD {y}"
+                );
+                assert_eq!(
+                    bits(basic_div(x, y)),
+                    bits(basic_integer(BinaryOp::IntDiv, x, y)),
+                    "{x} \\ {y}"
+                );
+            }
+        }
+    }
 
     #[test]
     fn remainder_matches_fmod() {

@@ -850,6 +850,7 @@ impl Machine {
             strings: &self.image.strings,
         };
         let mut executed = self.instructions;
+        let frames = self.tasks.get_mut(task).map(|t| &mut t.frames);
         let exit = exec::run(
             &self.image.chunks[chunk],
             pc,
@@ -858,6 +859,9 @@ impl Machine {
             budget,
             &mut executed,
             probe,
+            // A task's turn runs GOSUB and RETURN in the interpreter, on the task's frames; a
+            // probe of a `Wait For` condition runs no subroutine.
+            frames.filter(|_| !probe),
         );
         self.instructions = executed;
         exit
@@ -975,7 +979,10 @@ impl Machine {
                     }
                 }
                 Exit::Return { pc } => {
-                    if !frame.gosub {
+                    // The frame running now (the interpreter may have entered and left
+                    // subroutines since `frame` was read).
+                    let in_subroutine = self.tasks[ti].frames.last().is_some_and(|f| f.gosub);
+                    if !in_subroutine {
                         self.fault(ti, frame.chunk, pc, "RETURN without GOSUB".into());
                         return;
                     }
@@ -997,7 +1004,10 @@ impl Machine {
                 }
                 Exit::Call { program, pc } => {
                     set_pc(self, pc);
-                    let Some(&chunk) = self.image.programs.get(&program) else {
+                    // A machine has few programs: comparing their numbers is quicker than
+                    // hashing one (a program may call another every few instructions).
+                    let found = self.image.programs.iter().find(|(&p, _)| p == program);
+                    let Some((_, &chunk)) = found else {
                         self.fault(
                             ti,
                             frame.chunk,

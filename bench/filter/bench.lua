@@ -1,0 +1,15 @@
+-- Real-valued filters: the algorithm of bench.mb in Lua 5.4.
+local b0, b1, b2, a1, a2 = 0.0675, 0.135, 0.0675, -1.143, 0.413
+local u1, u2, y1, y2, pk, hp = 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
+for i = 1, 4000000 do
+  local u
+  if (i & 63) < 32 then u = 1.0 else u = -1.0 end
+  local y = b0 * u + b1 * u1 + b2 * u2 - a1 * y1 - a2 * y2
+  hp = 0.95 * (hp + y - y1)
+  u2 = u1
+  u1 = u
+  y2 = y1
+  y1 = y
+  if y > pk then pk = y end
+end
+print(string.format("Y=%.9f PK=%.9f HP=%.9f", y1, pk, hp))
