@@ -706,7 +706,7 @@ fn on_profile_on_a_non_motion() {
         src,
         &p,
         "pacer::check::profile",
-        "`On Profile` only applies to motion initiates, not Capture.0.CaptureClear",
+        "`On Profile` only applies to motion initiates and stops, not Capture.0.CaptureClear",
         at(src, "Profile.1"),
         None,
     );
