@@ -190,7 +190,7 @@ pub trait Profiles {
 /// its controller variables and the kernel functions (`REGIST` …).
 pub trait AxisSet {
     /// The axis numbers in an axis-set value, checked against the machine.
-    fn axes_of(&self, mask: f64) -> Result<Vec<u32>, String>;
+    fn axes_of(&self, mask: f64) -> Result<Axes, String>;
 
     /// The slot of member index `member` of axis `axis`.
     fn slot(&self, axis: u32, member: u32) -> Option<SlotId>;
@@ -234,6 +234,33 @@ pub struct Moving {
     /// It comes to rest (or to its end) by itself: an index, a home, a move, a dwell, a path.
     /// A gear, a jog or a speed runs until a program or an input stops it.
     pub settles: bool,
+}
+
+/// A set of DSP axis numbers (1 to 16) checked against the machine: an axis-set value as the
+/// devices take it, without allocating (a program may read `POS@` every pass of a loop).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Axes(pub u16);
+
+impl Axes {
+    /// The axis numbers, ascending.
+    pub fn iter(self) -> impl Iterator<Item = u32> {
+        (1..=16u32).filter(move |n| self.0 & (1 << (n - 1)) != 0)
+    }
+
+    /// How many axes.
+    pub fn len(self) -> usize {
+        self.0.count_ones() as usize
+    }
+
+    /// No axis.
+    pub fn is_empty(self) -> bool {
+        self.0 == 0
+    }
+
+    /// The one axis of a set of one.
+    pub fn single(self) -> Option<u32> {
+        (self.len() == 1).then(|| self.0.trailing_zeros() + 1)
+    }
 }
 
 /// Number of [`Hook`]s (the routing table's size).

@@ -1033,16 +1033,17 @@ fn axis_read(
     let slot = |n: u32| orion.slot(n, member).map(|s| v[s as usize]).unwrap_or(0.0);
     if truth {
         // MotionBASIC's true is -1; a test on a set of axes holds when it holds on each.
-        return Ok(if axes.iter().all(|&n| slot(n) != 0.0) {
+        return Ok(if axes.iter().all(|n| slot(n) != 0.0) {
             -1.0
         } else {
             0.0
         });
     }
-    match axes.as_slice() {
-        [n] => Ok(slot(*n)),
-        _ => Err(format!(
-            "this controller variable reads one axis, not the set {axes:?}"
+    match axes.single() {
+        Some(n) => Ok(slot(n)),
+        None => Err(format!(
+            "this controller variable reads one axis, not the set {:?}",
+            axes.iter().collect::<Vec<_>>()
         )),
     }
 }
@@ -1063,7 +1064,7 @@ fn axis_write(
     };
     let axes = orion.axes_of(mask)?;
     let mut written = Vec::with_capacity(axes.len());
-    for n in axes {
+    for n in axes.iter() {
         orion.write(hook, n, member, value, v, &mut ctx.now)?;
         written.extend(orion.slot(n, member));
     }

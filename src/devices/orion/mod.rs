@@ -91,6 +91,8 @@ const MEMBERS: Members = {
 pub struct Orion {
     dsp: DspAxes,
     configs: Vec<DspAxisConfig>,
+    /// The defined axes as a set (bit n-1 for axis n): axis sets are checked against it.
+    defined: u16,
     defaults: Vec<MoveDefaults>,
     base: SlotId,
     per: u32,
@@ -144,6 +146,10 @@ impl Orion {
         }
         Ok(Orion {
             dsp,
+            defined: configs
+                .iter()
+                .filter(|c| (1..=16).contains(&c.number))
+                .fold(0, |m, c| m | 1 << (c.number - 1)),
             configs,
             defaults,
             base: axes.base,
@@ -241,23 +247,22 @@ impl Orion {
 
 impl AxisSet for Orion {
     /// The axis numbers in an axis-set value, checked against the machine.
-    fn axes_of(&self, mask: f64) -> Result<Vec<u32>, String> {
+    fn axes_of(&self, mask: f64) -> Result<crate::devices::Axes, String> {
         if !(mask.fract() == 0.0 && (0.0..65536.0).contains(&mask)) {
             return Err(format!("{mask} is not an axis set"));
         }
-        let bits = mask as u32;
+        let bits = mask as u16;
         if bits == 0 {
             return Err("the axis set is empty (was the axis variable assigned?)".into());
         }
-        let axes: Vec<u32> = (1..=16).filter(|n| bits & (1 << (n - 1)) != 0).collect();
-        for &n in &axes {
-            if !self.configs.iter().any(|c| c.number == n) {
-                return Err(format!(
-                    "axis {n} is not defined in machine.toml ([axis.{n}])"
-                ));
-            }
+        let unknown = bits & !self.defined;
+        if unknown != 0 {
+            let n = unknown.trailing_zeros() + 1;
+            return Err(format!(
+                "axis {n} is not defined in machine.toml ([axis.{n}])"
+            ));
         }
-        Ok(axes)
+        Ok(crate::devices::Axes(bits))
     }
 
     /// The slot of `member` (an index into the Axis members) of axis `n`.
@@ -347,7 +352,7 @@ impl AxisSet for Orion {
         v: &mut [f64],
     ) -> Result<(bool, Option<String>), String> {
         let axes = self.axes_of(mask)?;
-        for &n in &axes {
+        for n in axes.iter() {
             let depth = self
                 .configs
                 .iter()
@@ -359,7 +364,7 @@ impl AxisSet for Orion {
         }
         let arg = |i: usize| args.get(i).copied().unwrap_or(0.0);
         let mut warning = None;
-        for &n in &axes {
+        for n in axes.iter() {
             let q = match cmd {
                 MotionCmd::GearAt { pacer, after } => {
                     let input = after.then(|| arg(3) as u32);
