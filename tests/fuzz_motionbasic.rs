@@ -400,6 +400,8 @@ const TOKENS: &[&str] = &[
     "NEXT",
     "GOSUB",
     "GOTO",
+    "ON",
+    "100",
     "RETURN",
     "GEAR",
     "MOVE",
@@ -788,6 +790,10 @@ fn simple_stmt(v: &Vocab) -> BoxedStrategy<String> {
         3 => pick(SUBS),
         1 => pick(SUBS).prop_map(|s| format!("GOSUB {s}")),
         1 => pick_any(&[SUBS, &["MAIN"]]).prop_map(|s| format!("GOTO {s}")),
+        // `ON n GOTO/GOSUB` over labels and line numbers.
+        1 => (v.num.clone(), any::<bool>(), prop::collection::vec(pick(SUBS), 1..4))
+            .prop_map(|(n, sub, t)| format!("ON {n} {} {}", if sub { "GOSUB" } else { "GOTO" }, t.join(", "))),
+        1 => (1u32..500).prop_map(|n| format!("GOTO {n}")),
         1 => pick(ACTIONS),
         1 => pick(&["RETURN", "END", "return", "End"]),
     ]
@@ -821,6 +827,8 @@ fn line_stmt(v: &Vocab) -> BoxedStrategy<String> {
         1 => pick(COMMENTS),
         1 => Just(String::new()),
         1 => local_label().prop_map(|l| format!("{l}:")),
+        // A GW-BASIC line number starting the line.
+        1 => ((1u32..500), simple_stmt(v)).prop_map(|(n, s)| format!("{n} {s}")),
         1 => (local_label(), simple_stmt(v)).prop_map(|(l, s)| format!("{l}: {s}")),
     ]
     .boxed()

@@ -752,6 +752,7 @@ fn typed_leaf(with_vars: bool) -> BoxedStrategy<String> {
         1 => pick(ACTIONS).prop_map(|a| format!("{a}=ON")),
         2 => (pick(MOTION_STARTS), pick(MODIFIERS)).prop_map(|(a, m)| format!("{a}{m}")),
         1 => num.clone().prop_map(|e| format!("Dwell For Time {e}")),
+        1 => num.clone().prop_map(|e| format!("Dwell For Time {e} Using Last")),
         1 => num.clone().prop_map(|e| format!("Dwell For Master Dist {e}")),
         1 => num.prop_map(|e| format!("Wait For Time {e}")),
         3 => cond.prop_map(|e| format!("Wait For {e}")),
