@@ -4,7 +4,7 @@
 //! instruction budget every update — on the drive as in pacer — which is seldom what was meant
 //! (a poll is a `Wait For`). A warning, not an error: a PLC-style scan loop is legal.
 
-use super::typed::{Expr, ExprKind, Program, Stmt, StmtKind};
+use super::typed::{each_stmt, Expr, ExprKind, Program, Stmt, StmtKind};
 use crate::diag::Problem;
 use crate::registry::{Hook, Kind, SlotId};
 
@@ -122,49 +122,33 @@ fn conditions(s: &Stmt, out: &mut Touched) {
 
 /// A statement of `stmts` (nested ones included) can block its task.
 fn blocks(stmts: &[Stmt]) -> bool {
-    stmts.iter().any(|s| match &s.kind {
-        StmtKind::WaitFor(_)
-        | StmtKind::WaitTime(_)
-        | StmtKind::Dwell { .. }
-        | StmtKind::Call(_)
-        | StmtKind::Gosub(_)
-        | StmtKind::Motion { .. } => true,
-        StmtKind::Act { target, .. } => target.hook == Hook::MotionStart,
-        StmtKind::If {
-            then_body,
-            else_body,
-            ..
-        } => blocks(then_body) || else_body.as_deref().is_some_and(blocks),
-        StmtKind::While { body, .. } | StmtKind::For { body, .. } => blocks(body),
-        _ => false,
-    })
+    let mut found = false;
+    each_stmt(stmts, &mut |s| {
+        found |= match &s.kind {
+            StmtKind::WaitFor(_)
+            | StmtKind::WaitTime(_)
+            | StmtKind::Dwell { .. }
+            | StmtKind::Call(_)
+            | StmtKind::Gosub(_)
+            | StmtKind::Motion { .. } => true,
+            StmtKind::Act { target, .. } => target.hook == Hook::MotionStart,
+            _ => false,
+        }
+    });
+    found
 }
 
 /// What `stmts` (nested ones included) write or act on.
 fn writes(stmts: &[Stmt], out: &mut Touched) {
-    for s in stmts {
-        match &s.kind {
-            StmtKind::Assign { target, .. } => {
-                out.slots.push(target.slot);
-                out.objects.push((target.kind, target.instance));
-            }
-            StmtKind::Act { target, .. } => out.objects.push((target.kind, target.instance)),
-            StmtKind::For { var, body, .. } => {
-                out.slots.push(var.slot);
-                writes(body, out);
-            }
-            StmtKind::If {
-                then_body,
-                else_body,
-                ..
-            } => {
-                writes(then_body, out);
-                writes(else_body.as_deref().unwrap_or_default(), out);
-            }
-            StmtKind::While { body, .. } => writes(body, out),
-            _ => {}
+    each_stmt(stmts, &mut |s| match &s.kind {
+        StmtKind::Assign { target, .. } => {
+            out.slots.push(target.slot);
+            out.objects.push((target.kind, target.instance));
         }
-    }
+        StmtKind::Act { target, .. } => out.objects.push((target.kind, target.instance)),
+        StmtKind::For { var, .. } => out.slots.push(var.slot),
+        _ => {}
+    });
 }
 
 /// What `e` reads.

@@ -5,7 +5,7 @@
 //! program runs into without a `GOSUB`. Each would otherwise pass `pacer check` and fail at run
 //! time.
 
-use super::typed::{Expr, ExprKind, Op, Program, Stmt, StmtKind};
+use super::typed::{each_stmt, Expr, ExprKind, Op, Program, Stmt, StmtKind};
 use crate::devices::command::KernelFunc;
 use crate::diag::Problem;
 use crate::registry::{Hook, Kind, Registry, SlotId};
@@ -26,28 +26,11 @@ pub struct MachineFacts<'a> {
 
 /// Every slot `program` writes (assignments and counters).
 pub fn written_slots(program: &Program, out: &mut Vec<SlotId>) {
-    fn walk(stmts: &[Stmt], out: &mut Vec<SlotId>) {
-        for s in stmts {
-            match &s.kind {
-                StmtKind::Assign { target, .. } => out.push(target.slot),
-                StmtKind::For { var, body, .. } => {
-                    out.push(var.slot);
-                    walk(body, out);
-                }
-                StmtKind::If {
-                    then_body,
-                    else_body,
-                    ..
-                } => {
-                    walk(then_body, out);
-                    walk(else_body.as_deref().unwrap_or_default(), out);
-                }
-                StmtKind::While { body, .. } => walk(body, out),
-                _ => {}
-            }
-        }
-    }
-    walk(&program.body, out);
+    each_stmt(&program.body, &mut |s| match &s.kind {
+        StmtKind::Assign { target, .. } => out.push(target.slot),
+        StmtKind::For { var, .. } => out.push(var.slot),
+        _ => {}
+    });
 }
 
 /// The problems of `program` against the machine.
@@ -78,11 +61,10 @@ impl Walk<'_, '_> {
     }
 
     fn stmts(&mut self, stmts: &[Stmt]) {
-        for s in stmts {
-            self.stmt(s);
-        }
+        each_stmt(stmts, &mut |s| self.stmt(s));
     }
 
+    /// One statement's own expressions and start (its body's statements are visited too).
     fn stmt(&mut self, s: &Stmt) {
         match &s.kind {
             StmtKind::Assign { value, .. } => self.expr(value),
@@ -96,32 +78,13 @@ impl Walk<'_, '_> {
             }
             StmtKind::Dwell { length, .. } => self.expr(length),
             StmtKind::WaitTime(e) | StmtKind::WaitFor(e) => self.expr(e),
-            StmtKind::If {
-                cond,
-                then_body,
-                else_body,
-            } => {
-                self.expr(cond);
-                self.stmts(then_body);
-                self.stmts(else_body.as_deref().unwrap_or_default());
-            }
-            StmtKind::While { cond, body } => {
-                self.expr(cond);
-                self.stmts(body);
-            }
-            StmtKind::For {
-                from,
-                to,
-                step,
-                body,
-                ..
-            } => {
+            StmtKind::If { cond, .. } | StmtKind::While { cond, .. } => self.expr(cond),
+            StmtKind::For { from, to, step, .. } => {
                 self.expr(from);
                 self.expr(to);
                 if let Some(st) = step {
                     self.expr(st);
                 }
-                self.stmts(body);
             }
             StmtKind::AxisWrite { axes, value, .. } => {
                 self.expr(axes);
@@ -306,28 +269,15 @@ fn constant(e: &Expr) -> Option<f64> {
 /// one only `GOSUB` names starts a subroutine.
 fn returns_without_gosub(program: &Program, problems: &mut Vec<Problem>) {
     let mut goto_targets = Vec::new();
-    fn gotos(stmts: &[Stmt], out: &mut Vec<String>) {
-        for s in stmts {
-            match &s.kind {
-                StmtKind::Goto(l) => out.push(l.clone()),
-                StmtKind::If {
-                    then_body,
-                    else_body,
-                    ..
-                } => {
-                    gotos(then_body, out);
-                    gotos(else_body.as_deref().unwrap_or_default(), out);
-                }
-                StmtKind::While { body, .. } | StmtKind::For { body, .. } => gotos(body, out),
-                _ => {}
-            }
+    each_stmt(&program.body, &mut |s| {
+        if let StmtKind::Goto(l) = &s.kind {
+            goto_targets.push(l.clone());
         }
-    }
-    gotos(&program.body, &mut goto_targets);
-    fn runs_into(stmts: &[Stmt], problems: &mut Vec<Problem>) {
-        for s in stmts {
-            match &s.kind {
-                StmtKind::Return => problems.push(
+    });
+    let runs_into = |stmts: &[Stmt], problems: &mut Vec<Problem>| {
+        each_stmt(stmts, &mut |s| {
+            if matches!(s.kind, StmtKind::Return) {
+                problems.push(
                     Problem::error(
                         "pacer::check::return",
                         s.span,
@@ -338,22 +288,10 @@ fn returns_without_gosub(program: &Program, problems: &mut Vec<Problem>) {
                         "the lines before it lead here without a GOSUB: end the main part with \
                          END (or GOTO) before the subroutines",
                     ),
-                ),
-                StmtKind::If {
-                    then_body,
-                    else_body,
-                    ..
-                } => {
-                    runs_into(then_body, problems);
-                    runs_into(else_body.as_deref().unwrap_or_default(), problems);
-                }
-                StmtKind::While { body, .. } | StmtKind::For { body, .. } => {
-                    runs_into(body, problems)
-                }
-                _ => {}
+                );
             }
-        }
-    }
+        })
+    };
     let mut live = true;
     let mut start = 0;
     let body = &program.body;

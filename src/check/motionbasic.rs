@@ -113,25 +113,16 @@ pub fn resolve(registry: &Registry, name: &Name) -> Result<Resolved, Problem> {
         )
         .with_help(help));
     }
-    // Microsoft BASIC's ON (ON … GOTO, ON ERROR) and OFF are keywords, never values: read as
-    // a variable they would silently be 0.
-    if name.segments.len() == 1
-        && (text.eq_ignore_ascii_case("ON") || text.eq_ignore_ascii_case("OFF"))
-    {
-        let truth = if text.eq_ignore_ascii_case("ON") {
-            "TRUE"
-        } else {
-            "FALSE"
-        };
+    // Microsoft BASIC's OFF is a keyword, never a value: read as a variable it would silently
+    // be 0. (ON is a token of its own, `ON n GOTO`; the parser says the same of it.)
+    if name.segments.len() == 1 && text.eq_ignore_ascii_case("OFF") {
         return Err(Problem::error(
             "pacer::check::on_off",
             name.span,
             format!("`{text}` is a keyword in MotionBASIC, not a value"),
             "not a value",
         )
-        .with_help(format!(
-            "MotionBASIC writes truth as TRUE (-1) and FALSE (0): write {truth}"
-        )));
+        .with_help("MotionBASIC writes truth as TRUE (-1) and FALSE (0): write FALSE"));
     }
     if crate::registry::catalog::find_type(&name.segments[0].text).is_some() {
         if let Ok(r) = registry.resolve(name) {

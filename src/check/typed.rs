@@ -313,6 +313,26 @@ pub enum PrintItem {
     Comma,
 }
 
+/// Visit every statement of `stmts` in source order, the statements of `If`, `While` and
+/// `For` bodies included (each after the statement that holds it).
+pub fn each_stmt<'a>(stmts: &'a [Stmt], f: &mut impl FnMut(&'a Stmt)) {
+    for s in stmts {
+        f(s);
+        match &s.kind {
+            StmtKind::If {
+                then_body,
+                else_body,
+                ..
+            } => {
+                each_stmt(then_body, f);
+                each_stmt(else_body.as_deref().unwrap_or_default(), f);
+            }
+            StmtKind::While { body, .. } | StmtKind::For { body, .. } => each_stmt(body, f),
+            _ => {}
+        }
+    }
+}
+
 /// A checked program.
 #[derive(Debug, Clone, Default, PartialEq)]
 pub struct Program {

@@ -55,6 +55,8 @@ pub struct RegistAxes {
     fast_inputs: Vec<(usize, SlotId)>,
     /// Per axis: the numbers of the axes it paces (fixed by the machine file).
     followers: Vec<Vec<u32>>,
+    /// Per axis, during an update: how far its window crossings have been looked for.
+    cursor: Vec<f64>,
 }
 
 impl RegistAxes {
@@ -81,6 +83,7 @@ impl RegistAxes {
         Ok(RegistAxes {
             configs: configs.iter().map(|c| (c.number, c.pacer)).collect(),
             reference: vec![0.0; regists.len()],
+            cursor: vec![0.0; regists.len()],
             last: vec![0.0; regists.len()],
             regists,
             fast,
@@ -273,13 +276,13 @@ impl RegistAxes {
         now: &mut Now<'_>,
     ) -> Result<(), String> {
         let t0 = dsp.previous_time();
-        let mut cursor = vec![t0; self.regists.len()];
+        self.cursor.fill(t0);
         for (time, rising, i, position) in self.fast_edges(dsp, t, activity)? {
-            self.windows_until(dsp, time, false, &mut cursor, now)?;
+            self.windows_until(dsp, time, false, now)?;
             self.take_edge(i, time, rising, position, now)?;
-            cursor[i] = cursor[i].max(time);
+            self.cursor[i] = self.cursor[i].max(time);
         }
-        self.windows_until(dsp, t, true, &mut cursor, now)?;
+        self.windows_until(dsp, t, true, now)?;
         for (i, &(n, pacer)) in self.configs.iter().enumerate() {
             let ratio = dsp.ratio(n).map_err(|e| e.0)?;
             let (master_moving, ratio_move) = match (pacer, ratio) {
@@ -375,14 +378,13 @@ impl RegistAxes {
         Ok(())
     }
 
-    /// Every DIST + TOLR crossing of any axis from its `cursor` up to `until` (`inclusive`: at
+    /// Every DIST + TOLR crossing of any axis from its cursor up to `until` (`inclusive`: at
     /// `until` too), in time order: each is traced at its exact time with the threshold.
     fn windows_until(
         &mut self,
         dsp: &DspAxes,
         until: f64,
         inclusive: bool,
-        cursor: &mut [f64],
         now: &mut Now<'_>,
     ) -> Result<(), String> {
         loop {
@@ -391,7 +393,7 @@ impl RegistAxes {
                 let Some(threshold) = regist.window_threshold() else {
                     continue;
                 };
-                let (n, from) = (self.configs[i].0, cursor[i]);
+                let (n, from) = (self.configs[i].0, self.cursor[i]);
                 if from > until {
                     continue;
                 }
@@ -413,7 +415,7 @@ impl RegistAxes {
             };
             let before = self.regists[i].status();
             self.regists[i].pass_window();
-            cursor[i] = tc;
+            self.cursor[i] = tc;
             now.trace.emit(
                 now.tick,
                 &Event::RegistWindow {
