@@ -147,8 +147,27 @@ fn writes(stmts: &[Stmt], out: &mut Touched) {
         }
         StmtKind::Act { target, .. } => out.objects.push((target.kind, target.instance)),
         StmtKind::For { var, .. } => out.slots.push(var.slot),
+        StmtKind::SetElement { place, .. } => out.slots.push(place.base.slot),
+        StmtKind::Read(places) => places.iter().for_each(|p| place_slot(p, out)),
+        StmtKind::Swap(a, b) => {
+            place_slot(a, out);
+            place_slot(b, out);
+        }
+        // RANDOMIZE changes what RND gives.
+        StmtKind::Randomize(_) => out.slots.push(RANDOM),
         _ => {}
     });
+}
+
+/// Stands for the random-number generator among the slots: RND reads it, RANDOMIZE writes it.
+const RANDOM: SlotId = SlotId::MAX;
+
+/// The slot a place writes (an array's first element for any of its elements).
+fn place_slot(p: &crate::check::typed::Place, out: &mut Touched) {
+    match p {
+        crate::check::typed::Place::Var(r) => out.slots.push(r.slot),
+        crate::check::typed::Place::Element(el) => out.slots.push(el.base.slot),
+    }
 }
 
 /// What `e` reads.
@@ -176,6 +195,25 @@ fn expr_reads(e: &Expr, out: &mut Touched) {
             }
         }
         ExprKind::AxisRead { axes, .. } => expr_reads(axes, out),
+        ExprKind::Element(el) => {
+            out.slots.push(el.base.slot);
+            out.objects.push((el.base.kind, el.base.instance));
+            for a in &el.subs {
+                expr_reads(a, out);
+            }
+        }
+        ExprKind::Text(_, args) => {
+            for a in args {
+                expr_reads(a, out);
+            }
+        }
+        ExprKind::Rnd(a) => {
+            out.slots.push(RANDOM);
+            if let Some(a) = a {
+                expr_reads(a, out);
+            }
+        }
+        ExprKind::Timer => {}
         ExprKind::Const(_) | ExprKind::Bool { .. } | ExprKind::Str(_) => {}
     }
 }

@@ -103,6 +103,11 @@ impl Walk<'_, '_> {
                     self.expr(e);
                 }
             }
+            StmtKind::SetElement { place, value } => {
+                place.subs.iter().for_each(|e| self.expr(e));
+                self.expr(value);
+            }
+            StmtKind::Randomize(Some(e)) => self.expr(e),
             _ => {}
         }
     }
@@ -179,11 +184,18 @@ impl Walk<'_, '_> {
             ExprKind::Neg(x) | ExprKind::Not(x) | ExprKind::BitNot(x) | ExprKind::Paren(x) => {
                 self.expr(x)
             }
-            ExprKind::Call(_, args) => {
+            ExprKind::Call(_, args) | ExprKind::Text(_, args) => {
                 for a in args {
                     self.expr(a);
                 }
             }
+            ExprKind::Element(el) => {
+                for a in &el.subs {
+                    self.expr(a);
+                }
+            }
+            ExprKind::Rnd(Some(a)) => self.expr(a),
+            ExprKind::Rnd(None) | ExprKind::Timer => {}
             ExprKind::Kernel { func, args, .. } => {
                 for a in args {
                     self.expr(a);

@@ -8,6 +8,7 @@ pub mod loops;
 pub mod machine;
 pub mod motionbasic;
 pub mod powertools;
+pub mod text;
 pub mod typed;
 pub mod walk;
 

@@ -12,7 +12,7 @@ use crate::registry::catalog::AXIS_TYPE;
 use crate::registry::{Access, Kind, Registry, Resolved, ValueType};
 use crate::span::Span;
 use crate::syntax::ast::{
-    BinOp, Expr, ExprKind, GearForm, MoveForm, Name, PrintItem, ProgramAst, Segment, Stmt,
+    BinOp, Expr, ExprKind, GearForm, MoveForm, Name, Place, PrintItem, ProgramAst, Segment, Stmt,
     StmtKind, UnOp,
 };
 use crate::syntax::Dialect;
@@ -154,8 +154,143 @@ pub fn resolve(registry: &Registry, name: &Name) -> Result<Resolved, Problem> {
 pub struct Variables {
     /// Name (upper-case) → spelling at first use (as the trace shows it) and storage type.
     pub all: IndexMap<String, (String, ValueType)>,
-    /// Names assigned (or used as a FOR variable) somewhere.
+    /// Names assigned (or used as a FOR variable) somewhere; an array as `NAME()`.
     pub assigned: IndexSet<String>,
+    /// Arrays by name (upper-case, with its suffix), in order of first appearance.
+    pub arrays: IndexMap<String, Array>,
+}
+
+/// Most subscripts an array may have.
+pub const MAX_DIMENSIONS: usize = 8;
+
+/// Largest upper bound of a subscript (Microsoft BASIC's).
+pub const MAX_BOUND: u32 = 32767;
+
+/// Most array elements all the programs of a machine may have: each element is a traced
+/// variable of the machine, and a bound keeps a mistyped `DIM` from taking the memory.
+pub const MAX_ELEMENTS: usize = 65536;
+
+/// An array of MotionBASIC programs.
+#[derive(Debug, Clone)]
+pub struct Array {
+    /// The name as first written.
+    pub written: String,
+    /// The storage type of its elements.
+    pub ty: ValueType,
+    /// The upper bound of each subscript (each from 0); `None` when its `DIM` cannot be
+    /// allocated (the checker says why).
+    pub bounds: Option<Vec<u32>>,
+    /// Dimensioned by a `DIM` (not implicitly, by use, as 0 to 10).
+    pub declared: bool,
+}
+
+impl Array {
+    /// Its number of elements.
+    pub fn len(&self) -> usize {
+        self.bounds
+            .as_ref()
+            .map_or(0, |b| b.iter().map(|&n| n as usize + 1).product())
+    }
+
+    /// Whether it has no element (its DIM failed).
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+}
+
+/// The registry name of element `index` (row-major, last subscript fastest) of an array with
+/// these bounds: `A(3)`, `B$(1,2)`.
+pub fn element_name(written: &str, bounds: &[u32], mut index: usize) -> String {
+    let mut subs = vec![0usize; bounds.len()];
+    for (k, &b) in bounds.iter().enumerate().rev() {
+        let n = b as usize + 1;
+        subs[k] = index % n;
+        index /= n;
+    }
+    let subs: Vec<String> = subs.iter().map(ToString::to_string).collect();
+    format!("{written}({})", subs.join(","))
+}
+
+/// The value of a constant expression (numbers and arithmetic on them), as `DIM` bounds are.
+pub fn constant(e: &Expr) -> Option<f64> {
+    match &e.kind {
+        ExprKind::Number(v) => Some(*v),
+        ExprKind::Paren(a) => constant(a),
+        ExprKind::Unary(UnOp::Neg, a) => constant(a).map(|v| -v),
+        ExprKind::Binary(op, a, b) => {
+            let (a, b) = (constant(a)?, constant(b)?);
+            match op {
+                BinOp::Add => Some(a + b),
+                BinOp::Sub => Some(a - b),
+                BinOp::Mul => Some(a * b),
+                BinOp::Div if b != 0.0 => Some(a / b),
+                BinOp::IntDiv if b.round_ties_even() != 0.0 => {
+                    Some((a.round_ties_even() / b.round_ties_even()).trunc())
+                }
+                _ => None,
+            }
+        }
+        _ => None,
+    }
+}
+
+/// `NAME(…)` names an array element unless NAME is a function or a controller variable.
+pub fn array_call(text: &str) -> bool {
+    !text.ends_with('@')
+        && functions::find(text).is_none()
+        && functions::find_kernel(text).is_none()
+        && super::text::find(text).is_none()
+        && controller(text).is_none()
+        && builtin(text).is_none()
+}
+
+/// A value of the machine read by a bare name: `RND` (the next random number) or `TIMER`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Builtin {
+    /// `RND`.
+    Rnd,
+    /// `TIMER`: the simulated seconds since the run started.
+    Timer,
+}
+
+/// The builtin `text` names, if any.
+pub fn builtin(text: &str) -> Option<Builtin> {
+    if text.eq_ignore_ascii_case("RND") {
+        Some(Builtin::Rnd)
+    } else if text.eq_ignore_ascii_case("TIMER") {
+        Some(Builtin::Timer)
+    } else {
+        None
+    }
+}
+
+/// The bounds a `DIM` gives, each a whole number from 0 to [`MAX_BOUND`]; Err with the
+/// bound at fault and why.
+pub fn dim_bounds(bounds: &[Expr]) -> Result<Vec<u32>, (Span, String)> {
+    if bounds.len() > MAX_DIMENSIONS {
+        let span = bounds[MAX_DIMENSIONS].span;
+        return Err((
+            span,
+            format!("an array has at most {MAX_DIMENSIONS} subscripts"),
+        ));
+    }
+    bounds
+        .iter()
+        .map(|b| match constant(b) {
+            Some(v) if v.round_ties_even() >= 0.0 && v.round_ties_even() <= f64::from(MAX_BOUND) => {
+                Ok(v.round_ties_even() as u32)
+            }
+            Some(v) => Err((
+                b.span,
+                format!("a subscript's upper bound is a whole number from 0 to {MAX_BOUND}, not {v}"),
+            )),
+            None => Err((
+                b.span,
+                "pacer sizes arrays before the run: a DIM bound is a number (or arithmetic on numbers)"
+                    .to_string(),
+            )),
+        })
+        .collect()
 }
 
 impl Variables {
@@ -165,9 +300,62 @@ impl Variables {
         self.stmts(&ast.body);
     }
 
-    /// As `(name, type)` pairs for the registry.
+    /// As `(name, type)` pairs for the registry: the variables, then each array's elements in
+    /// order (so an array's elements are consecutive slots).
     pub fn list(&self) -> Vec<(String, ValueType)> {
-        self.all.values().cloned().collect()
+        let mut out: Vec<(String, ValueType)> = self.all.values().cloned().collect();
+        for a in self.arrays.values() {
+            if let Some(bounds) = &a.bounds {
+                out.extend((0..a.len()).map(|i| (element_name(&a.written, bounds, i), a.ty)));
+            }
+        }
+        out
+    }
+
+    /// Total elements of the arrays so far.
+    fn elements(&self) -> usize {
+        self.arrays.values().map(Array::len).sum()
+    }
+
+    /// An array named `seg` with `count` subscripts, dimensioned by `dim` when given (else
+    /// implicitly, 0 to 10 each); `assigned` when stored into.
+    fn note_array(&mut self, seg: &Segment, count: usize, dim: Option<&[Expr]>, assigned: bool) {
+        let key = seg.text.to_ascii_uppercase();
+        let Some((ty, _)) = var_type(&key) else {
+            return;
+        };
+        if assigned {
+            self.assigned.insert(format!("{key}()"));
+        }
+        let declared = self.arrays.get(&key).is_some_and(|a| a.declared);
+        if self.arrays.contains_key(&key) && (declared || dim.is_none()) {
+            return;
+        }
+        let bounds = match dim {
+            Some(b) => dim_bounds(b).ok(),
+            None => Some(vec![10; count.clamp(1, MAX_DIMENSIONS)]),
+        };
+        let mut array = Array {
+            written: seg.text.clone(),
+            ty,
+            bounds,
+            declared: dim.is_some(),
+        };
+        let others = self.elements() - self.arrays.get(&key).map_or(0, Array::len);
+        if others + array.len() > MAX_ELEMENTS {
+            array.bounds = None;
+        }
+        self.arrays.insert(key, array);
+    }
+
+    fn place(&mut self, p: &Place) {
+        match p {
+            Place::Var(n) => self.note(n, true),
+            Place::Element(seg, args, _) => {
+                self.note_array(seg, args.len(), None, true);
+                args.iter().for_each(|a| self.expr(a));
+            }
+        }
     }
 
     fn note(&mut self, n: &Name, assigned: bool) {
@@ -185,6 +373,9 @@ impl Variables {
         }
         let written = n.text();
         let text = written.to_ascii_uppercase();
+        if builtin(&text).is_some() {
+            return;
+        }
         let Some((ty, _)) = var_type(&text) else {
             return;
         };
@@ -201,10 +392,28 @@ impl Variables {
                     self.note(target, true);
                     self.expr(value);
                 }
-                StmtKind::SetCall { args, value, .. } => {
+                StmtKind::SetCall {
+                    target,
+                    args,
+                    value,
+                } => {
+                    if array_call(&target.text) {
+                        self.note_array(target, args.len(), None, true);
+                    }
                     args.iter().for_each(|a| self.expr(a));
                     self.expr(value);
                 }
+                StmtKind::Dim(arrays) => {
+                    for (seg, bounds) in arrays {
+                        self.note_array(seg, bounds.len(), Some(bounds), false);
+                    }
+                }
+                StmtKind::Read(places) => places.iter().for_each(|p| self.place(p)),
+                StmtKind::Swap(a, b) => {
+                    self.place(a);
+                    self.place(b);
+                }
+                StmtKind::Randomize(Some(e)) => self.expr(e),
                 StmtKind::If {
                     cond,
                     then_body,
@@ -296,9 +505,13 @@ impl Variables {
                 self.expr(a);
                 self.expr(b);
             }
-            ExprKind::Call(_, args) | ExprKind::AxisSet(args) => {
+            ExprKind::Call(f, args) => {
+                if array_call(&f.text) {
+                    self.note_array(f, args.len(), None, false);
+                }
                 args.iter().for_each(|a| self.expr(a))
             }
+            ExprKind::AxisSet(args) => args.iter().for_each(|a| self.expr(a)),
             ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
         }
     }
@@ -320,6 +533,10 @@ pub struct MotionBasic<'v> {
     vars: &'v Variables,
     /// Variables already reported as never assigned.
     warned: IndexSet<String>,
+    /// Arrays already reported as used without DIM.
+    implicit: IndexSet<String>,
+    /// Arrays this program dimensions.
+    dimensioned: IndexSet<String>,
 }
 
 impl<'v> MotionBasic<'v> {
@@ -328,6 +545,8 @@ impl<'v> MotionBasic<'v> {
         MotionBasic {
             vars,
             warned: IndexSet::new(),
+            implicit: IndexSet::new(),
+            dimensioned: IndexSet::new(),
         }
     }
 
@@ -476,6 +695,13 @@ impl<'v> MotionBasic<'v> {
                     placeholder(Ty::Axis, e.span)
                 })
             }
+            ExprKind::Name(n) if n.segments.len() == 1 && builtin(&n.text()).is_some() => {
+                let kind = match builtin(&n.text()) {
+                    Some(Builtin::Rnd) => K::Rnd(None),
+                    _ => K::Timer,
+                };
+                Some(typed(kind, Ty::Num, false, false))
+            }
             ExprKind::Name(n) => {
                 let r = cx.keep(resolve(cx.registry(), n))?;
                 if matches!(r.access, Access::Action | Access::Input) {
@@ -527,18 +753,45 @@ impl<'v> MotionBasic<'v> {
                     BinOp::Eq | BinOp::Ne | BinOp::Lt | BinOp::Le | BinOp::Gt | BinOp::Ge
                 );
                 let same_eq = matches!(op, BinOp::Eq | BinOp::Ne) && ta.ty == tb.ty;
+                // Strings join with `+` and compare character by character.
+                let text = ta.ty == Ty::Str && tb.ty == Ty::Str && (compare || *op == BinOp::Add);
+                if text {
+                    let op_t = match op {
+                        BinOp::Add => Op::Add,
+                        cmp => Op::Cmp(super::powertools::cmp_of(*cmp)),
+                    };
+                    let ty = if compare { Ty::Num } else { Ty::Str };
+                    return Some(typed(
+                        K::Binary {
+                            op: op_t,
+                            a: Box::new(ta),
+                            b: Box::new(tb),
+                            negate: compare,
+                        },
+                        ty,
+                        false,
+                        compare,
+                    ));
+                }
                 if !same_eq && (ta.ty != Ty::Num || tb.ty != Ty::Num) {
                     let (bad, t) = if ta.ty != Ty::Num {
                         (a, ta.ty)
                     } else {
                         (b, tb.ty)
                     };
-                    cx.push(Problem::error(
+                    let mut p = Problem::error(
                         "pacer::check::type",
                         bad.span,
                         format!("`{}` needs numbers, not {}", op.symbol(), word(t)),
                         format!("this is {}", word(t)),
-                    ));
+                    );
+                    if ta.ty == Ty::Str || tb.ty == Ty::Str {
+                        p = p.with_help(
+                            "a string and a number do not mix: STR$(x) makes a number a string, \
+                             VAL(s$) a string a number",
+                        );
+                    }
+                    cx.push(p);
                     return None;
                 }
                 let op_t = match op {
@@ -592,6 +845,31 @@ impl<'v> MotionBasic<'v> {
                         false,
                         false,
                     ));
+                }
+                if let Some(def) = super::text::find(&f.text) {
+                    return self.text_call(cx, e, def, args);
+                }
+                if builtin(&f.text) == Some(Builtin::Rnd) {
+                    if args.len() != 1 {
+                        cx.push(Problem::error(
+                            "pacer::check::arguments",
+                            e.span,
+                            format!("RND takes one argument or none, not {}", args.len()),
+                            "wrong number of arguments",
+                        ));
+                        return None;
+                    }
+                    let x = self.want(cx, &args[0], Ty::Num, "RND takes a number")?;
+                    return Some(typed(K::Rnd(Some(Box::new(x))), Ty::Num, false, false));
+                }
+                if array_call(&f.text) {
+                    let el = self.element(cx, f, args, e.span)?;
+                    self.never_assigned(cx, &format!("{}()", f.text), f.span);
+                    let (ty, long) = (
+                        var_type(&f.text).map_or(Ty::Num, |t| t.1),
+                        el.base.ty == ValueType::Fixed(0),
+                    );
+                    return Some(typed(K::Element(Box::new(el)), ty, long, false));
                 }
                 let math = functions::find(&f.text);
                 let kernel = functions::find_kernel(&f.text);
@@ -793,6 +1071,14 @@ impl Rules for MotionBasic<'_> {
 
     fn other(&mut self, cx: &mut Context<'_>, s: &Stmt) -> Option<T> {
         match &s.kind {
+            StmtKind::SetCall { target, .. } if array_call(&target.text) => self.storage(cx, s),
+            StmtKind::Dim(_)
+            | StmtKind::Data(_)
+            | StmtKind::Read(_)
+            | StmtKind::Restore(_)
+            | StmtKind::Swap(..)
+            | StmtKind::Randomize(_)
+            | StmtKind::DefType { .. } => self.storage(cx, s),
             StmtKind::SetCall {
                 target,
                 args,
@@ -902,6 +1188,380 @@ impl Rules for MotionBasic<'_> {
 }
 
 impl MotionBasic<'_> {
+    /// A string function call.
+    fn text_call(
+        &mut self,
+        cx: &mut Context<'_>,
+        e: &Expr,
+        def: &'static super::text::TextDef,
+        args: &[Expr],
+    ) -> Option<typed::Expr> {
+        use super::text::{Arg, TextFunc};
+        // INSTR's start is optional, in front.
+        let kinds: &[Arg] = if def.func == TextFunc::Instr && args.len() == 2 {
+            &def.args[1..]
+        } else {
+            def.args
+        };
+        let min = if def.func == TextFunc::Instr {
+            2
+        } else {
+            def.min
+        };
+        if args.len() < min || args.len() > def.args.len() {
+            let count = if min == def.args.len() {
+                format!("{min}")
+            } else {
+                format!("{min} or {}", def.args.len())
+            };
+            cx.push(Problem::error(
+                "pacer::check::arguments",
+                e.span,
+                format!("{} takes {count} arguments, not {}", def.name, args.len()),
+                "wrong number of arguments",
+            ));
+            return None;
+        }
+        let mut typed_args = Vec::new();
+        let mut ok = true;
+        for (a, kind) in args.iter().zip(kinds) {
+            let t = match kind {
+                Arg::Num => self.want(cx, a, Ty::Num, &format!("{}: {}", def.name, def.meaning)),
+                Arg::Text => self.want(cx, a, Ty::Str, &format!("{}: {}", def.name, def.meaning)),
+                Arg::Either => self.ty(cx, a).filter(|t| {
+                    let fits = matches!(t.ty, Ty::Num | Ty::Str);
+                    if !fits {
+                        self.want(cx, a, Ty::Num, "a character code or a string");
+                    }
+                    fits
+                }),
+            };
+            match t {
+                Some(t) => typed_args.push(t),
+                None => ok = false,
+            }
+        }
+        if !ok {
+            return None;
+        }
+        let func = match def.func {
+            TextFunc::Str(_) => {
+                let arg = &args[0];
+                let how = if typed_args[0].long && !real_literal(arg) {
+                    typed::PrintHow::Integer
+                } else {
+                    print_precision(arg)
+                };
+                TextFunc::Str(how)
+            }
+            f => f,
+        };
+        let ty = if def.gives_text { Ty::Str } else { Ty::Num };
+        let long = !def.gives_text && func != TextFunc::Val;
+        Some(typed::Expr {
+            kind: K::Text(func, typed_args),
+            ty,
+            long,
+            truth: false,
+            span: e.span,
+        })
+    }
+
+    /// An array element `seg(args)`.
+    fn element(
+        &mut self,
+        cx: &mut Context<'_>,
+        seg: &Segment,
+        args: &[Expr],
+        span: Span,
+    ) -> Option<typed::Element> {
+        let key = seg.text.to_ascii_uppercase();
+        let array = self.vars.arrays.get(&key)?.clone();
+        let mut subs = Vec::new();
+        let mut ok = true;
+        for a in args {
+            match self.want(cx, a, Ty::Num, "a subscript is a number") {
+                Some(t) => subs.push(t),
+                None => ok = false,
+            }
+        }
+        // A DIM that failed was reported at the DIM.
+        let bounds = array.bounds.clone()?;
+        if !array.declared && self.implicit.insert(key.clone()) {
+            let near = nearest(
+                &seg.text,
+                functions::FUNCTIONS
+                    .iter()
+                    .map(|f| f.0)
+                    .chain(super::text::TEXT_FUNCTIONS.iter().map(|d| d.name)),
+            );
+            let help = match near {
+                Some(n) => format!(
+                    "is `{n}(…)` meant? Otherwise write `DIM {}({})` to say how large it is",
+                    seg.text,
+                    vec!["10"; bounds.len()].join(", ")
+                ),
+                None => format!(
+                    "write `DIM {}({})` to say how large it is",
+                    seg.text,
+                    vec!["10"; bounds.len()].join(", ")
+                ),
+            };
+            cx.push(
+                Problem::warning(
+                    "pacer::check::implicit_array",
+                    seg.span,
+                    format!(
+                        "{} is an array used without DIM: each subscript is 0 to 10, as in \
+                         Microsoft BASIC",
+                        seg.text
+                    ),
+                    "no DIM",
+                )
+                .with_help(help),
+            );
+        }
+        if args.len() != bounds.len() {
+            cx.push(Problem::error(
+                "pacer::check::subscripts",
+                span,
+                format!(
+                    "{} has {} subscript(s), not {}",
+                    array.written,
+                    bounds.len(),
+                    args.len()
+                ),
+                "wrong number of subscripts",
+            ));
+            return None;
+        }
+        for (a, &b) in args.iter().zip(&bounds) {
+            if let Some(v) = constant(a) {
+                let r = v.round_ties_even();
+                if r < 0.0 || r > f64::from(b) {
+                    cx.push(Problem::error(
+                        "pacer::check::subscript_range",
+                        a.span,
+                        format!("Subscript out of range: {v} is not within 0 to {b}"),
+                        "out of range",
+                    ));
+                    ok = false;
+                }
+            }
+        }
+        let base_name = element_name(&array.written, &bounds, 0).to_ascii_lowercase();
+        let vars = cx.registry().of(Kind::BasicVar);
+        let &i = vars.names.get(&base_name)?;
+        let slot = vars.slot(i, 0, false);
+        let info = &cx.registry().slots[slot as usize];
+        let base = Resolved {
+            slot,
+            ty: info.ty,
+            access: Access::ReadWrite,
+            hook: crate::registry::Hook::Store,
+            kind: Kind::BasicVar,
+            instance: i,
+            name: array.written.clone(),
+        };
+        let text = var_type(&key).is_some_and(|t| t.1 == Ty::Str);
+        ok.then_some(typed::Element {
+            base,
+            bounds,
+            subs,
+            text,
+        })
+    }
+
+    /// A place `READ` or `SWAP` stores into: a variable of the programs or an array element.
+    fn place(&mut self, cx: &mut Context<'_>, p: &Place) -> Option<(typed::Place, Ty)> {
+        match p {
+            Place::Var(n) => {
+                let r = cx.keep(resolve(cx.registry(), n))?;
+                if r.kind != Kind::BasicVar {
+                    cx.push(Problem::error(
+                        "pacer::check::place",
+                        n.span,
+                        format!("{} is not a variable of the program", r.name),
+                        "not a variable",
+                    ));
+                    return None;
+                }
+                let ty = var_type(&r.name).map_or(Ty::Num, |t| t.1);
+                if ty == Ty::Axis {
+                    cx.push(Problem::error(
+                        "pacer::check::place",
+                        n.span,
+                        format!("{} is an axis set", r.name),
+                        "an axis set",
+                    ));
+                    return None;
+                }
+                Some((typed::Place::Var(r), ty))
+            }
+            Place::Element(seg, args, span) => {
+                if !array_call(&seg.text) {
+                    cx.push(Problem::error(
+                        "pacer::check::place",
+                        seg.span,
+                        format!("{} is a function, not an array", seg.text),
+                        "not an array",
+                    ));
+                    return None;
+                }
+                let el = self.element(cx, seg, args, *span)?;
+                let ty = if el.text { Ty::Str } else { Ty::Num };
+                Some((typed::Place::Element(el), ty))
+            }
+        }
+    }
+
+    /// The MotionBASIC statements of Microsoft BASIC's data and storage: DIM, DATA, READ,
+    /// RESTORE, SWAP, RANDOMIZE, DEFINT …, and an array element's store.
+    fn storage(&mut self, cx: &mut Context<'_>, s: &Stmt) -> Option<T> {
+        match &s.kind {
+            StmtKind::SetCall {
+                target,
+                args,
+                value,
+            } => {
+                let span = Span::new(target.span.start, value.span.start);
+                let el = self.element(cx, target, args, span);
+                let want = if var_type(&target.text).is_some_and(|t| t.1 == Ty::Str) {
+                    Ty::Str
+                } else {
+                    Ty::Num
+                };
+                let v = self.want(
+                    cx,
+                    value,
+                    want,
+                    "the value must match the array's type suffix",
+                );
+                Some(T::SetElement {
+                    place: el?,
+                    value: v?,
+                })
+            }
+            StmtKind::Dim(arrays) => {
+                let mut ok = true;
+                for (seg, bounds) in arrays {
+                    if let Err((span, why)) = dim_bounds(bounds) {
+                        cx.push(Problem::error("pacer::check::dim", span, why, "not a size"));
+                        ok = false;
+                        continue;
+                    }
+                    let key = seg.text.to_ascii_uppercase();
+                    if !self.dimensioned.insert(key.clone()) {
+                        cx.push(Problem::error(
+                            "pacer::check::dim",
+                            seg.span,
+                            format!("Duplicate Definition: {} is dimensioned twice", seg.text),
+                            "second DIM",
+                        ));
+                        ok = false;
+                        continue;
+                    }
+                    let Some(array) = self.vars.arrays.get(&key) else {
+                        continue;
+                    };
+                    let wanted = dim_bounds(bounds).unwrap_or_default();
+                    match &array.bounds {
+                        None => {
+                            cx.push(Problem::error(
+                                "pacer::check::dim",
+                                seg.span,
+                                format!(
+                                    "{} is too large: the arrays of a machine hold at most {MAX_ELEMENTS} elements in all",
+                                    seg.text
+                                ),
+                                "too large",
+                            ));
+                            ok = false;
+                        }
+                        Some(b) if *b != wanted => {
+                            cx.push(Problem::error(
+                                "pacer::check::dim",
+                                seg.span,
+                                format!(
+                                    "{} is dimensioned differently elsewhere ({:?} here, {:?} there)",
+                                    seg.text, wanted, b
+                                ),
+                                "a different size",
+                            ));
+                            ok = false;
+                        }
+                        Some(_) => {}
+                    }
+                    for b in bounds {
+                        self.ty(cx, b);
+                    }
+                }
+                ok.then_some(T::Nothing)
+            }
+            StmtKind::Data(items) => Some(T::Data(
+                items
+                    .iter()
+                    .map(|i| typed::DataConst {
+                        text: i.text.clone(),
+                        number: if i.quoted { None } else { data_number(&i.text) },
+                        span: i.span,
+                    })
+                    .collect(),
+            )),
+            StmtKind::Read(places) => {
+                let mut out = Vec::new();
+                let mut ok = true;
+                for p in places {
+                    match self.place(cx, p) {
+                        Some((place, _)) => out.push(place),
+                        None => ok = false,
+                    }
+                }
+                ok.then_some(T::Read(out))
+            }
+            StmtKind::Restore(None) => Some(T::Restore(None)),
+            StmtKind::Restore(Some(seg)) => {
+                let key = super::walk::label_key(&seg.text);
+                if !cx.labels.contains_key(&key) {
+                    unknown_label(cx, seg, "no such label");
+                    return None;
+                }
+                Some(T::Restore(Some(key)))
+            }
+            StmtKind::Swap(a, b) => {
+                let pa = self.place(cx, a);
+                let pb = self.place(cx, b);
+                let ((pa, ta), (pb, tb)) = (pa?, pb?);
+                let vt = |p: &typed::Place| match p {
+                    typed::Place::Var(r) => r.ty,
+                    typed::Place::Element(e) => e.base.ty,
+                };
+                if ta != tb || vt(&pa) != vt(&pb) {
+                    cx.push(
+                        Problem::error(
+                            "pacer::check::swap",
+                            Span::new(a.span().start, b.span().end),
+                            "Type mismatch: SWAP exchanges two values of the same type",
+                            "different types",
+                        )
+                        .with_help("both names need the same type suffix"),
+                    );
+                    return None;
+                }
+                Some(T::Swap(pa, pb))
+            }
+            StmtKind::Randomize(None) => Some(T::Randomize(None)),
+            StmtKind::Randomize(Some(e)) => Some(T::Randomize(Some(self.want(
+                cx,
+                e,
+                Ty::Num,
+                "the seed is a number",
+            )?))),
+            StmtKind::DefType { .. } => Some(T::Nothing),
+            _ => not_here(cx, s, Dialect::MotionBasic),
+        }
+    }
+
     /// `PRINT`: numbers and strings; every item checked, each number written as its type.
     fn print(&mut self, cx: &mut Context<'_>, items: &[PrintItem]) -> Option<T> {
         let mut checked = Vec::with_capacity(items.len());
@@ -1013,4 +1673,26 @@ fn unknown_controller(target: &Segment) -> Problem {
     .with_help_opt(
         nearest(target.text.trim_end_matches('@'), names).map(|n| format!("did you mean `{n}@`?")),
     )
+}
+
+/// A `DATA` item's value when the whole item reads as a number (`12`, `-3.5`, `1E3`, `.5`).
+pub fn data_number(text: &str) -> Option<f64> {
+    let t = text.trim();
+    let plain = t.strip_prefix('+').unwrap_or(t);
+    let ok = !plain.is_empty()
+        && plain
+            .chars()
+            .all(|c| c.is_ascii_digit() || matches!(c, '.' | 'E' | 'e' | 'D' | 'd' | '-' | '+'))
+        && plain
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_ascii_digit() || c == '.' || c == '-');
+    if !ok {
+        return None;
+    }
+    plain
+        .replace(['D', 'd'], "E")
+        .parse()
+        .ok()
+        .filter(|v: &f64| v.is_finite())
 }

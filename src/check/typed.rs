@@ -3,6 +3,7 @@
 //! The compiler turns it into bytecode without looking anything up again.
 
 use super::functions::{Func, KernelFunc};
+use super::text::TextFunc;
 use crate::devices::command::{Domain, MotionCmd, StartRef};
 use crate::registry::{Hook, Resolved, SlotId};
 use crate::span::Span;
@@ -174,6 +175,48 @@ pub enum ExprKind {
     AxisSet(Vec<Expr>),
     /// `( x )`.
     Paren(Box<Expr>),
+    /// An array element read.
+    Element(Box<Element>),
+    /// A string function (MotionBASIC); `LEN`, `ASC`, `VAL`, `INSTR` give numbers.
+    Text(TextFunc, Vec<Expr>),
+    /// `RND` or `RND(x)`: the next random number (x < 0 seeds first; x = 0 repeats the last).
+    Rnd(Option<Box<Expr>>),
+    /// `TIMER`: the simulated seconds since the run started.
+    Timer,
+}
+
+/// An array element: the array's first element (its storage starts there), its bounds and
+/// the subscripts.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Element {
+    /// Element 0 of the array.
+    pub base: Resolved,
+    /// The upper bound of each subscript.
+    pub bounds: Vec<u32>,
+    /// The subscripts, one per bound.
+    pub subs: Vec<Expr>,
+    /// A string array.
+    pub text: bool,
+}
+
+/// Where a value is stored.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Place {
+    /// A variable or member.
+    Var(Resolved),
+    /// An array element.
+    Element(Element),
+}
+
+/// One constant of a `DATA` statement.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DataConst {
+    /// As written (a quoted item without its quotes).
+    pub text: String,
+    /// Its value when it reads as a number (a quoted item never does).
+    pub number: Option<f64>,
+    /// Where it is.
+    pub span: Span,
 }
 
 /// A checked statement.
@@ -276,6 +319,24 @@ pub enum StmtKind {
     },
     /// `PRINT`: the items; the line ends unless the last item is a separator.
     Print(Vec<PrintItem>),
+    /// A store into an array element (MotionBASIC).
+    SetElement {
+        /// The element.
+        place: Element,
+        /// The value.
+        value: Expr,
+    },
+    /// `DATA`: its constants, which `READ` takes in program order.
+    Data(Vec<DataConst>),
+    /// `READ`: the next constants into these places, in order.
+    Read(Vec<Place>),
+    /// `RESTORE [label]`: the next `READ` takes the first constant at or after the label (the
+    /// label's key), or the program's first.
+    Restore(Option<String>),
+    /// `SWAP a, b` (same type).
+    Swap(Place, Place),
+    /// `RANDOMIZE [seed]` (no seed: the scenario's).
+    Randomize(Option<Expr>),
     /// A MotionBASIC motion statement (`GEAR`, `MOVE`).
     Motion {
         /// Which, and which operands it has.

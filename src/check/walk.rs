@@ -304,6 +304,13 @@ fn statement<R: Rules>(rules: &mut R, cx: &mut Context<'_>, s: &Stmt) -> Option<
         | StmtKind::SetCall { .. }
         | StmtKind::Gear { .. }
         | StmtKind::Move { .. }
-        | StmtKind::Print(_) => rules.other(cx, s),
+        | StmtKind::Print(_)
+        | StmtKind::Dim(_)
+        | StmtKind::Data(_)
+        | StmtKind::Read(_)
+        | StmtKind::Restore(_)
+        | StmtKind::Swap(..)
+        | StmtKind::Randomize(_)
+        | StmtKind::DefType { .. } => rules.other(cx, s),
     }
 }

@@ -231,12 +231,14 @@ pub enum Op {
         member: u8,
         truth: bool,
     },
-    /// Write member `member` of every DSP axis in the set `axes`.
+    /// Write member `member` of every DSP axis in the set `axes`; `text`: the value is a
+    /// string.
     AxisWrite {
         axes: Reg,
         src: Reg,
         member: u8,
         hook: Hook,
+        text: bool,
     },
     /// A MotionBASIC motion statement on the axes in `axes`.
     Motion {
@@ -259,11 +261,87 @@ pub enum Op {
     PrintLine,
     /// `GOSUB`: run the subroutine at `target`, then come back here.
     Gosub { target: u32 },
+    /// `dst` = the subscript in `src` rounded to an integer (halves to even), which must be
+    /// within `0..len` ("Subscript out of range" otherwise).
+    Subscript { dst: Reg, src: Reg, len: u32 },
+    /// `dst` = the array element at `base + v[off]` (`off` from [`Op::Subscript`]s, below the
+    /// array's `len`).
+    LoadAt {
+        dst: Reg,
+        base: Reg,
+        off: Reg,
+        len: u32,
+    },
+    /// Store `src` into the array element at `base + v[off]`: rounded to a long integer when
+    /// `decimals` is 0, a real when [`REAL_STORE`] (traced as any store).
+    StoreAt {
+        base: Reg,
+        off: Reg,
+        src: Reg,
+        decimals: u8,
+        len: u32,
+    },
+    /// A rarer instruction, described in the chunk's side table ([`Chunk::ext`]) so every
+    /// instruction stays small: strings, `DATA`, random numbers.
+    Ext { at: u32 },
     /// `RETURN` from a subroutine.
     Return,
     /// End of this program (returns to a caller if called).
     End,
 }
+
+/// The instructions of [`Op::Ext`]. A string value is a handle: an index into the machine's
+/// string table, which holds the programs' literals and one cell per string variable, array
+/// element and string-making instruction (a string variable's slot always holds its own cell).
+#[derive(Debug, Clone, PartialEq)]
+pub enum ExtOp {
+    /// Copy the string `src` into the cell of the string variable `dst` (traced when it changes).
+    StoreText { dst: Reg, src: Reg },
+    /// Copy the string `src` into the cell of the string array element at `base + v[off]`.
+    StoreTextAt { base: Reg, off: Reg, src: Reg },
+    /// Copy the string `src` into `cell`; `dst` = that cell (SWAP keeps a value this way).
+    CopyText { dst: Reg, cell: u32, src: Reg },
+    /// `a + b` of strings into `cell`; `dst` = that cell.
+    Concat { dst: Reg, cell: u32, a: Reg, b: Reg },
+    /// A string function on `argc` arguments in consecutive registers from `args` (bit i of
+    /// `texts`: argument i is a string); a string result goes into `cell` (and `dst` = the
+    /// cell), a number into `dst`.
+    Text {
+        func: TextFunc,
+        dst: Reg,
+        cell: u32,
+        args: Reg,
+        argc: u8,
+        texts: u8,
+    },
+    /// `dst` = 1 when the strings compare as `cmp` says (character codes, a prefix first), else 0.
+    CompareText { cmp: Cmp, dst: Reg, a: Reg, b: Reg },
+    /// `dst` = RND, or RND(`arg`).
+    Rnd { dst: Reg, arg: Option<Reg> },
+    /// `RANDOMIZE` with a seed, or the scenario's.
+    Randomize { seed: Option<Reg> },
+    /// `dst` = simulated seconds since the run started.
+    Timer { dst: Reg },
+    /// `dst` = the next `DATA` constant: its string when `text`, else its number.
+    Read { dst: Reg, text: bool },
+    /// The next `READ` takes `DATA` constant `item` (0: the first).
+    Restore { item: u32 },
+}
+
+/// A `DATA` constant of a compiled program.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DataConst {
+    /// Its value when it reads as a number.
+    pub number: Option<f64>,
+    /// The string it is (a handle).
+    pub text: u32,
+    /// As written, for messages.
+    pub written: String,
+    /// Its source line.
+    pub line: u32,
+}
+
+pub use crate::check::text::TextFunc;
 
 /// Fuse adjacent pairs of instructions into superinstructions (see [`Op::AddLong`]). Only a pair
 /// joined by a temporary in `temps` is fused.
@@ -449,6 +527,20 @@ impl Op {
             | Op::JumpWhenEq { a, b, .. }
             | Op::JumpWhenNe { a, b, .. } => a.max(b),
             Op::WaitTime { src } | Op::Dwell { src, .. } => src,
+            Op::Subscript { dst, src, .. } => dst.max(src),
+            Op::LoadAt {
+                dst,
+                base,
+                off,
+                len,
+            } => dst.max(off).max(base + len.saturating_sub(1)),
+            Op::StoreAt {
+                base,
+                off,
+                src,
+                len,
+                ..
+            } => off.max(src).max(base + len.saturating_sub(1)),
             Op::ForCheck { var, limit, .. } | Op::ForNext { var, limit, .. } => {
                 var.max(limit.saturating_add(1))
             }

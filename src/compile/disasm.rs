@@ -1,6 +1,6 @@
 //! A readable listing of compiled bytecode (`pacer disasm`).
 
-use super::bytecode::{BinaryOp, Op, StartRef};
+use super::bytecode::{BinaryOp, ExtOp, Op, StartRef};
 use super::{Chunk, Layout};
 use crate::registry::Registry;
 use std::fmt::Write;
@@ -234,6 +234,32 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::PrintZone => "print.zone".to_string(),
             Op::PrintLine => "print.line".to_string(),
             Op::Gosub { target } => format!("gosub     @{target}"),
+            Op::Subscript { dst, src, len } => {
+                format!("subscr    {} <- {} in 0..{}", r(dst), r(src), len)
+            }
+            Op::LoadAt { dst, base, off, .. } => {
+                format!("load.at   {} <- {}[{}]", r(dst), r(base), r(off))
+            }
+            Op::StoreAt {
+                base,
+                off,
+                src,
+                decimals,
+                ..
+            } => {
+                let kind = if decimals == crate::compile::bytecode::REAL_STORE {
+                    "r".to_string()
+                } else if decimals == 0 {
+                    "l".to_string()
+                } else {
+                    format!("f{decimals}")
+                };
+                format!("store.at.{kind} {}[{}] <- {}", r(base), r(off), r(src))
+            }
+            Op::Ext { at } => match chunk.ext.get(at as usize) {
+                Some(ext) => ext_text(ext, &r, chunk),
+                None => format!("ext       #{at}?"),
+            },
             Op::Return => "return".to_string(),
             Op::End => "end".to_string(),
         };
@@ -275,4 +301,68 @@ fn axis_member_name(member: u8) -> &'static str {
 fn fused(name: &str, decimals: u8, dst: String, a: String, sym: &str, b: String) -> String {
     let mnemonic = format!("{name}.f{decimals}");
     format!("{mnemonic:<9} {dst} <- {a} {sym} {b}")
+}
+
+/// An [`Op::Ext`] instruction as the disassembly shows it.
+fn ext_text(op: &ExtOp, r: &dyn Fn(u32) -> String, chunk: &Chunk) -> String {
+    match op {
+        ExtOp::StoreText { dst, src } => format!("store.s   {} <- {}", r(*dst), r(*src)),
+        ExtOp::StoreTextAt { base, off, src } => {
+            format!("store.at.s {}[{}] <- {}", r(*base), r(*off), r(*src))
+        }
+        ExtOp::CopyText { dst, cell, src } => {
+            format!("copy.s    {} <- {} (cell {cell})", r(*dst), r(*src))
+        }
+        ExtOp::Concat { dst, cell, a, b } => {
+            format!(
+                "concat    {} <- {} + {} (cell {cell})",
+                r(*dst),
+                r(*a),
+                r(*b)
+            )
+        }
+        ExtOp::Text {
+            func,
+            dst,
+            args,
+            argc,
+            ..
+        } => format!(
+            "text      {} <- {}({} args from {})",
+            r(*dst),
+            func.name(),
+            argc,
+            r(*args)
+        ),
+        ExtOp::CompareText { cmp, dst, a, b } => format!(
+            "cmp.s     {} <- {} {} {}",
+            r(*dst),
+            r(*a),
+            cmp.symbol(),
+            r(*b)
+        ),
+        ExtOp::Rnd { dst, arg } => match arg {
+            Some(a) => format!("rnd       {} <- RND({})", r(*dst), r(*a)),
+            None => format!("rnd       {} <- RND", r(*dst)),
+        },
+        ExtOp::Randomize { seed } => match seed {
+            Some(s) => format!("randomize {}", r(*s)),
+            None => "randomize (the scenario's seed)".to_string(),
+        },
+        ExtOp::Timer { dst } => format!("timer     {}", r(*dst)),
+        ExtOp::Read { dst, text } => {
+            format!(
+                "read      {} <- DATA{}",
+                r(*dst),
+                if *text { " (string)" } else { "" }
+            )
+        }
+        ExtOp::Restore { item } => {
+            let line = chunk.data.get(*item as usize).map(|d| d.line);
+            match line {
+                Some(l) => format!("restore   DATA #{item} (line {l})"),
+                None => format!("restore   DATA #{item}"),
+            }
+        }
+    }
 }

@@ -6,12 +6,14 @@
 pub mod bytecode;
 pub mod disasm;
 
-use crate::check::typed::{Expr, ExprKind, Op as TypedOp, PrintItem, Program, Stmt, StmtKind, Ty};
+use crate::check::typed::{
+    Element, Expr, ExprKind, Op as TypedOp, Place, PrintItem, Program, Stmt, StmtKind, Ty,
+};
 use crate::devices::command::MotionCmd;
 use crate::diag::{Problem, SourceFile};
 use crate::registry::{Hook, Kind, Registry, Resolved, ValueType};
 use crate::span::{LineIndex, Span};
-use bytecode::{BinaryOp, Cmp, Op, Reg, StartRef, REAL_STORE};
+use bytecode::{BinaryOp, Cmp, DataConst, ExtOp, Op, Reg, StartRef, REAL_STORE};
 use indexmap::IndexMap;
 use std::collections::BTreeMap;
 
@@ -26,31 +28,58 @@ pub struct Layout {
     /// Constants and loop limits after the temporaries, with their initial values.
     pub extra: Vec<f64>,
     const_index: BTreeMap<u64, Reg>,
-    /// String literals (MotionBASIC); a string value is its index here.
+    /// The string table's initial contents (MotionBASIC): a string value is an index here.
+    /// Index 0 is the empty string (a string variable never assigned); then the literals and
+    /// the cells of string variables and string-making instructions, which the run changes.
     pub strings: Vec<String>,
+    /// The string variables' and string array elements' slots, each with its own cell.
+    text_slots: Vec<(Reg, u32)>,
+    /// The literals' indices, by text.
+    literal_index: BTreeMap<String, u32>,
+}
+
+/// Whether a MotionBASIC variable or array element of this registry name holds a string.
+pub fn is_text_name(name: &str) -> bool {
+    name.split('(')
+        .next()
+        .is_some_and(|base| base.ends_with('$'))
 }
 
 impl Layout {
-    /// A layout after the registry's slots.
+    /// A layout after the registry's slots; every string variable gets its cell.
     pub fn new(registry: &Registry) -> Layout {
-        Layout {
+        let mut layout = Layout {
             slot_count: registry.slot_count() as u32,
             extra: Vec::new(),
             const_index: BTreeMap::new(),
-            strings: Vec::new(),
+            strings: vec![String::new()],
+            text_slots: Vec::new(),
+            literal_index: BTreeMap::new(),
+        };
+        for (i, info) in registry.slots.iter().enumerate() {
+            if info.kind == Kind::BasicVar && is_text_name(&info.name) {
+                let cell = layout.cell();
+                layout.text_slots.push((i as Reg, cell));
+            }
         }
+        layout
     }
 
     /// The value standing for a string literal.
     pub fn string(&mut self, s: &str) -> f64 {
-        let i = match self.strings.iter().position(|x| x == s) {
-            Some(i) => i,
-            None => {
-                self.strings.push(s.to_string());
-                self.strings.len() - 1
-            }
-        };
-        i as f64
+        if let Some(&i) = self.literal_index.get(s) {
+            return f64::from(i);
+        }
+        let i = self.cell();
+        self.strings[i as usize] = s.to_string();
+        self.literal_index.insert(s.to_string(), i);
+        f64::from(i)
+    }
+
+    /// A new cell of the string table, empty at the start of a run.
+    pub fn cell(&mut self) -> u32 {
+        self.strings.push(String::new());
+        (self.strings.len() - 1) as u32
     }
 
     /// First temporary.
@@ -84,6 +113,11 @@ impl Layout {
     /// Initial contents of the whole value array.
     pub fn initial_values(&self, registry: &Registry) -> Vec<f64> {
         let mut v: Vec<f64> = registry.slots.iter().map(|s| s.initial).collect();
+        for &(slot, cell) in &self.text_slots {
+            if let Some(x) = v.get_mut(slot as usize) {
+                *x = f64::from(cell);
+            }
+        }
         v.resize((self.slot_count + MAX_TEMPS) as usize, 0.0);
         v.extend_from_slice(&self.extra);
         v
@@ -135,6 +169,10 @@ pub struct Chunk {
     pub spans: Vec<Span>,
     /// The program's text, for run-time errors shown in place.
     pub source: SourceFile,
+    /// The instructions [`Op::Ext`] names.
+    pub ext: Vec<ExtOp>,
+    /// The program's `DATA` constants, in program order.
+    pub data: Vec<DataConst>,
 }
 
 /// Compile a program that checked without errors. `src` and `file` are its text and name
@@ -159,6 +197,12 @@ pub fn compile(
             _ if target as usize <= at => Op::Loop { target },
             _ => Op::Jump { target },
         };
+    }
+    for (at, label) in std::mem::take(&mut c.restores) {
+        let item = c.label_data.get(&label).copied().unwrap_or(0);
+        if let Some(op) = c.ext.get_mut(at) {
+            *op = ExtOp::Restore { item };
+        }
     }
     c.finish(number, file, src)
 }
@@ -194,6 +238,12 @@ struct Compiler<'a> {
     labels: IndexMap<String, u32>,
     gotos: Vec<(usize, String)>,
     problems: Vec<Problem>,
+    ext: Vec<ExtOp>,
+    data: Vec<DataConst>,
+    /// Per label, the number of DATA constants before it (where `RESTORE label` goes).
+    label_data: IndexMap<String, u32>,
+    /// `RESTORE label` instructions to patch: the index in `ext`, the label.
+    restores: Vec<(usize, String)>,
 }
 
 impl<'a> Compiler<'a> {
@@ -211,6 +261,10 @@ impl<'a> Compiler<'a> {
             labels: IndexMap::new(),
             gotos: Vec::new(),
             problems: Vec::new(),
+            ext: Vec::new(),
+            data: Vec::new(),
+            label_data: IndexMap::new(),
+            restores: Vec::new(),
         }
     }
 
@@ -244,7 +298,17 @@ impl<'a> Compiler<'a> {
             lines: self.lines,
             spans: self.spans,
             source: SourceFile::new(file, src),
+            ext: self.ext,
+            data: self.data,
         })
+    }
+
+    /// Emit an [`Op::Ext`] instruction; its index in the side table.
+    fn emit_ext(&mut self, op: ExtOp) -> usize {
+        self.ext.push(op);
+        let at = self.ext.len() - 1;
+        self.emit(Op::Ext { at: at as u32 });
+        at
     }
 
     fn emit(&mut self, op: Op) -> usize {
@@ -311,9 +375,53 @@ impl<'a> Compiler<'a> {
 
     fn stmt(&mut self, s: &Stmt) {
         match &s.kind {
+            StmtKind::Assign { target, value } if value.ty == Ty::Str => {
+                let src = self.expr(value);
+                self.emit_ext(ExtOp::StoreText {
+                    dst: target.slot,
+                    src,
+                });
+            }
             StmtKind::Assign { target, value } => {
                 let v = self.expr(value);
                 self.store(target, v);
+            }
+            StmtKind::SetElement { place, value } => {
+                let src = self.expr(value);
+                let off = self.offset(place);
+                self.store_element(place, off, src);
+            }
+            StmtKind::Data(items) => {
+                for item in items {
+                    let text = self.layout.string(&item.text) as u32;
+                    let line = self.lines_of.line(item.span.start) as u32;
+                    self.data.push(DataConst {
+                        number: item.number,
+                        text,
+                        written: item.text.clone(),
+                        line,
+                    });
+                }
+            }
+            StmtKind::Read(places) => {
+                for place in places {
+                    self.temp_top = 0;
+                    let dst = self.temp(s.span);
+                    let text = place_is_text(place);
+                    self.emit_ext(ExtOp::Read { dst, text });
+                    self.store_place(place, dst);
+                }
+            }
+            StmtKind::Restore(label) => {
+                let at = self.emit_ext(ExtOp::Restore { item: 0 });
+                if let Some(key) = label {
+                    self.restores.push((at, key.clone()));
+                }
+            }
+            StmtKind::Swap(a, b) => self.swap(a, b),
+            StmtKind::Randomize(seed) => {
+                let seed = seed.as_ref().map(|e| self.expr(e));
+                self.emit_ext(ExtOp::Randomize { seed });
             }
             StmtKind::Act {
                 target,
@@ -439,6 +547,7 @@ impl<'a> Compiler<'a> {
             StmtKind::Label(key) => {
                 let pc = self.here();
                 self.labels.insert(key.clone(), pc);
+                self.label_data.insert(key.clone(), self.data.len() as u32);
             }
             StmtKind::Goto(key) => {
                 let at = self.emit(Op::Jump { target: 0 });
@@ -485,6 +594,7 @@ impl<'a> Compiler<'a> {
                     src,
                     member: *member,
                     hook: *hook,
+                    text: value.ty == Ty::Str,
                 });
             }
             StmtKind::Motion {
@@ -493,6 +603,137 @@ impl<'a> Compiler<'a> {
                 operands,
                 after,
             } => self.motion(*cmd, axes, operands, *after),
+        }
+    }
+
+    /// The register holding an element's offset from its array's first element: each
+    /// subscript checked against its bound, row-major (the last subscript varies fastest).
+    fn offset(&mut self, el: &Element) -> Reg {
+        let mut acc: Option<Reg> = None;
+        for (sub, &bound) in el.subs.iter().zip(&el.bounds) {
+            let len = bound + 1;
+            let mark = self.temp_top;
+            let src = self.expr(sub);
+            self.temp_top = mark;
+            let s = self.temp(sub.span);
+            self.emit(Op::Subscript { dst: s, src, len });
+            acc = Some(match acc {
+                None => s,
+                Some(prev) => {
+                    // prev * len + s, computed into `prev` (the element's offset stays small).
+                    let n = self.layout.constant(f64::from(len));
+                    self.emit(Op::Mul {
+                        dst: prev,
+                        a: prev,
+                        b: n,
+                    });
+                    self.emit(Op::Add {
+                        dst: prev,
+                        a: prev,
+                        b: s,
+                    });
+                    self.temp_top = mark;
+                    prev
+                }
+            });
+        }
+        acc.unwrap_or_else(|| self.layout.constant(0.0))
+    }
+
+    /// Store `src` into an array element whose offset is in `off`.
+    fn store_element(&mut self, el: &Element, off: Reg, src: Reg) {
+        if el.text {
+            self.emit_ext(ExtOp::StoreTextAt {
+                base: el.base.slot,
+                off,
+                src,
+            });
+            return;
+        }
+        let decimals = match el.base.ty {
+            ValueType::Fixed(d) => d,
+            ValueType::Integer => 0,
+            _ => REAL_STORE,
+        };
+        self.emit(Op::StoreAt {
+            base: el.base.slot,
+            off,
+            src,
+            decimals,
+            len: element_count(el),
+        });
+    }
+
+    /// Store `src` into a place (a variable or an element).
+    fn store_place(&mut self, place: &Place, src: Reg) {
+        match place {
+            Place::Var(r) if place_is_text(place) => {
+                self.emit_ext(ExtOp::StoreText { dst: r.slot, src });
+            }
+            Place::Var(r) => self.store(r, src),
+            Place::Element(el) => {
+                let off = self.offset(el);
+                self.store_element(el, off, src);
+            }
+        }
+    }
+
+    /// `SWAP a, b`: the subscripts are evaluated once, the first value kept aside (a string in
+    /// a cell of its own, since the variable's cell is about to change).
+    fn swap(&mut self, a: &Place, b: &Place) {
+        let text = place_is_text(a);
+        let locate = |c: &mut Self, p: &Place| match p {
+            Place::Var(r) => (r.slot, None),
+            Place::Element(el) => {
+                let off = c.offset(el);
+                // The offset must survive the other place's subscripts.
+                let keep = c.temp(c.span);
+                c.emit(Op::Move {
+                    dst: keep,
+                    src: off,
+                });
+                (el.base.slot, Some((keep, element_count(el))))
+            }
+        };
+        let (sa, oa) = locate(self, a);
+        let (sb, ob) = locate(self, b);
+        let read = |c: &mut Self, slot: Reg, off: Option<(Reg, u32)>| -> Reg {
+            let dst = c.temp(c.span);
+            match off {
+                None => c.emit(Op::Move { dst, src: slot }),
+                Some((off, len)) => c.emit(Op::LoadAt {
+                    dst,
+                    base: slot,
+                    off,
+                    len,
+                }),
+            };
+            dst
+        };
+        let va = read(self, sa, oa);
+        let kept = if text {
+            let cell = self.layout.cell();
+            let dst = self.temp(self.span);
+            self.emit_ext(ExtOp::CopyText { dst, cell, src: va });
+            dst
+        } else {
+            va
+        };
+        let vb = read(self, sb, ob);
+        let (oa, ob) = (oa.map(|o| o.0), ob.map(|o| o.0));
+        self.store_located(a, sa, oa, vb);
+        self.store_located(b, sb, ob, kept);
+    }
+
+    /// Store `src` into `place`, found at `slot` (+ `v[off]` for an element).
+    fn store_located(&mut self, place: &Place, slot: Reg, off: Option<Reg>, src: Reg) {
+        match (place, off) {
+            (Place::Element(el), Some(off)) => self.store_element(el, off, src),
+            _ if place_is_text(place) => {
+                self.emit_ext(ExtOp::StoreText { dst: slot, src });
+            }
+            (Place::Var(r), _) => self.store(r, src),
+            (Place::Element(_), None) => {}
         }
     }
 
@@ -755,7 +996,7 @@ impl<'a> Compiler<'a> {
                 a,
                 b,
                 ..
-            } => {
+            } if a.ty != Ty::Str => {
                 let mark = self.temp_top;
                 let ra = self.expr(a);
                 let rb = self.expr(b);
@@ -829,6 +1070,93 @@ impl<'a> Compiler<'a> {
                 if negative && e.long {
                     self.emit(Op::CheckLong { r: dst });
                 }
+                dst
+            }
+            ExprKind::Binary { op, a, b, negate } if a.ty == Ty::Str => {
+                let mark = self.temp_top;
+                let ra = self.expr(a);
+                let rb = self.expr(b);
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
+                match op {
+                    TypedOp::Cmp(cmp) => {
+                        self.emit_ext(ExtOp::CompareText {
+                            cmp: *cmp,
+                            dst,
+                            a: ra,
+                            b: rb,
+                        });
+                        if *negate {
+                            self.emit(Op::Neg { dst, a: dst });
+                        }
+                    }
+                    _ => {
+                        let cell = self.layout.cell();
+                        self.emit_ext(ExtOp::Concat {
+                            dst,
+                            cell,
+                            a: ra,
+                            b: rb,
+                        });
+                    }
+                }
+                dst
+            }
+            ExprKind::Element(el) => {
+                let mark = self.temp_top;
+                let off = self.offset(el);
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
+                self.emit(Op::LoadAt {
+                    dst,
+                    base: el.base.slot,
+                    off,
+                    len: element_count(el),
+                });
+                dst
+            }
+            ExprKind::Text(func, args) => {
+                let mark = self.temp_top;
+                let regs: Vec<Reg> = args.iter().map(|_| self.temp(e.span)).collect();
+                let top = self.temp_top;
+                for (a, &dst) in args.iter().zip(&regs) {
+                    let src = self.expr(a);
+                    self.temp_top = top;
+                    self.emit(Op::Move { dst, src });
+                }
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
+                let cell = if e.ty == Ty::Str {
+                    self.layout.cell()
+                } else {
+                    0
+                };
+                let texts = args
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, a)| a.ty == Ty::Str)
+                    .fold(0u8, |m, (i, _)| m | (1 << i));
+                self.emit_ext(ExtOp::Text {
+                    func: *func,
+                    dst,
+                    cell,
+                    args: regs.first().copied().unwrap_or(dst),
+                    argc: args.len() as u8,
+                    texts,
+                });
+                dst
+            }
+            ExprKind::Rnd(arg) => {
+                let mark = self.temp_top;
+                let arg = arg.as_ref().map(|a| self.expr(a));
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
+                self.emit_ext(ExtOp::Rnd { dst, arg });
+                dst
+            }
+            ExprKind::Timer => {
+                let dst = self.temp(e.span);
+                self.emit_ext(ExtOp::Timer { dst });
                 dst
             }
             ExprKind::Binary { op, a, b, negate } => {
@@ -977,5 +1305,22 @@ fn fault_free(e: &Expr) -> bool {
         ExprKind::Call(_, args) => args.iter().all(fault_free),
         ExprKind::AxisSet(args) => args.iter().all(fault_free),
         ExprKind::Kernel { .. } | ExprKind::AxisRead { .. } => false,
+        // A subscript can be out of range; a string function can be an illegal call; RND
+        // changes the generator.
+        ExprKind::Element(_) | ExprKind::Text(..) | ExprKind::Rnd(_) => false,
+        ExprKind::Timer => true,
+    }
+}
+
+/// The number of elements of an element's array.
+fn element_count(el: &Element) -> u32 {
+    el.bounds.iter().map(|&b| b + 1).product()
+}
+
+/// Whether a place holds a string.
+fn place_is_text(place: &Place) -> bool {
+    match place {
+        Place::Var(r) => r.kind == Kind::BasicVar && is_text_name(&r.name),
+        Place::Element(el) => el.text,
     }
 }

@@ -89,4 +89,6 @@ pub struct ScenarioDesc {
     pub feeds: Vec<WorkpieceFeed>,
     /// The run's duration, if the scenario sets one.
     pub duration_ns: Option<u64>,
+    /// `[run] seed`, if the scenario sets one (MotionBASIC's RND starts from it).
+    pub seed: Option<u64>,
 }

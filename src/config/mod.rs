@@ -185,5 +185,6 @@ pub fn scenario(
         belt_profiles: belts.profiles,
         feeds: belts.feeds,
         duration_ns: sc.run.duration.as_ref().map(|d| d.get_ref().0),
+        seed: sc.run.seed,
     }
 }

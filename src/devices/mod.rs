@@ -195,6 +195,15 @@ pub trait AxisSet {
     /// The slot of member index `member` of axis `axis`.
     fn slot(&self, axis: u32, member: u32) -> Option<SlotId>;
 
+    /// A program writes a string to member index `member` of axis `axis`.
+    fn write_text(
+        &mut self,
+        axis: u32,
+        member: u32,
+        text: &str,
+        now: &mut Now<'_>,
+    ) -> Result<(), String>;
+
     /// A program writes member index `member` of axis `axis`.
     fn write(
         &mut self,

@@ -37,7 +37,6 @@ pub fn image(
             &registry,
             &desc.dsp,
             &scenario.mark_tracks,
-            layout.strings.clone(),
             tick,
         )?));
     }
@@ -101,6 +100,7 @@ pub fn image(
         master: scenario.master,
         products: scenario.products,
         duration_ns: scenario.duration_ns,
+        seed: scenario.seed,
         devices,
     })
 }

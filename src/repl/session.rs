@@ -411,7 +411,8 @@ impl Session {
     fn show(&self, ty: ValueType, v: f64, name: &str) -> String {
         match ty {
             ValueType::Bit => on_off(v).to_string(),
-            _ if name.ends_with('$') => match self.layout.strings.get(v as usize) {
+            _ if crate::compile::is_text_name(name) => match self.machine.strings().get(v as usize)
+            {
                 Some(s) if v >= 0.0 && v.fract() == 0.0 => format!("\"{s}\""),
                 _ => "\"\"".to_string(),
             },

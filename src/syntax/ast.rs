@@ -212,6 +212,58 @@ pub enum StmtKind {
     Move { axis: Expr, form: MoveForm },
     /// `PRINT items` (MotionBASIC).
     Print(Vec<PrintItem>),
+    /// `DIM A(10), B$(2, 3)` (MotionBASIC): each array and its upper bounds.
+    Dim(Vec<(Segment, Vec<Expr>)>),
+    /// `DATA 1, -2.5, "TEXT", WORD` (MotionBASIC).
+    Data(Vec<DataItem>),
+    /// `READ A, B$(I)` (MotionBASIC).
+    Read(Vec<Place>),
+    /// `RESTORE [label]` (MotionBASIC).
+    Restore(Option<Segment>),
+    /// `SWAP a, b` (MotionBASIC).
+    Swap(Place, Place),
+    /// `RANDOMIZE [seed]` (MotionBASIC).
+    Randomize(Option<Expr>),
+    /// `DEFINT I-N, X` and the like (MotionBASIC): the suffix unsuffixed names starting with
+    /// the letters get (`%`, `&`, `!`, `#`, `$`), and the letter ranges as written. The syntax
+    /// pass that applies it (`syntax::deftype`) leaves the statement in place, with nothing
+    /// left to do.
+    DefType {
+        /// The type suffix.
+        suffix: char,
+        /// Each letter or range `I-N`.
+        ranges: Vec<(Segment, Option<Segment>)>,
+    },
+}
+
+/// One item of a `DATA` statement.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DataItem {
+    /// The text: a quoted string's contents, or an unquoted item trimmed.
+    pub text: String,
+    /// Written in quotes (always a string).
+    pub quoted: bool,
+    /// Where it is.
+    pub span: Span,
+}
+
+/// A place a value can be stored: a variable or an array element.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Place {
+    /// A variable.
+    Var(Name),
+    /// `A(i, j)`: the array, its subscripts, and the whole element's span.
+    Element(Segment, Vec<Expr>, Span),
+}
+
+impl Place {
+    /// Where it is written.
+    pub fn span(&self) -> Span {
+        match self {
+            Place::Var(n) => n.span,
+            Place::Element(_, _, span) => *span,
+        }
+    }
 }
 
 /// One item of a `PRINT` list.

@@ -1,6 +1,6 @@
 //! Lines as the grammar produces them, before block structure is assembled.
 
-use super::ast::{BinOp, Expr, ExprKind, Name, Segment, Stmt, StmtKind, Using};
+use super::ast::{BinOp, DataItem, Expr, ExprKind, Name, Segment, Stmt, StmtKind, Using};
 use crate::span::Span;
 
 /// A modifier written after an initiate.
@@ -141,5 +141,62 @@ pub fn number(text: &str, l: usize, r: usize) -> Expr {
     Expr {
         kind: ExprKind::Number(text.parse::<f64>().unwrap_or(f64::NAN)),
         span: Span::new(l, r),
+    }
+}
+
+/// `DEFINT`/`DEFLNG`/`DEFSNG`/`DEFDBL`/`DEFSTR` (`word` as written) over its letter ranges.
+pub fn def_type(word: &str, ranges: Vec<(Segment, Option<Segment>)>) -> StmtKind {
+    let suffix = match word.get(3..).map(str::to_ascii_lowercase).as_deref() {
+        Some("int") => '%',
+        Some("lng") => '&',
+        Some("dbl") => '#',
+        Some("str") => '$',
+        _ => '!',
+    };
+    StmtKind::DefType { suffix, ranges }
+}
+
+/// The items of a `DATA` statement whose token (`DATA` and its raw text) starts at byte `at`:
+/// split at commas outside quotes; a quoted item is a string, an unquoted one is its text
+/// trimmed (a number when it reads as one), as in Microsoft BASIC.
+pub fn data_items(token: &str, at: usize) -> Vec<DataItem> {
+    let body = token.get(4..).unwrap_or_default();
+    let base = at + 4;
+    let mut items = Vec::new();
+    let mut start = 0;
+    let mut quoted = false;
+    let bytes = body.as_bytes();
+    for i in 0..=bytes.len() {
+        match bytes.get(i) {
+            Some(b'"') => quoted = !quoted,
+            Some(b',') if !quoted => {
+                items.push(data_item(body, start, i, base));
+                start = i + 1;
+            }
+            None => items.push(data_item(body, start, i, base)),
+            _ => {}
+        }
+    }
+    items
+}
+
+fn data_item(body: &str, from: usize, to: usize, base: usize) -> DataItem {
+    let raw = body.get(from..to).unwrap_or_default();
+    let lead = raw.len() - raw.trim_start().len();
+    let text = raw.trim();
+    let span = Span::new(base + from + lead, base + from + lead + text.len());
+    match text.strip_prefix('"') {
+        // A quoted item: what is inside the quotes (text after the closing quote is dropped,
+        // as Microsoft BASIC does).
+        Some(rest) => DataItem {
+            text: rest.split('"').next().unwrap_or_default().to_string(),
+            quoted: true,
+            span,
+        },
+        None => DataItem {
+            text: text.to_string(),
+            quoted: false,
+            span,
+        },
     }
 }

@@ -3,6 +3,7 @@
 
 pub mod ast;
 pub mod blocks;
+pub mod deftype;
 pub mod lex;
 pub mod lines;
 pub mod token;
@@ -62,9 +63,13 @@ fn parse_file(src: &str, dialect: Dialect, problems: &mut Vec<Problem>) -> Progr
         problems.push(syntax_problem(r.error, src, dialect));
     }
     match result {
-        Ok(lines) => ProgramAst {
-            body: blocks::assemble(lines, src, problems, dialect.words()),
-        },
+        Ok(lines) => {
+            let mut body = blocks::assemble(lines, src, problems, dialect.words());
+            if dialect == Dialect::MotionBasic {
+                deftype::apply(&mut body, problems);
+            }
+            ProgramAst { body }
+        }
         Err(e) => {
             problems.push(syntax_problem(e, src, dialect));
             ProgramAst::default()

@@ -57,6 +57,22 @@ pub enum Tok<'s> {
     After,
     /// `PRINT` or `?` (MotionBASIC).
     Print,
+    /// `DIM` (MotionBASIC).
+    Dim,
+    /// `DATA` and the raw text of its items up to the end of the statement (MotionBASIC).
+    Data(&'s str),
+    /// `READ` (MotionBASIC).
+    Read,
+    /// `RESTORE` (MotionBASIC).
+    Restore,
+    /// `SWAP` (MotionBASIC).
+    Swap,
+    /// `RANDOMIZE` (MotionBASIC).
+    Randomize,
+    /// `LET` (MotionBASIC).
+    Let,
+    /// `DEFINT`, `DEFLNG`, `DEFSNG`, `DEFDBL` or `DEFSTR`, as written (MotionBASIC).
+    DefType(&'s str),
     /// A word for ON: `TRUE` in MotionBASIC; `TRUE`, `YES`, `SET`, `ENABLE` in PowerTools.
     True,
     /// A word for OFF: `FALSE` in MotionBASIC; `OFF`, `FALSE`, `NO`, `CLEAR`, `DISABLE` in
@@ -144,6 +160,14 @@ impl Tok<'_> {
             Tok::In => word("In"),
             Tok::After => word("After"),
             Tok::Print => word("Print"),
+            Tok::Dim => word("Dim"),
+            Tok::Data(_) => word("Data"),
+            Tok::Read => word("Read"),
+            Tok::Restore => word("Restore"),
+            Tok::Swap => word("Swap"),
+            Tok::Randomize => word("Randomize"),
+            Tok::Let => word("Let"),
+            Tok::DefType(s) => s.to_ascii_uppercase().into(),
             Tok::True if basic => "TRUE".into(),
             Tok::True => "a boolean word (ON/TRUE/YES/SET/ENABLE)".into(),
             Tok::False if basic => "FALSE".into(),

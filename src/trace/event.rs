@@ -172,6 +172,13 @@ pub enum Event<'a> {
         /// Its new value.
         value: Value,
     },
+    /// A MotionBASIC string variable (or string array element) changed.
+    TextChange {
+        /// The variable (`NAME$`, `CODES$(3)`).
+        name: Text<'a>,
+        /// Its new text.
+        value: Text<'a>,
+    },
     /// A program started or ended.
     Program {
         /// Program number.
@@ -461,6 +468,7 @@ event_kinds! {
     Start => "start",
     End => "end",
     Change => "change",
+    TextChange => "text_change",
     Program => "program",
     Print => "print",
     Capture => "capture",
@@ -502,6 +510,7 @@ impl Event<'_> {
             Event::Start { .. } => EventKind::Start,
             Event::End { .. } => EventKind::End,
             Event::Change { .. } => EventKind::Change,
+            Event::TextChange { .. } => EventKind::TextChange,
             Event::Program { .. } => EventKind::Program,
             Event::Print { .. } => EventKind::Print,
             Event::Capture { .. } => EventKind::Capture,
@@ -573,6 +582,10 @@ impl Event<'_> {
             EventKind::Change => Event::Change {
                 name: "Queue.0.QueueExit".into(),
                 value: Value::Bit(true),
+            },
+            EventKind::TextChange => Event::TextChange {
+                name: "CODE$".into(),
+                value: "A17".into(),
             },
             EventKind::Program => Event::Program {
                 program: 1,

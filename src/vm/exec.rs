@@ -52,8 +52,17 @@ pub struct Ctx<'a, 'b> {
     pub task: usize,
     /// The tasks' `PRINT` lines.
     pub printer: &'a mut super::print::Printer,
-    /// The programs' strings (a string value is an index into it).
-    pub strings: &'a [String],
+    /// The string table (a string value is an index into it): literals, and the cells the
+    /// run changes.
+    pub strings: &'a mut Vec<String>,
+    /// A string being built, kept so building one does not allocate.
+    pub scratch: &'a mut String,
+    /// MotionBASIC's random-number generator.
+    pub rnd: &'a mut super::rnd::Rnd,
+    /// The scenario's seed (`RANDOMIZE` without one uses it).
+    pub seed: Option<u64>,
+    /// The next `DATA` constant the running task's `READ` takes.
+    pub data_at: &'a mut u32,
 }
 
 /// Run `chunk` from `pc` on `v`. `executed` counts instructions against `budget`.
@@ -704,12 +713,227 @@ pub fn run(
                     fault!("{message}");
                 }
             },
+            Op::Subscript { dst, src, len } => {
+                let x = rd!(src as usize);
+                let i = x.round_ties_even();
+                if !(i >= 0.0 && i < f64::from(len)) {
+                    pc = here;
+                    fault!(
+                        "Subscript out of range: {x} is not within 0 to {}",
+                        len.saturating_sub(1)
+                    );
+                }
+                wr!(dst as usize, i);
+            }
+            Op::LoadAt {
+                dst,
+                base,
+                off,
+                len,
+            } => {
+                let o = rd!(off as usize);
+                if !(o >= 0.0 && o < f64::from(len)) {
+                    pc = here;
+                    fault!("internal error: element {o} of an array of {len}");
+                }
+                wr!(dst as usize, rd!(base as usize + o as usize));
+            }
+            Op::StoreAt {
+                base,
+                off,
+                src,
+                decimals,
+                len,
+            } => {
+                let o = rd!(off as usize);
+                if !(o >= 0.0 && o < f64::from(len)) {
+                    pc = here;
+                    fault!("internal error: element {o} of an array of {len}");
+                }
+                let dst = base + o as u32;
+                let x = rd!(src as usize);
+                if decimals == 0 {
+                    store_long!(dst, x, here)
+                } else if decimals == REAL_STORE {
+                    store_real!(dst, x, here)
+                } else {
+                    store_fixed!(dst, x, decimals, here)
+                }
+            }
+            Op::Ext { at } => {
+                if let Err(message) = ext(at, chunk, v, ctx) {
+                    pc = here;
+                    fault!("{message}");
+                }
+            }
             Op::End => {
                 *executed = n;
                 return Exit::End;
             }
         }
     }
+}
+
+/// A string handle in a register, as an index of the string table.
+fn handle(x: f64, strings: &[String]) -> Result<usize, String> {
+    if x >= 0.0 && x.fract() == 0.0 && (x as usize) < strings.len() {
+        Ok(x as usize)
+    } else {
+        Err(format!("internal error: {x} is not a string"))
+    }
+}
+
+/// Copy string `src` into `cell`; whether it changed.
+fn set_text(strings: &mut [String], cell: usize, src: usize) -> bool {
+    if cell == src || strings[cell] == strings[src] {
+        return false;
+    }
+    let (dst, from) = if cell < src {
+        let (l, r) = strings.split_at_mut(src);
+        (&mut l[cell], &r[0])
+    } else {
+        let (l, r) = strings.split_at_mut(cell);
+        (&mut r[0], &l[src])
+    };
+    dst.clone_from(from);
+    true
+}
+
+/// Store string `src` into the string variable (or element) in slot `slot`, whose own cell
+/// that slot holds; traced when it changes.
+fn store_text(slot: usize, src: f64, v: &[f64], ctx: &mut Ctx<'_, '_>) -> Result<(), String> {
+    let cell = handle(v.get(slot).copied().unwrap_or(-1.0), ctx.strings)?;
+    let from = handle(src, ctx.strings)?;
+    let changed = set_text(ctx.strings, cell, from);
+    if (changed || ctx.now.trace.writes())
+        && ctx.now.trace.enabled()
+        && slot < ctx.slot_count as usize
+    {
+        ctx.now.trace.emit(
+            ctx.now.tick,
+            &Event::TextChange {
+                name: ctx.registry.slots[slot].name.as_str().into(),
+                value: ctx.strings[cell].as_str().into(),
+            },
+        );
+    }
+    Ok(())
+}
+
+/// Put the string in `ctx.scratch` into `cell`; `dst` = the cell.
+fn give_text(dst: u32, cell: u32, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(), String> {
+    let out = ctx
+        .strings
+        .get_mut(cell as usize)
+        .ok_or("internal error: no such string cell")?;
+    out.clone_from(ctx.scratch);
+    v[dst as usize] = f64::from(cell);
+    Ok(())
+}
+
+/// The instructions of the side table ([`Op::Ext`]): strings, `DATA`, random numbers.
+#[cold]
+#[inline(never)]
+fn ext(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(), String> {
+    use crate::check::text::{self, Value as Arg};
+    use crate::compile::bytecode::ExtOp;
+    let Some(op) = chunk.ext.get(at as usize) else {
+        return Err("internal error: no such instruction".into());
+    };
+    match *op {
+        ExtOp::StoreText { dst, src } => store_text(dst as usize, v[src as usize], v, ctx)?,
+        ExtOp::StoreTextAt { base, off, src } => {
+            let slot = base as usize + v[off as usize] as usize;
+            store_text(slot, v[src as usize], v, ctx)?;
+        }
+        ExtOp::CopyText { dst, cell, src } => {
+            let from = handle(v[src as usize], ctx.strings)?;
+            ctx.scratch.clone_from(&ctx.strings[from]);
+            give_text(dst, cell, v, ctx)?;
+        }
+        ExtOp::Concat { dst, cell, a, b } => {
+            let a = handle(v[a as usize], ctx.strings)?;
+            let b = handle(v[b as usize], ctx.strings)?;
+            text::concat(&ctx.strings[a], &ctx.strings[b], ctx.scratch)?;
+            give_text(dst, cell, v, ctx)?;
+        }
+        ExtOp::Text {
+            func,
+            dst,
+            cell,
+            args,
+            argc,
+            texts,
+        } => {
+            let mut values = [Arg::Num(0.0); 3];
+            for (i, value) in values.iter_mut().enumerate().take(usize::from(argc)) {
+                let x = v[args as usize + i];
+                *value = if texts & (1 << i) != 0 {
+                    Arg::Text(&ctx.strings[handle(x, ctx.strings)?])
+                } else {
+                    Arg::Num(x)
+                };
+            }
+            let result = text::apply(func, &values[..usize::from(argc)], ctx.scratch)?;
+            match result {
+                Some(x) => v[dst as usize] = x,
+                None => {
+                    if ctx.scratch.chars().count() > text::MAX_LEN {
+                        return Err(text::too_long());
+                    }
+                    give_text(dst, cell, v, ctx)?;
+                }
+            }
+        }
+        ExtOp::CompareText { cmp, dst, a, b } => {
+            let a = &ctx.strings[handle(v[a as usize], ctx.strings)?];
+            let b = &ctx.strings[handle(v[b as usize], ctx.strings)?];
+            let order = a.cmp(b);
+            let holds = match cmp {
+                crate::compile::bytecode::Cmp::Eq => order.is_eq(),
+                crate::compile::bytecode::Cmp::Ne => order.is_ne(),
+                crate::compile::bytecode::Cmp::Lt => order.is_lt(),
+                crate::compile::bytecode::Cmp::Le => order.is_le(),
+                crate::compile::bytecode::Cmp::Gt => order.is_gt(),
+                crate::compile::bytecode::Cmp::Ge => order.is_ge(),
+            };
+            v[dst as usize] = f64::from(u8::from(holds));
+        }
+        ExtOp::Rnd { dst, arg } => {
+            let arg = arg.map(|r| v[r as usize]);
+            v[dst as usize] = ctx.rnd.call(arg);
+        }
+        ExtOp::Randomize { seed } => {
+            let n = match seed {
+                Some(r) => v[r as usize],
+                None => ctx.seed.unwrap_or(1) as f64,
+            };
+            ctx.rnd.randomize(n);
+        }
+        ExtOp::Timer { dst } => v[dst as usize] = ctx.now.seconds(),
+        ExtOp::Read { dst, text } => {
+            let i = *ctx.data_at as usize;
+            let Some(item) = chunk.data.get(i) else {
+                return Err(format!(
+                    "Out of DATA: the program's {} DATA item(s) have all been read",
+                    chunk.data.len()
+                ));
+            };
+            v[dst as usize] = if text {
+                f64::from(item.text)
+            } else {
+                item.number.ok_or_else(|| {
+                    format!(
+                        "Syntax error in DATA: `{}` (line {}) is not a number",
+                        item.written, item.line
+                    )
+                })?
+            };
+            *ctx.data_at += 1;
+        }
+        ExtOp::Restore { item } => *ctx.data_at = item,
+    }
+    Ok(())
 }
 
 /// `PRINT`'s instructions: a value written at the task's print position, a move to the next
@@ -773,14 +997,24 @@ fn motionbasic(
             src,
             member,
             hook,
-        } => axis_write(
-            ctx,
-            v,
-            v[axes as usize],
-            u32::from(member),
-            hook,
-            v[src as usize],
-        )?,
+            text,
+        } => {
+            let text = if text {
+                let h = handle(v[src as usize], ctx.strings)?;
+                Some(ctx.strings[h].clone())
+            } else {
+                None
+            };
+            axis_write(
+                ctx,
+                v,
+                v[axes as usize],
+                u32::from(member),
+                hook,
+                v[src as usize],
+                text.as_deref(),
+            )?
+        }
         Op::Motion { cmd, axes, args } => {
             let mask = v[axes as usize];
             let a = args as usize;
@@ -1056,6 +1290,7 @@ fn axis_write(
     member: u32,
     hook: Hook,
     value: f64,
+    text: Option<&str>,
 ) -> Result<(), String> {
     let Some(orion) = ctx.devices.axes() else {
         return Err(
@@ -1063,6 +1298,12 @@ fn axis_write(
         );
     };
     let axes = orion.axes_of(mask)?;
+    if let Some(text) = text {
+        for n in axes.iter() {
+            orion.write_text(n, member, text, &mut ctx.now)?;
+        }
+        return Ok(());
+    }
     let mut written = Vec::with_capacity(axes.len());
     for n in axes.iter() {
         orion.write(hook, n, member, value, v, &mut ctx.now)?;

@@ -15,6 +15,7 @@ pub mod exec;
 pub mod live;
 pub mod print;
 pub mod realtime;
+pub mod rnd;
 pub mod stop;
 pub mod stuck;
 pub mod task;
@@ -82,6 +83,8 @@ pub struct MachineImage {
     pub products: Vec<(SlotId, Vec<crate::world::products::Product>)>,
     /// Scenario duration, if set.
     pub duration_ns: Option<u64>,
+    /// The scenario's seed, if set: MotionBASIC's RND starts from it.
+    pub seed: Option<u64>,
     /// The devices, in the order they update: the drive, then the DSP axes and the pick &
     /// place module when the machine has them.
     pub devices: Vec<Box<dyn Device>>,
@@ -174,6 +177,12 @@ pub struct Machine {
     io_down: bool,
     /// The tasks' `PRINT` lines and where they go.
     printer: print::Printer,
+    /// A string being built (see [`exec::Ctx::scratch`]).
+    scratch: String,
+    /// MotionBASIC's random-number generator.
+    rnd: rnd::Rnd,
+    /// The `DATA` place of a probe or a task that has none (never read: probes run no READ).
+    no_data: u32,
 }
 
 /// Trace every registry slot whose value differs from the snapshot, in slot order.
@@ -237,6 +246,9 @@ impl Machine {
             io: Box::new(Simulator),
             io_down: false,
             printer: print::Printer::default(),
+            scratch: String::new(),
+            rnd: rnd::Rnd::new(image.seed),
+            no_data: 0,
             image,
         };
         m.devices.start(&mut m.values);
@@ -247,6 +259,11 @@ impl Machine {
     /// The value array (registry slots first).
     pub fn values(&self) -> &[f64] {
         &self.values
+    }
+
+    /// The string table as the run left it (a string value is an index into it).
+    pub fn strings(&self) -> &[String] {
+        &self.image.strings
     }
 
     /// The registry.
@@ -838,6 +855,10 @@ impl Machine {
     }
 
     fn exec(&mut self, task: usize, chunk: usize, pc: u32, probe: bool, budget: u64) -> Exit {
+        let (frames, data_at) = match self.tasks.get_mut(task) {
+            Some(t) => (Some(&mut t.frames), &mut t.data_at),
+            None => (None, &mut self.no_data),
+        };
         let slot_count = self.image.registry.slot_count() as u32;
         let mut ctx = Ctx {
             task,
@@ -847,10 +868,13 @@ impl Machine {
             now: now!(self),
             slot_count,
             printer: &mut self.printer,
-            strings: &self.image.strings,
+            strings: &mut self.image.strings,
+            scratch: &mut self.scratch,
+            rnd: &mut self.rnd,
+            seed: self.image.seed,
+            data_at,
         };
         let mut executed = self.instructions;
-        let frames = self.tasks.get_mut(task).map(|t| &mut t.frames);
         let exit = exec::run(
             &self.image.chunks[chunk],
             pc,

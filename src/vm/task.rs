@@ -35,6 +35,8 @@ pub struct Task {
     pub frames: Vec<Frame>,
     /// The program started on it.
     pub program: u32,
+    /// The next `DATA` constant its `READ` takes (0 when a program starts on it).
+    pub data_at: u32,
 }
 
 impl Task {
@@ -44,6 +46,7 @@ impl Task {
             state: TaskState::Free,
             frames: Vec::new(),
             program: 0,
+            data_at: 0,
         }
     }
 
@@ -57,6 +60,7 @@ impl Task {
                 gosub: false,
             }],
             program,
+            data_at: 0,
         }
     }
 

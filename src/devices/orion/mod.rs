@@ -98,7 +98,6 @@ pub struct Orion {
     per: u32,
     count: u32,
     members: Members,
-    strings: Vec<String>,
     /// Inputs named by `AFTER`, with their value at the last update.
     after: Vec<(SlotId, bool)>,
     /// REGIST on the axes' fast inputs.
@@ -109,12 +108,11 @@ const SENSORS: [Sensor; 3] = [Sensor::Zref, Sensor::Asen, Sensor::Bsen];
 
 impl Orion {
     /// The DSP axes `configs` (machine.toml `[axis.N]`) with their scenario marks and start
-    /// positions. `strings` are the programs' string literals (SENS.MODE@ values).
+    /// positions.
     pub fn new(
         registry: &Registry,
         axes_set_up: &[AxisSetUp],
         marks: &[MarkTrack],
-        strings: Vec<String>,
         servo_update: f64,
     ) -> Result<Orion, String> {
         let axes = registry.of(Kind::Axis);
@@ -156,7 +154,6 @@ impl Orion {
             per: AXIS_TYPE.members.len() as u32,
             count: axes.count,
             members: MEMBERS,
-            strings,
             after: Vec::new(),
             regist,
         })
@@ -270,6 +267,31 @@ impl AxisSet for Orion {
         (n >= 1 && n <= self.count).then(|| self.base + (n - 1) * self.per + member)
     }
 
+    /// A program writes a string to a controller variable of axis `n` (`SENS.MODE@`).
+    fn write_text(
+        &mut self,
+        n: u32,
+        member: u32,
+        text: &str,
+        now: &mut Now<'_>,
+    ) -> Result<(), String> {
+        if self.slot(n, member).is_none() {
+            return Err(format!("axis {n} is not defined in machine.toml"));
+        }
+        if member != crate::member_index!(AXIS_TYPE, "SensMode") as u32 {
+            return Err("this controller variable takes a number, not a string".into());
+        }
+        self.dsp.set_sens_mode(n, text).map_err(|e| e.0)?;
+        now.trace.emit(
+            now.tick,
+            &Event::SensMode {
+                axis: n,
+                mode: text.to_ascii_uppercase().into(),
+            },
+        );
+        Ok(())
+    }
+
     /// A program writes a controller variable of axis `n`.
     fn write(
         &mut self,
@@ -278,7 +300,7 @@ impl AxisSet for Orion {
         member: u32,
         value: f64,
         v: &mut [f64],
-        now: &mut Now<'_>,
+        _now: &mut Now<'_>,
     ) -> Result<(), String> {
         let Some(slot) = self.slot(n, member) else {
             return Err(format!("axis {n} is not defined in machine.toml"));
@@ -306,25 +328,9 @@ impl AxisSet for Orion {
                     "PosMod" => self.dsp.set_pos_mod(n, value),
                     "PlsMod" => self.dsp.set_pls_mod(n, value),
                     "SensMode" => {
-                        let text = self
-                            .strings
-                            .get(value as usize)
-                            .filter(|_| value >= 0.0 && value.fract() == 0.0)
-                            .ok_or_else(|| {
-                                format!("SENS.MODE@ needs a string such as \"RRRNN\", not {value}")
-                            })?
-                            .clone();
-                        let r = self.dsp.set_sens_mode(n, &text);
-                        if r.is_ok() {
-                            now.trace.emit(
-                                now.tick,
-                                &Event::SensMode {
-                                    axis: n,
-                                    mode: text.to_ascii_uppercase().into(),
-                                },
-                            );
-                        }
-                        r
+                        return Err(format!(
+                            "SENS.MODE@ needs a string such as \"RRRNN\", not {value}"
+                        ))
                     }
                     pls => {
                         let k = pls.as_bytes().get(3).map_or(0, |c| u32::from(c - b'0'));

@@ -72,6 +72,24 @@ enum MbLex<'s> {
     #[token("print", ignore(case))]
     #[token("?")]
     Print,
+    #[token("dim", ignore(case))]
+    Dim,
+    /// `DATA` and its items: everything up to the end of the line or a `:` outside quotes
+    /// (unquoted items are text, as in Microsoft BASIC).
+    #[regex(r#"(?i:data)([ \t]([^\n:"]|"[^"\n]*")*)?"#, |lex| lex.slice(), allow_greedy = true)]
+    Data(&'s str),
+    #[token("read", ignore(case))]
+    Read,
+    #[token("restore", ignore(case))]
+    Restore,
+    #[token("swap", ignore(case))]
+    Swap,
+    #[token("randomize", ignore(case))]
+    Randomize,
+    #[token("let", ignore(case))]
+    Let,
+    #[regex(r"(?i:def(int|lng|sng|dbl|str))", |lex| lex.slice())]
+    DefType(&'s str),
     #[token("true", ignore(case))]
     True,
     #[token("false", ignore(case))]
@@ -218,6 +236,14 @@ fn token(word: MbLex<'_>) -> Option<Tok<'_>> {
         MbLex::In => Tok::In,
         MbLex::After => Tok::After,
         MbLex::Print => Tok::Print,
+        MbLex::Dim => Tok::Dim,
+        MbLex::Data(s) => Tok::Data(s),
+        MbLex::Read => Tok::Read,
+        MbLex::Restore => Tok::Restore,
+        MbLex::Swap => Tok::Swap,
+        MbLex::Randomize => Tok::Randomize,
+        MbLex::Let => Tok::Let,
+        MbLex::DefType(s) => Tok::DefType(s),
         MbLex::True => Tok::True,
         MbLex::False => Tok::False,
         MbLex::Not => Tok::Not,

@@ -1,0 +1,547 @@
+//! MotionBASIC's string functions, as Microsoft BASIC defines them: their names, what they
+//! take and give, and what they compute. Strings hold at most 255 characters, and a count or
+//! position outside what the function allows is an "Illegal function call", as in GW-BASIC.
+
+use super::typed::PrintHow;
+
+/// Longest string a program may build (Microsoft BASIC's limit).
+pub const MAX_LEN: usize = 255;
+
+/// A string function.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum TextFunc {
+    /// `LEN(s$)`: its length.
+    Len,
+    /// `LEFT$(s$, n)`.
+    Left,
+    /// `RIGHT$(s$, n)`.
+    Right,
+    /// `MID$(s$, start[, n])`.
+    Mid,
+    /// `STR$(x)`: the number as PRINT writes it, without the trailing space.
+    Str(PrintHow),
+    /// `VAL(s$)`: the number the string starts with.
+    Val,
+    /// `CHR$(code)`.
+    Chr,
+    /// `ASC(s$)`: the code of its first character.
+    Asc,
+    /// `INSTR([start,] s$, find$)`: where `find$` first occurs, from 1; 0 when nowhere.
+    Instr,
+    /// `SPACE$(n)`.
+    Space,
+    /// `STRING$(n, code)` or `STRING$(n, s$)`: n times the character.
+    Repeat,
+    /// `UCASE$(s$)`.
+    Upper,
+    /// `LCASE$(s$)`.
+    Lower,
+    /// `LTRIM$(s$)`: without leading spaces.
+    TrimStart,
+    /// `RTRIM$(s$)`: without trailing spaces.
+    TrimEnd,
+    /// `HEX$(n)`.
+    Hex,
+    /// `OCT$(n)`.
+    Oct,
+}
+
+/// What an argument is.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Arg {
+    /// A number.
+    Num,
+    /// A string.
+    Text,
+    /// Either (`STRING$`'s character).
+    Either,
+}
+
+/// One string function: its name, arguments (the first `min` required), whether it gives a
+/// string, and what it does.
+#[derive(Debug, Clone, Copy)]
+pub struct TextDef {
+    /// The name as written, upper case.
+    pub name: &'static str,
+    /// The function (`STR$` is completed by the checker with the argument's type).
+    pub func: TextFunc,
+    /// Its arguments in order.
+    pub args: &'static [Arg],
+    /// How many are required.
+    pub min: usize,
+    /// It gives a string (else a number).
+    pub gives_text: bool,
+    /// What it does, for help lines.
+    pub meaning: &'static str,
+}
+
+const fn def(
+    name: &'static str,
+    func: TextFunc,
+    args: &'static [Arg],
+    min: usize,
+    gives_text: bool,
+    meaning: &'static str,
+) -> TextDef {
+    TextDef {
+        name,
+        func,
+        args,
+        min,
+        gives_text,
+        meaning,
+    }
+}
+
+use Arg::{Either, Num, Text};
+
+/// Every string function.
+pub const TEXT_FUNCTIONS: &[TextDef] = &[
+    def(
+        "LEN",
+        TextFunc::Len,
+        &[Text],
+        1,
+        false,
+        "length of a string",
+    ),
+    def(
+        "LEFT$",
+        TextFunc::Left,
+        &[Text, Num],
+        2,
+        true,
+        "first n characters",
+    ),
+    def(
+        "RIGHT$",
+        TextFunc::Right,
+        &[Text, Num],
+        2,
+        true,
+        "last n characters",
+    ),
+    def(
+        "MID$",
+        TextFunc::Mid,
+        &[Text, Num, Num],
+        2,
+        true,
+        "n characters from a position",
+    ),
+    def(
+        "STR$",
+        TextFunc::Str(PrintHow::Single),
+        &[Num],
+        1,
+        true,
+        "a number as text",
+    ),
+    def(
+        "VAL",
+        TextFunc::Val,
+        &[Text],
+        1,
+        false,
+        "the number a string starts with",
+    ),
+    def(
+        "CHR$",
+        TextFunc::Chr,
+        &[Num],
+        1,
+        true,
+        "the character of a code",
+    ),
+    def(
+        "ASC",
+        TextFunc::Asc,
+        &[Text],
+        1,
+        false,
+        "the code of the first character",
+    ),
+    // INSTR's start is optional in front: the checker moves two arguments to the back.
+    def(
+        "INSTR",
+        TextFunc::Instr,
+        &[Num, Text, Text],
+        3,
+        false,
+        "where a string occurs in another",
+    ),
+    def("SPACE$", TextFunc::Space, &[Num], 1, true, "n spaces"),
+    def(
+        "STRING$",
+        TextFunc::Repeat,
+        &[Num, Either],
+        2,
+        true,
+        "n times a character",
+    ),
+    def("UCASE$", TextFunc::Upper, &[Text], 1, true, "in capitals"),
+    def(
+        "LCASE$",
+        TextFunc::Lower,
+        &[Text],
+        1,
+        true,
+        "in small letters",
+    ),
+    def(
+        "LTRIM$",
+        TextFunc::TrimStart,
+        &[Text],
+        1,
+        true,
+        "without leading spaces",
+    ),
+    def(
+        "RTRIM$",
+        TextFunc::TrimEnd,
+        &[Text],
+        1,
+        true,
+        "without trailing spaces",
+    ),
+    def(
+        "HEX$",
+        TextFunc::Hex,
+        &[Num],
+        1,
+        true,
+        "an integer in hexadecimal",
+    ),
+    def(
+        "OCT$",
+        TextFunc::Oct,
+        &[Num],
+        1,
+        true,
+        "an integer in octal",
+    ),
+];
+
+/// The string function named `name` (any case).
+pub fn find(name: &str) -> Option<&'static TextDef> {
+    TEXT_FUNCTIONS
+        .iter()
+        .find(|d| d.name.eq_ignore_ascii_case(name))
+}
+
+impl TextFunc {
+    /// The name as written.
+    pub fn name(self) -> &'static str {
+        let key = match self {
+            TextFunc::Str(_) => TextFunc::Str(PrintHow::Single),
+            f => f,
+        };
+        TEXT_FUNCTIONS
+            .iter()
+            .find(|d| d.func == key)
+            .map_or("?", |d| d.name)
+    }
+}
+
+/// An argument's value.
+#[derive(Debug, Clone, Copy)]
+pub enum Value<'a> {
+    /// A number.
+    Num(f64),
+    /// A string.
+    Text(&'a str),
+}
+
+impl Value<'_> {
+    fn num(self) -> f64 {
+        match self {
+            Value::Num(x) => x,
+            Value::Text(_) => 0.0,
+        }
+    }
+
+    fn text(&self) -> &str {
+        match self {
+            Value::Text(s) => s,
+            Value::Num(_) => "",
+        }
+    }
+}
+
+fn illegal(what: &str) -> String {
+    format!("Illegal function call: {what}")
+}
+
+/// A count or position rounded as Microsoft BASIC rounds it (halves to even), within `lo..=hi`.
+fn whole(x: f64, lo: i64, hi: i64, what: &str, name: &str) -> Result<i64, String> {
+    let r = x.round_ties_even();
+    if !r.is_finite() || r < lo as f64 || r > hi as f64 {
+        return Err(illegal(&format!(
+            "{name} takes {what} from {lo} to {hi}, not {x}"
+        )));
+    }
+    Ok(r as i64)
+}
+
+/// `s` from character `from` (0-based), at most `n` characters.
+fn chars(s: &str, from: usize, n: usize, out: &mut String) {
+    out.extend(s.chars().skip(from).take(n));
+}
+
+/// Apply `func` to `args`: a string result is written to `out` (emptied first) and `None`
+/// returned; a number result is returned. Err: an "Illegal function call" or "String too long".
+pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Option<f64>, String> {
+    out.clear();
+    let name = func.name();
+    let arg = |i: usize| args.get(i).copied().unwrap_or(Value::Num(0.0));
+    let len = |v: Value<'_>| v.text().chars().count();
+    match func {
+        TextFunc::Len => return Ok(Some(len(arg(0)) as f64)),
+        TextFunc::Val => return Ok(Some(val(arg(0).text()))),
+        TextFunc::Asc => {
+            let Some(c) = arg(0).text().chars().next() else {
+                return Err(illegal("ASC of an empty string"));
+            };
+            return Ok(Some(f64::from(u32::from(c))));
+        }
+        TextFunc::Instr => {
+            let (start, hay, needle) = if args.len() == 3 {
+                (
+                    whole(arg(0).num(), 1, 255, "a start", name)?,
+                    arg(1),
+                    arg(2),
+                )
+            } else {
+                (1, arg(0), arg(1))
+            };
+            let (hay, needle) = (hay.text(), needle.text());
+            let from = start as usize - 1;
+            if from >= hay.chars().count() {
+                return Ok(Some(0.0));
+            }
+            if needle.is_empty() {
+                return Ok(Some(start as f64));
+            }
+            let hay_chars: Vec<char> = hay.chars().collect();
+            let needle_chars: Vec<char> = needle.chars().collect();
+            let found = (from..hay_chars.len())
+                .find(|&i| hay_chars[i..].starts_with(&needle_chars))
+                .map_or(0.0, |i| (i + 1) as f64);
+            return Ok(Some(found));
+        }
+        TextFunc::Left => {
+            let n = whole(arg(1).num(), 0, 255, "a count", name)?;
+            chars(arg(0).text(), 0, n as usize, out);
+        }
+        TextFunc::Right => {
+            let n = whole(arg(1).num(), 0, 255, "a count", name)? as usize;
+            let l = len(arg(0));
+            chars(arg(0).text(), l.saturating_sub(n), n, out);
+        }
+        TextFunc::Mid => {
+            let start = whole(arg(1).num(), 1, 255, "a start", name)? as usize;
+            let n = if args.len() > 2 {
+                whole(arg(2).num(), 0, 255, "a count", name)? as usize
+            } else {
+                MAX_LEN
+            };
+            chars(arg(0).text(), start - 1, n, out);
+        }
+        TextFunc::Str(how) => {
+            let text = crate::vm::print::number(arg(0).num(), how);
+            out.push_str(text.trim_end_matches(' '));
+        }
+        TextFunc::Chr => {
+            let code = whole(arg(0).num(), 0, 255, "a code", name)?;
+            // Codes 128–255 are Latin-1 here (what pacer reads Windows-1252 programs as is
+            // the same for letters such as `°` and `µ`).
+            out.push(char::from(code as u8));
+        }
+        TextFunc::Space => {
+            let n = whole(arg(0).num(), 0, 255, "a count", name)?;
+            out.extend(std::iter::repeat_n(' ', n as usize));
+        }
+        TextFunc::Repeat => {
+            let n = whole(arg(0).num(), 0, 255, "a count", name)?;
+            let c = match arg(1) {
+                Value::Num(x) => char::from(whole(x, 0, 255, "a code", name)? as u8),
+                Value::Text(s) => s
+                    .chars()
+                    .next()
+                    .ok_or_else(|| illegal("STRING$ of an empty string"))?,
+            };
+            out.extend(std::iter::repeat_n(c, n as usize));
+        }
+        TextFunc::Upper => out.push_str(&arg(0).text().to_ascii_uppercase()),
+        TextFunc::Lower => out.push_str(&arg(0).text().to_ascii_lowercase()),
+        TextFunc::TrimStart => out.push_str(arg(0).text().trim_start_matches(' ')),
+        TextFunc::TrimEnd => out.push_str(arg(0).text().trim_end_matches(' ')),
+        TextFunc::Hex | TextFunc::Oct => {
+            let x = arg(0).num().round_ties_even();
+            // Within -32768..65535 an INTEGER's 16 bits (GW-BASIC); a long's 32 beyond.
+            let bits: u64 = if (-32768.0..=65535.0).contains(&x) {
+                (x as i64 as u64) & 0xFFFF
+            } else if (f64::from(i32::MIN)..=f64::from(u32::MAX)).contains(&x) {
+                (x as i64 as u64) & 0xFFFF_FFFF
+            } else {
+                return Err(format!(
+                    "Overflow: {name} takes an integer of 32 bits, not {x}"
+                ));
+            };
+            let text = if func == TextFunc::Hex {
+                format!("{bits:X}")
+            } else {
+                format!("{bits:o}")
+            };
+            out.push_str(&text);
+        }
+    }
+    Ok(None)
+}
+
+/// Join `a` and `b` into `out`.
+pub fn concat(a: &str, b: &str, out: &mut String) -> Result<(), String> {
+    out.clear();
+    if a.chars().count() + b.chars().count() > MAX_LEN {
+        return Err(too_long());
+    }
+    out.push_str(a);
+    out.push_str(b);
+    Ok(())
+}
+
+/// The "String too long" error.
+pub fn too_long() -> String {
+    format!("String too long: a string holds at most {MAX_LEN} characters")
+}
+
+/// Microsoft BASIC's VAL: blanks are skipped, then the longest number at the start is read
+/// (`&H`/`&O` prefixes for hexadecimal and octal); 0 when there is none.
+pub fn val(s: &str) -> f64 {
+    let t: String = s
+        .chars()
+        .filter(|c| !matches!(c, ' ' | '\t' | '\n'))
+        .collect();
+    let upper = t.to_ascii_uppercase();
+    if let Some(h) = upper.strip_prefix("&H") {
+        let digits: String = h.chars().take_while(char::is_ascii_hexdigit).collect();
+        return i64::from_str_radix(&digits, 16).map_or(0.0, |v| v as f64);
+    }
+    if let Some(o) = upper.strip_prefix("&O").or_else(|| upper.strip_prefix('&')) {
+        let digits: String = o.chars().take_while(|c| ('0'..='7').contains(c)).collect();
+        return i64::from_str_radix(&digits, 8).map_or(0.0, |v| v as f64);
+    }
+    let b = upper.as_bytes();
+    let mut i = 0;
+    if matches!(b.first(), Some(b'+' | b'-')) {
+        i += 1;
+    }
+    let digits_from = i;
+    while b.get(i).is_some_and(u8::is_ascii_digit) {
+        i += 1;
+    }
+    if b.get(i) == Some(&b'.') {
+        i += 1;
+        while b.get(i).is_some_and(u8::is_ascii_digit) {
+            i += 1;
+        }
+    }
+    if i == digits_from || (i == digits_from + 1 && b.get(digits_from) == Some(&b'.')) {
+        return 0.0;
+    }
+    let mantissa_end = i;
+    if matches!(b.get(i), Some(b'E' | b'D')) {
+        let mut j = i + 1;
+        if matches!(b.get(j), Some(b'+' | b'-')) {
+            j += 1;
+        }
+        let exp_digits = j;
+        while b.get(j).is_some_and(u8::is_ascii_digit) {
+            j += 1;
+        }
+        if j > exp_digits {
+            let text = format!("{}E{}", &upper[..mantissa_end], &upper[i + 1..j]);
+            return text.parse().unwrap_or(0.0);
+        }
+    }
+    upper[..mantissa_end].parse().unwrap_or(0.0)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{apply, val, TextFunc, Value};
+    use crate::check::typed::PrintHow;
+
+    fn text(func: TextFunc, args: &[Value<'_>]) -> Result<String, String> {
+        let mut out = String::new();
+        apply(func, args, &mut out)?;
+        Ok(out)
+    }
+
+    fn num(func: TextFunc, args: &[Value<'_>]) -> Option<f64> {
+        apply(func, args, &mut String::new()).ok().flatten()
+    }
+
+    use Value::{Num as N, Text as T};
+
+    /// The GW-BASIC User's Guide's examples and edge cases of each function.
+    #[test]
+    fn functions_as_microsoft_basic() {
+        assert_eq!(text(TextFunc::Left, &[T("BASIC"), N(3.0)]).unwrap(), "BAS");
+        assert_eq!(text(TextFunc::Left, &[T("AB"), N(9.0)]).unwrap(), "AB");
+        assert_eq!(text(TextFunc::Right, &[T("BASIC"), N(2.0)]).unwrap(), "IC");
+        assert_eq!(
+            text(TextFunc::Mid, &[T("GOOD MORNING"), N(6.0), N(4.0)]).unwrap(),
+            "MORN"
+        );
+        assert_eq!(text(TextFunc::Mid, &[T("ABC"), N(5.0)]).unwrap(), "");
+        assert_eq!(text(TextFunc::Mid, &[T("ABCDE"), N(2.0)]).unwrap(), "BCDE");
+        assert!(text(TextFunc::Mid, &[T("ABC"), N(0.0)]).is_err());
+        assert!(text(TextFunc::Left, &[T("ABC"), N(-1.0)]).is_err());
+        assert_eq!(num(TextFunc::Len, &[T("ABCD")]), Some(4.0));
+        assert_eq!(num(TextFunc::Asc, &[T("A")]), Some(65.0));
+        assert!(apply(TextFunc::Asc, &[T("")], &mut String::new()).is_err());
+        assert_eq!(text(TextFunc::Chr, &[N(66.0)]).unwrap(), "B");
+        assert_eq!(
+            text(TextFunc::Str(PrintHow::Integer), &[N(42.0)]).unwrap(),
+            " 42"
+        );
+        assert_eq!(
+            text(TextFunc::Str(PrintHow::Integer), &[N(-7.0)]).unwrap(),
+            "-7"
+        );
+        assert_eq!(
+            text(TextFunc::Str(PrintHow::Single), &[N(0.5)]).unwrap(),
+            " .5"
+        );
+        assert_eq!(num(TextFunc::Instr, &[T("ABCDEB"), T("B")]), Some(2.0));
+        assert_eq!(
+            num(TextFunc::Instr, &[N(3.0), T("ABCDEB"), T("B")]),
+            Some(6.0)
+        );
+        assert_eq!(num(TextFunc::Instr, &[T("ABC"), T("")]), Some(1.0));
+        assert_eq!(num(TextFunc::Instr, &[T(""), T("")]), Some(0.0));
+        assert_eq!(num(TextFunc::Instr, &[T("ABC"), T("X")]), Some(0.0));
+        assert_eq!(text(TextFunc::Space, &[N(3.0)]).unwrap(), "   ");
+        assert_eq!(text(TextFunc::Repeat, &[N(3.0), N(42.0)]).unwrap(), "***");
+        assert_eq!(text(TextFunc::Repeat, &[N(2.0), T("XY")]).unwrap(), "XX");
+        assert_eq!(text(TextFunc::Hex, &[N(255.0)]).unwrap(), "FF");
+        assert_eq!(text(TextFunc::Hex, &[N(-1.0)]).unwrap(), "FFFF");
+        assert_eq!(text(TextFunc::Oct, &[N(8.0)]).unwrap(), "10");
+        assert_eq!(text(TextFunc::TrimStart, &[T("  A ")]).unwrap(), "A ");
+        assert_eq!(text(TextFunc::Upper, &[T("abc")]).unwrap(), "ABC");
+    }
+
+    #[test]
+    fn val_reads_the_leading_number() {
+        assert_eq!(val(" -3.5E2 xyz"), -350.0);
+        assert_eq!(val("12 34"), 1234.0);
+        assert_eq!(val("ABC"), 0.0);
+        assert_eq!(val("&HFF"), 255.0);
+        assert_eq!(val("&O17"), 15.0);
+        assert_eq!(val(".5"), 0.5);
+        assert_eq!(val("."), 0.0);
+        assert_eq!(val("1E"), 1.0);
+        assert_eq!(val("-"), 0.0);
+    }
+}
