@@ -415,6 +415,16 @@ const TOKENS: &[&str] = &[
     "OR",
     "XOR",
     "MOD",
+    "DIM",
+    "DATA 1, A",
+    "READ",
+    "RESTORE",
+    "SWAP",
+    "LET",
+    "RANDOMIZE",
+    "DEFINT",
+    "LEFT$(",
+    "RND",
     "REM",
     "REM ",
     "=",
@@ -608,6 +618,10 @@ fn num_expr() -> BoxedStrategy<String> {
             // `a ^ -b` (the unary minus after `^`)
             1 => (inner.clone(), number.clone()).prop_map(|(a, b)| format!("{a}^-{b}")),
             1 => (func1.clone(), inner.clone()).prop_map(|(f, a)| format!("{f}({a})")),
+            1 => (pick(NUM_ARRAYS), inner.clone()).prop_map(|(a, i)| format!("{a}({i})")),
+            1 => (pick(&["LEN", "ASC", "VAL"]), str_expr()).prop_map(|(f, a)| format!("{f}({a})")),
+            1 => (str_expr(), str_expr()).prop_map(|(a, b)| format!("INSTR({a}, {b})")),
+            1 => pick(&["RND", "RND(1)", "RND(-2)", "TIMER"]),
             1 => (func2.clone(), inner.clone(), inner).prop_map(|(f, a, b)| format!("{f}({a}, {b})")),
         ]
     })
@@ -616,11 +630,79 @@ fn num_expr() -> BoxedStrategy<String> {
 
 /// String expressions: literals, string variables, SENS.MODE@ reads.
 fn str_expr() -> BoxedStrategy<String> {
-    prop_oneof![
+    let leaf = prop_oneof![
         3 => pick(SENS_MODES),
         2 => pick(STR_VARS),
         1 => (any::<bool>(), ctl_arg()).prop_map(|(at, a)| format!("SENS.MODE{}{a}", at_sign(at))),
         1 => regex("\"[ -!#-~]{0,12}\""),
+        1 => (pick(STR_ARRAYS), index_expr()).prop_map(|(a, i)| format!("{a}({i})")),
+    ];
+    leaf.prop_recursive(3, 8, 2, |inner| {
+        prop_oneof![
+            2 => (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("{a} + {b}")),
+            1 => (pick(&["LEFT$", "RIGHT$"]), inner.clone(), index_expr())
+                .prop_map(|(f, a, n)| format!("{f}({a}, {n})")),
+            1 => (inner.clone(), index_expr(), prop::option::of(index_expr())).prop_map(|(a, n, m)| match m {
+                Some(m) => format!("MID$({a}, {n}, {m})"),
+                None => format!("MID$({a}, {n})"),
+            }),
+            1 => (pick(&["UCASE$", "LCASE$", "LTRIM$", "RTRIM$"]), inner.clone())
+                .prop_map(|(f, a)| format!("{f}({a})")),
+            1 => (pick(&["STR$", "CHR$", "SPACE$", "HEX$", "OCT$"]), index_expr())
+                .prop_map(|(f, n)| format!("{f}({n})")),
+            1 => (index_expr(), inner.clone()).prop_map(|(n, a)| format!("STRING$({n}, {a})")),
+        ]
+    })
+    .boxed()
+}
+
+/// Arrays of numbers and of strings.
+const NUM_ARRAYS: &[&str] = &["TBL", "PITCH&", "GRID", "q"];
+const STR_ARRAYS: &[&str] = &["NAMES$", "CODE$"];
+
+/// A subscript or a count: small numbers mostly, sometimes a variable or one out of range.
+fn index_expr() -> BoxedStrategy<String> {
+    prop_oneof![
+        4 => (0u32..12).prop_map(|n| n.to_string()),
+        1 => pick(NUM_VARS),
+        1 => pick(&["-1", "300", "1.5", "I&", "40000"]),
+    ]
+    .boxed()
+}
+
+/// The Microsoft BASIC data and storage statements: DIM, element stores, DATA, READ,
+/// RESTORE, SWAP, LET, RANDOMIZE, DEFINT and its kin.
+fn storage_stmt() -> BoxedStrategy<String> {
+    let dims = prop::collection::vec(index_expr(), 1..3).prop_map(|v| v.join(", "));
+    prop_oneof![
+        2 => (pick_any(&[NUM_ARRAYS, STR_ARRAYS]), dims.clone()).prop_map(|(a, d)| format!("DIM {a}({d})")),
+        3 => (pick(NUM_ARRAYS), dims.clone(), num_expr()).prop_map(|(a, d, e)| format!("{a}({d}) = {e}")),
+        2 => (pick(STR_ARRAYS), index_expr(), str_expr()).prop_map(|(a, i, e)| format!("{a}({i}) = {e}")),
+        2 => prop::collection::vec(
+            prop_oneof![
+                2 => finite_number(),
+                1 => regex("[A-Za-z ]{0,8}"),
+                1 => regex("\"[ -!#-~]{0,8}\""),
+            ],
+            0..4,
+        )
+        .prop_map(|v| format!("DATA {}", v.join(", "))),
+        2 => prop::collection::vec(
+            prop_oneof![
+                2 => pick(NUM_VARS),
+                1 => pick(STR_VARS),
+                1 => (pick(NUM_ARRAYS), index_expr()).prop_map(|(a, i)| format!("{a}({i})")),
+            ],
+            1..4,
+        )
+        .prop_map(|v| format!("READ {}", v.join(", "))),
+        1 => prop::option::of(pick(SUBS)).prop_map(|l| format!("RESTORE {}", l.unwrap_or_default())),
+        1 => (pick_any(&[NUM_VARS, STR_VARS]), pick_any(&[NUM_VARS, STR_VARS]))
+            .prop_map(|(a, b)| format!("SWAP {a}, {b}")),
+        1 => (pick(NUM_VARS), num_expr()).prop_map(|(t, e)| format!("LET {t} = {e}")),
+        1 => prop::option::of(num_expr()).prop_map(|e| format!("RANDOMIZE {}", e.unwrap_or_default())),
+        1 => (pick(&["DEFINT", "DEFLNG", "DEFSNG", "DEFDBL", "DEFSTR", "defint"]), pick(&["I-N", "A", "X, Y-Z", "Q", "1", "AB-C"]))
+            .prop_map(|(d, r)| format!("{d} {r}")),
     ]
     .boxed()
 }
@@ -796,6 +878,7 @@ fn simple_stmt(v: &Vocab) -> BoxedStrategy<String> {
         1 => (1u32..500).prop_map(|n| format!("GOTO {n}")),
         1 => pick(ACTIONS),
         1 => pick(&["RETURN", "END", "return", "End"]),
+        4 => storage_stmt(),
     ]
     .boxed()
 }

@@ -47,6 +47,21 @@ const MB_KEYWORDS: &[&str] = &[
     "XOR",
     "MOD",
     "REM",
+    "ON",
+    "DIM",
+    "DATA",
+    "READ",
+    "RESTORE",
+    "SWAP",
+    "LET",
+    "RANDOMIZE",
+    "DEFINT",
+    "DEFLNG",
+    "DEFSNG",
+    "DEFDBL",
+    "DEFSTR",
+    "RND",
+    "TIMER",
 ];
 
 /// The objects of one type, as completion offers them.
