@@ -1477,3 +1477,87 @@ fn a_byte_order_mark_at_the_start_of_a_file_is_whitespace() {
     assert!(problems.is_empty(), "{problems:?}");
     assert_eq!(ast.body.len(), 1);
 }
+
+/// A string built at run time reaches the DSP card: `SENS.MODE@` takes any string expression
+/// (GW-BASIC User's Guide, "String functions"; the note's `SENS.MODE@(axis) = "RRRNN"`).
+#[test]
+fn sens_mode_takes_a_string_built_at_run_time() {
+    let run = run_ok(
+        "sens-mode-expr",
+        "EDGE$ = \"R\"\nM$ = STRING$(3, EDGE$) + LEFT$(\"NNX\", 2)\nSENS.MODE@({1}) = M$\nEND\n",
+    );
+    let modes: Vec<&serde_json::Value> = run
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "sens_mode")
+        .collect();
+    assert_eq!(modes.len(), 1, "{}", run.text);
+    assert_eq!(modes[0]["mode"], "RRRNN");
+    assert_eq!(modes[0]["axis"], 1);
+    let texts: Vec<(String, String)> = run
+        .events
+        .iter()
+        .filter(|e| e["kind"] == "text_change")
+        .map(|e| {
+            (
+                e["name"].as_str().unwrap_or_default().to_string(),
+                e["value"].as_str().unwrap_or_default().to_string(),
+            )
+        })
+        .collect();
+    assert_eq!(
+        texts,
+        vec![
+            ("EDGE$".to_string(), "R".to_string()),
+            ("M$".to_string(), "RRRNN".to_string())
+        ]
+    );
+}
+
+/// Array elements are variables of the machine: their values after the run, by name
+/// (GW-BASIC User's Guide, "DIM": subscripts from 0; row-major storage is pacer's).
+#[test]
+fn array_elements_hold_their_values() {
+    let run = run_ok(
+        "arrays",
+        "DIM P&(3), M(1, 1)\nFOR I& = 0 TO 3: P&(I&) = I& * I&: NEXT\nM(1, 0) = 2.5\nM(0, 1) = M(1, 0) * 2\nSWAP P&(0), P&(3)\nEND\n",
+    );
+    assert_values(
+        &run,
+        &[
+            ("P&(0)", 9.0),
+            ("P&(1)", 1.0),
+            ("P&(2)", 4.0),
+            ("P&(3)", 0.0),
+            ("M(1,0)", 2.5),
+            ("M(0,1)", 5.0),
+            ("M(0,0)", 0.0),
+        ],
+    );
+}
+
+/// `[run] seed` starts RND with `RANDOMIZE seed`: two runs with one seed print the same
+/// numbers, another seed others, and no seed QuickBASIC's first number.
+#[test]
+fn rnd_follows_the_scenario_seed() {
+    let program = "X = RND\nY = RND\nEND\n";
+    let with = |seed: Option<u64>| {
+        let scenario = seed.map(|s| format!("[run]\nseed = {s}\n"));
+        let run = run_loaded(load_mb("rnd", program, scenario.as_deref()));
+        (val(&run, "X"), val(&run, "Y"))
+    };
+    let (a, b, c, none) = (with(Some(7)), with(Some(7)), with(Some(8)), with(None));
+    assert_eq!(a, b);
+    assert_ne!(a, c);
+    assert_ne!(a.0, a.1);
+    assert!((0.0..1.0).contains(&a.0) && (0.0..1.0).contains(&c.1));
+    assert_eq!(none.0 as f32, 0.705_547_5);
+}
+
+/// READ past the last DATA item is Microsoft BASIC's "Out of DATA", at the READ.
+#[test]
+fn out_of_data_is_an_error_at_the_read() {
+    let e = run_err("out-of-data", "DATA 1\nREAD A\nREAD B\n");
+    assert_eq!(e.line, 3);
+    assert!(e.message.starts_with("Out of DATA"), "{}", e.message);
+}
