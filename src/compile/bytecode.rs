@@ -14,6 +14,9 @@ pub type Reg = u32;
 /// `ForNext.decimals` for a loop variable kept as a real.
 pub const REAL_STORE: u8 = u8::MAX;
 
+/// `ForNext.decimals` (and `StoreAt.decimals`) for a MotionBASIC INTEGER (`%`): 16 bits.
+pub const INT_STORE: u8 = u8::MAX - 1;
+
 pub use crate::check::typed::{Cmp, PrintHow};
 
 /// Arithmetic and logic operators.
@@ -156,6 +159,9 @@ pub enum Op {
     /// Store into a MotionBASIC long integer: halves rounded to even (Microsoft BASIC's CLNG),
     /// an Overflow outside 32 bits.
     StoreLong { dst: Reg, src: Reg },
+    /// Store into a MotionBASIC INTEGER (`%`): halves rounded to even, an Overflow outside
+    /// -32768 to 32767 (Microsoft BASIC's 16 bits).
+    StoreInt { dst: Reg, src: Reg },
     /// Store a real quantity (must be finite).
     StoreReal { dst: Reg, src: Reg },
     /// Store an ON/OFF value.
@@ -483,6 +489,7 @@ impl Op {
             Op::Move { dst, src }
             | Op::StoreFixed { dst, src, .. }
             | Op::StoreLong { dst, src }
+            | Op::StoreInt { dst, src }
             | Op::StoreReal { dst, src }
             | Op::StoreBit { dst, src } => dst.max(src),
             Op::Add { dst, a, b }

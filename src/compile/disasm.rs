@@ -186,6 +186,7 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::CallProgram { program } => format!("call      Program.{program}"),
             Op::CheckLong { r: x } => format!("chk.long  {}", r(x)),
             Op::StoreLong { dst, src } => format!("store.l   {} <- {}", r(dst), r(src)),
+            Op::StoreInt { dst, src } => format!("store.i   {} <- {}", r(dst), r(src)),
             Op::AxisBit { dst, a } => format!("axis      {} <- {{{}}}", r(dst), r(a)),
             Op::AxisRead {
                 dst,
@@ -249,6 +250,8 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             } => {
                 let kind = if decimals == crate::compile::bytecode::REAL_STORE {
                     "r".to_string()
+                } else if decimals == crate::compile::bytecode::INT_STORE {
+                    "i".to_string()
                 } else if decimals == 0 {
                     "l".to_string()
                 } else {

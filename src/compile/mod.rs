@@ -13,7 +13,7 @@ use crate::devices::command::MotionCmd;
 use crate::diag::{Problem, SourceFile};
 use crate::registry::{Hook, Kind, Registry, Resolved, ValueType};
 use crate::span::{LineIndex, Span};
-use bytecode::{BinaryOp, Cmp, DataConst, ExtOp, Op, Reg, StartRef, REAL_STORE};
+use bytecode::{BinaryOp, Cmp, DataConst, ExtOp, Op, Reg, StartRef, INT_STORE, REAL_STORE};
 use indexmap::IndexMap;
 use std::collections::BTreeMap;
 
@@ -36,6 +36,14 @@ pub struct Layout {
     text_slots: Vec<(Reg, u32)>,
     /// The literals' indices, by text.
     literal_index: BTreeMap<String, u32>,
+}
+
+/// Whether a MotionBASIC variable or array element of this registry name is an INTEGER (`%`,
+/// 16 bits).
+pub fn is_int16_name(name: &str) -> bool {
+    name.split('(')
+        .next()
+        .is_some_and(|base| base.ends_with('%'))
 }
 
 /// Whether a MotionBASIC variable or array element of this registry name holds a string.
@@ -527,6 +535,7 @@ impl<'a> Compiler<'a> {
                 self.at_statement(s);
                 self.temp_top = 0;
                 let decimals = match var.ty {
+                    _ if var.kind == Kind::BasicVar && is_int16_name(&var.name) => INT_STORE,
                     ValueType::Fixed(d) => d,
                     ValueType::Integer => 0,
                     _ => REAL_STORE,
@@ -651,6 +660,7 @@ impl<'a> Compiler<'a> {
             return;
         }
         let decimals = match el.base.ty {
+            _ if is_int16_name(&el.base.name) => INT_STORE,
             ValueType::Fixed(d) => d,
             ValueType::Integer => 0,
             _ => REAL_STORE,
@@ -846,6 +856,11 @@ impl<'a> Compiler<'a> {
 
     /// Store `src` into `r` as its type says.
     fn store(&mut self, r: &Resolved, src: Reg) {
+        // A MotionBASIC INTEGER: 16 bits.
+        if r.kind == Kind::BasicVar && is_int16_name(&r.name) {
+            self.emit(Op::StoreInt { dst: r.slot, src });
+            return;
+        }
         // A MotionBASIC long integer.
         if r.kind == Kind::BasicVar && r.ty == ValueType::Fixed(0) {
             if let (Some(&Op::CheckLong { r: checked }), true) =

@@ -2,7 +2,7 @@
 //! its budget.
 
 use super::task::Frame;
-use crate::compile::bytecode::{BinaryOp, Op, REAL_STORE};
+use crate::compile::bytecode::{BinaryOp, Op, INT_STORE, REAL_STORE};
 use crate::compile::Chunk;
 use crate::devices::command::{Domain, StartRef};
 use crate::devices::{ActOutcome, Devices, Now, Target, When};
@@ -181,6 +181,26 @@ pub fn run(
             wr!($dst as usize, x);
         }};
     }
+    // Store `$x` into the MotionBASIC INTEGER `$dst`: rounded as a long is, an Overflow outside
+    // 16 bits.
+    macro_rules! store_int {
+        ($dst:expr, $x:expr, $here:expr) => {{
+            let (dst, x) = ($dst, $x);
+            match int16(x) {
+                Some(val) => {
+                    wr!(dst as usize, val);
+                    if trace_on && dst < ctx.slot_count {
+                        traced_write(ctx, dst, val);
+                    }
+                }
+                None => {
+                    pc = $here;
+                    let name = name_of(ctx, dst);
+                    fault!("Overflow: {x} does not fit {name} (an integer: -32768 to 32767)");
+                }
+            }
+        }};
+    }
     // Store `$x` into a real, which must be finite.
     macro_rules! store_real {
         ($dst:expr, $x:expr, $here:expr) => {{
@@ -336,6 +356,7 @@ pub fn run(
                 pc = here + 2;
             }
             Op::StoreLong { dst, src } => store_long!(dst, rd!(src as usize), here),
+            Op::StoreInt { dst, src } => store_int!(dst, rd!(src as usize), here),
             Op::CheckLong { r } => check_long!(r, rd!(r as usize), here),
             Op::Binary { op, dst, a, b } => match binary(op, rd!(a as usize), rd!(b as usize)) {
                 Ok(x) => wr!(dst as usize, x),
@@ -554,6 +575,8 @@ pub fn run(
                 let x = rd!(var as usize) + s;
                 let val = if decimals == REAL_STORE {
                     Some(x).filter(|x| x.is_finite())
+                } else if decimals == INT_STORE {
+                    int16(x)
                 } else {
                     fixed(x, decimals)
                 };
@@ -752,7 +775,9 @@ pub fn run(
                 }
                 let dst = base + o as u32;
                 let x = rd!(src as usize);
-                if decimals == 0 {
+                if decimals == INT_STORE {
+                    store_int!(dst, x, here)
+                } else if decimals == 0 {
                     store_long!(dst, x, here)
                 } else if decimals == REAL_STORE {
                     store_real!(dst, x, here)
@@ -1326,6 +1351,9 @@ fn overflow_message(ctx: &Ctx<'_, '_>, slot: u32, x: f64, decimals: u8) -> Strin
     if decimals == REAL_STORE {
         return format!("{name} cannot take {x}: the result is not a finite number");
     }
+    if decimals == INT_STORE {
+        return format!("Overflow: {x} does not fit {name} (an integer: -32768 to 32767)");
+    }
     if x.is_finite() {
         let range = crate::fixed::range_text(decimals);
         format!(
@@ -1334,6 +1362,13 @@ fn overflow_message(ctx: &Ctx<'_, '_>, slot: u32, x: f64, decimals: u8) -> Strin
     } else {
         format!("{name} cannot take {x}: the result is not a number")
     }
+}
+
+/// `x` as a MotionBASIC INTEGER: rounded to the nearest whole number (halves to even), `None`
+/// outside 16 bits.
+fn int16(x: f64) -> Option<f64> {
+    let r = x.round_ties_even();
+    (-32768.0..=32767.0).contains(&r).then_some(r + 0.0)
 }
 
 /// `x MOD y` with the sign of `x`; exact and fast (no libm `fmod`) when both are whole numbers.
