@@ -700,6 +700,12 @@ fn storage_stmt() -> BoxedStrategy<String> {
         1 => (pick_any(&[NUM_VARS, STR_VARS]), pick_any(&[NUM_VARS, STR_VARS]))
             .prop_map(|(a, b)| format!("SWAP {a}, {b}")),
         1 => (pick(NUM_VARS), num_expr()).prop_map(|(t, e)| format!("LET {t} = {e}")),
+        1 => (
+            pick(&["\"##.##\"", "\"+#,###.#^^^^ & \\  \\ !\"", "\"**$##.##-\"", "\"_!x\"", "F$", "\"\""]),
+            prop::collection::vec(prop_oneof![2 => num_expr(), 1 => str_expr()], 0..4),
+            pick(&["", ";", ","]),
+        )
+            .prop_map(|(f, v, end)| format!("PRINT USING {f}; {}{end}", v.join("; "))),
         1 => prop::option::of(num_expr()).prop_map(|e| format!("RANDOMIZE {}", e.unwrap_or_default())),
         1 => (pick(&["DEFINT", "DEFLNG", "DEFSNG", "DEFDBL", "DEFSTR", "defint"]), pick(&["I-N", "A", "X, Y-Z", "Q", "1", "AB-C"]))
             .prop_map(|(d, r)| format!("{d} {r}")),

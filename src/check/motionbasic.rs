@@ -492,6 +492,14 @@ impl Variables {
                         }
                     }
                 }
+                StmtKind::PrintUsing(format, items) => {
+                    self.expr(format);
+                    for item in items {
+                        if let PrintItem::Expr(e) = item {
+                            self.expr(e);
+                        }
+                    }
+                }
                 _ => {}
             }
         }
@@ -1180,6 +1188,40 @@ impl Rules for MotionBasic<'_> {
                 motion(cmd, axes, operands, None)
             }
             StmtKind::Print(items) => self.print(cx, items),
+            StmtKind::PrintUsing(format, items) => {
+                let format = self.want(cx, format, Ty::Str, "PRINT USING's format is a string");
+                let mut values = Vec::new();
+                let mut ok = true;
+                for item in items {
+                    if let PrintItem::Expr(e) = item {
+                        match self.ty(cx, e) {
+                            Some(t) if matches!(t.ty, Ty::Num | Ty::Str) => values.push(t),
+                            Some(_) => {
+                                self.want(cx, e, Ty::Num, "PRINT USING prints numbers and strings");
+                                ok = false;
+                            }
+                            None => ok = false,
+                        }
+                    }
+                }
+                if values.len() > 64 {
+                    cx.push(Problem::error(
+                        "pacer::check::print",
+                        s.span,
+                        "PRINT USING takes at most 64 values",
+                        "too many values",
+                    ));
+                    ok = false;
+                }
+                let newline =
+                    !matches!(items.last(), Some(PrintItem::Semicolon | PrintItem::Comma));
+                Some(T::PrintUsing {
+                    format: format?,
+                    values,
+                    newline,
+                })
+                .filter(|_| ok)
+            }
             StmtKind::WaitFor(e) => Some(T::WaitFor(self.want(cx, e, Ty::Num, "a number")?)),
             StmtKind::WaitTime(e) => Some(T::WaitTime(self.want(cx, e, Ty::Num, "a number")?)),
             _ => not_here(cx, s, Dialect::MotionBasic),

@@ -319,6 +319,15 @@ pub enum StmtKind {
     },
     /// `PRINT`: the items; the line ends unless the last item is a separator.
     Print(Vec<PrintItem>),
+    /// `PRINT USING`: the format, the values, and whether the line ends (no `;` or `,` last).
+    PrintUsing {
+        /// The format string.
+        format: Expr,
+        /// The values, in order.
+        values: Vec<Expr>,
+        /// The line ends after them.
+        newline: bool,
+    },
     /// A store into an array element (MotionBASIC).
     SetElement {
         /// The element.

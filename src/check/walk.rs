@@ -305,6 +305,7 @@ fn statement<R: Rules>(rules: &mut R, cx: &mut Context<'_>, s: &Stmt) -> Option<
         | StmtKind::Gear { .. }
         | StmtKind::Move { .. }
         | StmtKind::Print(_)
+        | StmtKind::PrintUsing(..)
         | StmtKind::Dim(_)
         | StmtKind::Data(_)
         | StmtKind::Read(_)

@@ -332,6 +332,14 @@ pub enum ExtOp {
     Read { dst: Reg, text: bool },
     /// The next `READ` takes `DATA` constant `item` (0: the first).
     Restore { item: u32 },
+    /// `PRINT USING`: the format in `format`, `count` values in consecutive registers from
+    /// `args` (bit i of `texts`: value i is a string), written at the task's print position.
+    PrintUsing {
+        format: Reg,
+        args: Reg,
+        count: u32,
+        texts: u64,
+    },
 }
 
 /// A `DATA` constant of a compiled program.

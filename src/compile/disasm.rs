@@ -360,6 +360,12 @@ fn ext_text(op: &ExtOp, r: &dyn Fn(u32) -> String, chunk: &Chunk) -> String {
                 if *text { " (string)" } else { "" }
             )
         }
+        ExtOp::PrintUsing {
+            format,
+            args,
+            count,
+            ..
+        } => format!("print.using {} ; {count} from {}", r(*format), r(*args)),
         ExtOp::Restore { item } => {
             let line = chunk.data.get(*item as usize).map(|d| d.line);
             match line {

@@ -580,6 +580,37 @@ impl<'a> Compiler<'a> {
                     self.emit(Op::PrintLine);
                 }
             }
+            StmtKind::PrintUsing {
+                format,
+                values,
+                newline,
+            } => {
+                let regs: Vec<Reg> = values.iter().map(|_| self.temp(s.span)).collect();
+                let fmt = self.temp(s.span);
+                let top = self.temp_top;
+                let src = self.expr(format);
+                self.emit(Op::Move { dst: fmt, src });
+                self.temp_top = top;
+                for (e, &dst) in values.iter().zip(&regs) {
+                    let src = self.expr(e);
+                    self.temp_top = top;
+                    self.emit(Op::Move { dst, src });
+                }
+                let texts = values
+                    .iter()
+                    .enumerate()
+                    .filter(|(_, e)| e.ty == Ty::Str)
+                    .fold(0u64, |m, (i, _)| m | (1 << i));
+                self.emit_ext(ExtOp::PrintUsing {
+                    format: fmt,
+                    args: regs.first().copied().unwrap_or(fmt),
+                    count: values.len() as u32,
+                    texts,
+                });
+                if *newline {
+                    self.emit(Op::PrintLine);
+                }
+            }
             StmtKind::Gosub(key) => {
                 let at = self.emit(Op::Gosub { target: 0 });
                 self.gotos.push((at, key.clone()));

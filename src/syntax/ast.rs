@@ -212,6 +212,8 @@ pub enum StmtKind {
     Move { axis: Expr, form: MoveForm },
     /// `PRINT items` (MotionBASIC).
     Print(Vec<PrintItem>),
+    /// `PRINT USING format; items` (MotionBASIC).
+    PrintUsing(Expr, Vec<PrintItem>),
     /// `DIM A(10), B$(2, 3)` (MotionBASIC): each array and its upper bounds.
     Dim(Vec<(Segment, Vec<Expr>)>),
     /// `DATA 1, -2.5, "TEXT", WORD` (MotionBASIC).

@@ -176,6 +176,14 @@ fn stmts(body: &mut [Stmt], table: &mut Table, problems: &mut Vec<Problem>) {
                     }
                 }
             }
+            StmtKind::PrintUsing(format, items) => {
+                expr(format, table);
+                for item in items {
+                    if let PrintItem::Expr(e) = item {
+                        expr(e, table);
+                    }
+                }
+            }
             StmtKind::Dim(arrays) => {
                 for (seg, bounds) in arrays {
                     seg_text(&mut seg.text, table);

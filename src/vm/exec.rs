@@ -957,6 +957,25 @@ fn ext(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(
             *ctx.data_at += 1;
         }
         ExtOp::Restore { item } => *ctx.data_at = item,
+        ExtOp::PrintUsing {
+            format,
+            args,
+            count,
+            texts,
+        } => {
+            let fmt = &ctx.strings[handle(v[format as usize], ctx.strings)?];
+            let mut values = Vec::with_capacity(count as usize);
+            for i in 0..count as usize {
+                let x = v[args as usize + i];
+                values.push(if texts & (1 << i) != 0 {
+                    Arg::Text(&ctx.strings[handle(x, ctx.strings)?])
+                } else {
+                    Arg::Num(x)
+                });
+            }
+            let text = super::using::format(fmt, &values)?;
+            ctx.printer.write(ctx.task, &text);
+        }
     }
     Ok(())
 }

@@ -74,6 +74,9 @@ enum MbLex<'s> {
     Print,
     #[token("dim", ignore(case))]
     Dim,
+    /// `PRINT USING`.
+    #[token("using", ignore(case))]
+    Using,
     /// `DATA` and its items: everything up to the end of the line or a `:` outside quotes
     /// (unquoted items are text, as in Microsoft BASIC).
     #[regex(r#"(?i:data)([ \t]([^\n:"]|"[^"\n]*")*)?"#, |lex| lex.slice(), allow_greedy = true)]
@@ -237,6 +240,7 @@ fn token(word: MbLex<'_>) -> Option<Tok<'_>> {
         MbLex::After => Tok::After,
         MbLex::Print => Tok::Print,
         MbLex::Dim => Tok::Dim,
+        MbLex::Using => Tok::Using,
         MbLex::Data(s) => Tok::Data(s),
         MbLex::Read => Tok::Read,
         MbLex::Restore => Tok::Restore,
