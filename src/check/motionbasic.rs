@@ -201,6 +201,9 @@ impl Array {
 /// The registry name of element `index` (row-major, last subscript fastest) of an array with
 /// these bounds: `A(3)`, `B$(1,2)`.
 pub fn element_name(written: &str, bounds: &[u32], mut index: usize) -> String {
+    if bounds.len() == 1 {
+        return format!("{written}({index})");
+    }
     let mut subs = vec![0usize; bounds.len()];
     for (k, &b) in bounds.iter().enumerate().rev() {
         let n = b as usize + 1;

@@ -267,6 +267,23 @@ pub enum Op {
     PrintLine,
     /// `GOSUB`: run the subroutine at `target`, then come back here.
     Gosub { target: u32 },
+    /// `dst` = element `v[idx]` (rounded to an integer, halves to even; "Subscript out of
+    /// range" outside `0..len`) of the one-subscript array starting at `base`.
+    LoadIdx {
+        dst: Reg,
+        base: Reg,
+        idx: Reg,
+        len: u32,
+    },
+    /// Store `src` into element `v[idx]` of the one-subscript array starting at `base`, as
+    /// [`Op::StoreAt`] stores.
+    StoreIdx {
+        base: Reg,
+        idx: Reg,
+        src: Reg,
+        len: u32,
+        decimals: u8,
+    },
     /// `dst` = the subscript in `src` rounded to an integer (halves to even), which must be
     /// within `0..len` ("Subscript out of range" otherwise).
     Subscript { dst: Reg, src: Reg, len: u32 },
@@ -543,6 +560,19 @@ impl Op {
             | Op::JumpWhenNe { a, b, .. } => a.max(b),
             Op::WaitTime { src } | Op::Dwell { src, .. } => src,
             Op::Subscript { dst, src, .. } => dst.max(src),
+            Op::LoadIdx {
+                dst,
+                base,
+                idx,
+                len,
+            } => dst.max(idx).max(base + len.saturating_sub(1)),
+            Op::StoreIdx {
+                base,
+                idx,
+                src,
+                len,
+                ..
+            } => idx.max(src).max(base + len.saturating_sub(1)),
             Op::LoadAt {
                 dst,
                 base,

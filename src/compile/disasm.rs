@@ -238,6 +238,42 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::Subscript { dst, src, len } => {
                 format!("subscr    {} <- {} in 0..{}", r(dst), r(src), len)
             }
+            Op::LoadIdx {
+                dst,
+                base,
+                idx,
+                len,
+            } => {
+                format!(
+                    "load.idx  {} <- {}[{} in 0..{len}]",
+                    r(dst),
+                    r(base),
+                    r(idx)
+                )
+            }
+            Op::StoreIdx {
+                base,
+                idx,
+                src,
+                len,
+                decimals,
+            } => {
+                let kind = if decimals == crate::compile::bytecode::REAL_STORE {
+                    "r".to_string()
+                } else if decimals == crate::compile::bytecode::INT_STORE {
+                    "i".to_string()
+                } else if decimals == 0 {
+                    "l".to_string()
+                } else {
+                    format!("f{decimals}")
+                };
+                format!(
+                    "store.idx.{kind} {}[{} in 0..{len}] <- {}",
+                    r(base),
+                    r(idx),
+                    r(src)
+                )
+            }
             Op::LoadAt { dst, base, off, .. } => {
                 format!("load.at   {} <- {}[{}]", r(dst), r(base), r(off))
             }

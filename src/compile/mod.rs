@@ -396,8 +396,7 @@ impl<'a> Compiler<'a> {
             }
             StmtKind::SetElement { place, value } => {
                 let src = self.expr(value);
-                let off = self.offset(place);
-                self.store_element(place, off, src);
+                self.set_element(place, src);
             }
             StmtKind::Data(items) => {
                 for item in items {
@@ -690,12 +689,7 @@ impl<'a> Compiler<'a> {
             });
             return;
         }
-        let decimals = match el.base.ty {
-            _ if is_int16_name(&el.base.name) => INT_STORE,
-            ValueType::Fixed(d) => d,
-            ValueType::Integer => 0,
-            _ => REAL_STORE,
-        };
+        let decimals = store_kind(el);
         self.emit(Op::StoreAt {
             base: el.base.slot,
             off,
@@ -712,11 +706,35 @@ impl<'a> Compiler<'a> {
                 self.emit_ext(ExtOp::StoreText { dst: r.slot, src });
             }
             Place::Var(r) => self.store(r, src),
-            Place::Element(el) => {
-                let off = self.offset(el);
-                self.store_element(el, off, src);
+            Place::Element(el) => self.set_element(el, src),
+        }
+    }
+
+    /// Store `src` into an element: a constant subscript names the element's own slot, one
+    /// subscript is one instruction.
+    fn set_element(&mut self, el: &Element, src: Reg) {
+        if !el.text {
+            if let Some(slot) = constant_element(el) {
+                let mut r = el.base.clone();
+                r.slot = slot;
+                self.store(&r, src);
+                return;
+            }
+            if el.subs.len() == 1 {
+                let idx = self.expr(&el.subs[0]);
+                let decimals = store_kind(el);
+                self.emit(Op::StoreIdx {
+                    base: el.base.slot,
+                    idx,
+                    src,
+                    len: element_count(el),
+                    decimals,
+                });
+                return;
             }
         }
+        let off = self.offset(el);
+        self.store_element(el, off, src);
     }
 
     /// `SWAP a, b`: the subscripts are evaluated once, the first value kept aside (a string in
@@ -1148,6 +1166,22 @@ impl<'a> Compiler<'a> {
                 }
                 dst
             }
+            ExprKind::Element(el) if el.subs.len() == 1 => {
+                if let Some(slot) = constant_element(el) {
+                    return slot;
+                }
+                let mark = self.temp_top;
+                let idx = self.expr(&el.subs[0]);
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
+                self.emit(Op::LoadIdx {
+                    dst,
+                    base: el.base.slot,
+                    idx,
+                    len: element_count(el),
+                });
+                dst
+            }
             ExprKind::Element(el) => {
                 let mark = self.temp_top;
                 let off = self.offset(el);
@@ -1356,6 +1390,33 @@ fn fault_free(e: &Expr) -> bool {
         ExprKind::Element(_) | ExprKind::Text(..) | ExprKind::Rnd(_) => false,
         ExprKind::Timer => true,
     }
+}
+
+/// How an element of this array is stored (`StoreAt`/`StoreIdx`'s `decimals`).
+fn store_kind(el: &Element) -> u8 {
+    match el.base.ty {
+        _ if is_int16_name(&el.base.name) => INT_STORE,
+        ValueType::Fixed(d) => d,
+        ValueType::Integer => 0,
+        _ => REAL_STORE,
+    }
+}
+
+/// The slot of an element whose subscripts are all constants (within bounds: the checker
+/// refused others).
+fn constant_element(el: &Element) -> Option<Reg> {
+    let mut off: u32 = 0;
+    for (sub, &bound) in el.subs.iter().zip(&el.bounds) {
+        let ExprKind::Const(v) = sub.kind else {
+            return None;
+        };
+        let i = v.round_ties_even();
+        if !(0.0..=f64::from(bound)).contains(&i) {
+            return None;
+        }
+        off = off * (bound + 1) + i as u32;
+    }
+    Some(el.base.slot + off)
 }
 
 /// The number of elements of an element's array.

@@ -106,7 +106,14 @@ impl Registry {
                 Kind::BasicVar => {
                     count = 0;
                     for (name, _) in basic_vars {
-                        names.insert(name.to_ascii_lowercase(), count);
+                        // An array is found by its first element (`A(0)`, `G(0,0)`): the
+                        // others need no entry, which keeps a large DIM quick to set up.
+                        let first_or_scalar = name.split_once('(').is_none_or(|(_, subs)| {
+                            subs.trim_end_matches(')').split(',').all(|p| p == "0")
+                        });
+                        if first_or_scalar {
+                            names.insert(name.to_ascii_lowercase(), count);
+                        }
                         display.push(name.clone());
                         count += 1;
                     }

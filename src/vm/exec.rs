@@ -736,6 +736,55 @@ pub fn run(
                     fault!("{message}");
                 }
             },
+            Op::LoadIdx {
+                dst,
+                base,
+                idx,
+                len,
+            } => {
+                let i = match subscript(rd!(idx as usize), len) {
+                    Some(i) => i,
+                    None => {
+                        pc = here;
+                        let x = rd!(idx as usize);
+                        fault!(
+                            "Subscript out of range: {x} is not within 0 to {}",
+                            len.saturating_sub(1)
+                        );
+                    }
+                };
+                wr!(dst as usize, rd!(base as usize + i as usize));
+            }
+            Op::StoreIdx {
+                base,
+                idx,
+                src,
+                len,
+                decimals,
+            } => {
+                let i = match subscript(rd!(idx as usize), len) {
+                    Some(i) => i,
+                    None => {
+                        pc = here;
+                        let x = rd!(idx as usize);
+                        fault!(
+                            "Subscript out of range: {x} is not within 0 to {}",
+                            len.saturating_sub(1)
+                        );
+                    }
+                };
+                let dst = base + i;
+                let x = rd!(src as usize);
+                if decimals == 0 {
+                    store_long!(dst, x, here)
+                } else if decimals == REAL_STORE {
+                    store_real!(dst, x, here)
+                } else if decimals == INT_STORE {
+                    store_int!(dst, x, here)
+                } else {
+                    store_fixed!(dst, x, decimals, here)
+                }
+            }
             Op::Subscript { dst, src, len } => {
                 let x = rd!(src as usize);
                 let i = x.round_ties_even();
@@ -797,6 +846,23 @@ pub fn run(
             }
         }
     }
+}
+
+/// A subscript `x` rounded to an integer (halves to even), if within `0..len`. Whole
+/// subscripts (a long's) take the quick way, without rounding.
+#[inline(always)]
+fn subscript(x: f64, len: u32) -> Option<u32> {
+    let i = trunc_i32(x);
+    let i = if f64::from(i) == x {
+        i
+    } else {
+        let r = x.round_ties_even();
+        if !(0.0..f64::from(len)).contains(&r) {
+            return None;
+        }
+        r as i32
+    };
+    (i >= 0 && (i as u32) < len).then_some(i as u32)
 }
 
 /// A string handle in a register, as an index of the string table.
