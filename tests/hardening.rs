@@ -5,7 +5,7 @@
 
 mod common;
 
-use common::{pacer, text};
+use common::{pacer, rust_names, text};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 
@@ -284,34 +284,6 @@ fn invisible_characters_are_escaped_in_unexpected_character() {
             "{bad:?}: {t}"
         );
     }
-}
-
-/// Words that name a Rust type, which no message may show.
-pub const RUST_WORDS: &[&str] = &[
-    "u8", "u16", "u32", "u64", "u128", "usize", "i8", "i16", "i32", "i64", "i128", "isize", "f32",
-    "f64",
-];
-
-/// The Rust type names in `message`, if any.
-pub fn rust_names(message: &str) -> Vec<String> {
-    let mut found: Vec<String> = message
-        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
-        .filter(|w| RUST_WORDS.contains(w))
-        .map(str::to_string)
-        .collect();
-    for pat in [
-        "struct ",
-        "enum ",
-        "Option<",
-        "Vec<",
-        "invalid type: map",
-        "as i128",
-    ] {
-        if message.contains(pat) {
-            found.push(pat.to_string());
-        }
-    }
-    found
 }
 
 #[test]
