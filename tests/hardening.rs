@@ -391,3 +391,27 @@ fn configuration_messages_are_in_words() {
     assert_eq!(code, Some(1), "{t}");
     assert!(t.contains("`[machine]` is one table"), "{t}");
 }
+
+#[test]
+fn a_program_number_past_the_limit_is_refused_at_the_number() {
+    // Found by tests/fuzz_config.rs: Program.200000000 made 200,000,001 program objects.
+    let d = folder(
+        "program-number",
+        &[
+            ("program0.pt", "End\n"),
+            (
+                "machine.toml",
+                "[[program]]\nnumber = 200000000\nfile = \"program0.pt\"\n",
+            ),
+        ],
+    );
+    let (o, took) = pacer_within(&["check", arg(&d)], Duration::from_secs(20));
+    let t = text(&o);
+    assert_eq!(o.status.code(), Some(1), "{t}");
+    assert!(
+        t.contains("machine.toml:2:10")
+            && t.contains("Program.200,000,000 cannot be: programs are numbered 0 to 4,095"),
+        "{t}"
+    );
+    assert!(took < Duration::from_secs(10), "{took:?}");
+}

@@ -52,6 +52,20 @@ pub fn programs(file: &MachineFile, problems: &mut Vec<Problem>) -> Vec<ProgramD
     let mut out: Vec<ProgramDesc> = Vec::new();
     for e in &file.programs {
         let number = *e.number.get_ref();
+        // Every number below the highest gets its Program object: memory and time.
+        if number >= objects::MAX_INSTANCES {
+            problems.push(Problem::error(
+                "pacer::machine::program",
+                span_of(&e.number),
+                format!(
+                    "Program.{} cannot be: programs are numbered 0 to {}",
+                    limits::thousands(u64::from(number)),
+                    limits::thousands(u64::from(objects::MAX_INSTANCES - 1))
+                ),
+                "too high",
+            ));
+            continue;
+        }
         if out.iter().any(|p| p.number == number) {
             problems.push(Problem::error(
                 "pacer::machine::program",
