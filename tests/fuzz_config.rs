@@ -465,6 +465,30 @@ fn save(name: &str, file: &str, text: &str) -> PathBuf {
     path
 }
 
+/// Inputs the fuzzing found, each once a hang: they must now end quickly.
+#[test]
+fn found_inputs_end_quickly() {
+    let examples = examples();
+    let gantry = examples
+        .iter()
+        .find(|e| e.name == "pick-and-place-gantry-mode0")
+        .expect("the gantry example");
+    let machine = gantry
+        .files
+        .iter()
+        .find(|(f, _)| f == "machine.toml")
+        .map(|(_, t)| t.replace("lrZDistElliptical = 60.0", "lrZDistElliptical = 1e9"))
+        .expect("its machine file");
+    assert!(machine.contains("lrZDistElliptical = 1e9"));
+    let start = Instant::now();
+    let (_, messages) = exercise(gantry, "machine.toml", &machine);
+    assert!(
+        start.elapsed() < Duration::from_secs(10),
+        "{:?}: {messages:?}",
+        start.elapsed()
+    );
+}
+
 #[test]
 fn fuzz_machine_and_scenario_files() {
     let cases = env_u64("PACER_FUZZ_CASES", 300);
