@@ -394,7 +394,8 @@ fn mutated(text: &str, rng: &mut TestRng) -> String {
             if rng.random() {
                 out.truncate(at);
             } else {
-                out.insert_str(at, *pick(rng, STRANGE));
+                let strange: &&str = pick(rng, STRANGE);
+                out.insert_str(at, strange);
             }
         }
         1 => {
