@@ -330,3 +330,82 @@ pub fn nearest<'a>(name: &str, candidates: impl IntoIterator<Item = &'a str>) ->
     }
     best.filter(|(s, _)| *s >= 0.75).map(|(_, c)| c)
 }
+
+/// A number as a message shows it: short (`1e300`, not 301 digits), `NaN`, `infinity`.
+pub fn number(x: f64) -> String {
+    if x.is_nan() {
+        return "NaN".into();
+    }
+    if x.is_infinite() {
+        return if x > 0.0 {
+            "infinity"
+        } else {
+            "minus infinity"
+        }
+        .into();
+    }
+    let plain = format!("{x}");
+    if plain.len() <= 16 {
+        return plain;
+    }
+    // Six significant digits in scientific form, without trailing zeros.
+    let sci = format!("{x:.5e}");
+    match sci.split_once('e') {
+        Some((mantissa, exp)) if mantissa.contains('.') => {
+            let m = mantissa.trim_end_matches('0').trim_end_matches('.');
+            format!("{m}e{exp}")
+        }
+        _ => sci,
+    }
+}
+
+/// `text` with every control or invisible character written as an escape (`\0`, `\u{200b}`),
+/// so a message shows what is really there.
+pub fn escaped(text: &str) -> String {
+    let mut out = String::with_capacity(text.len());
+    for c in text.chars() {
+        if invisible(c) {
+            match c {
+                '\0' => out.push_str("\\0"),
+                '\t' => out.push_str("\\t"),
+                '\r' => out.push_str("\\r"),
+                '\n' => out.push_str("\\n"),
+                _ => out.push_str(&format!("\\u{{{:04x}}}", c as u32)),
+            }
+        } else {
+            out.push(c);
+        }
+    }
+    out
+}
+
+/// A character that prints as nothing, or moves the text about: controls, zero-width and
+/// direction marks, the byte-order mark, other format characters.
+pub fn invisible(c: char) -> bool {
+    c.is_control()
+        || matches!(c,
+            '\u{00ad}' | '\u{034f}' | '\u{061c}' | '\u{115f}' | '\u{1160}' | '\u{17b4}' | '\u{17b5}'
+            | '\u{180b}'..='\u{180f}' | '\u{200b}'..='\u{200f}' | '\u{202a}'..='\u{202e}'
+            | '\u{2060}'..='\u{206f}' | '\u{3164}' | '\u{fe00}'..='\u{fe0f}' | '\u{feff}'
+            | '\u{ffa0}' | '\u{fff0}'..='\u{fff8}' | '\u{e0000}'..='\u{e0fff}')
+}
+
+#[cfg(test)]
+mod message_tests {
+    use super::*;
+
+    #[test]
+    fn numbers_are_short() {
+        assert_eq!(number(0.5), "0.5");
+        assert_eq!(number(1e300), "1e300");
+        assert_eq!(number(-1.234567891e40), "-1.23457e40");
+        assert_eq!(number(f64::NAN), "NaN");
+        assert_eq!(number(f64::NEG_INFINITY), "minus infinity");
+    }
+
+    #[test]
+    fn invisible_characters_are_escaped() {
+        assert_eq!(escaped("a\0b\u{200b}c"), "a\\0b\\u{200b}c");
+        assert_eq!(escaped("µs °"), "µs °");
+    }
+}

@@ -117,12 +117,24 @@ enum Command {
     },
 }
 
+// The exit codes, one table in docs/cli.md ("Exit codes"); tests/exit_codes.rs runs each.
 const EXIT_PROBLEMS: u8 = 1;
 const EXIT_RUNTIME: u8 = 2;
 const EXIT_IO: u8 = 3;
+/// The command line itself is wrong (an unknown flag, a value that is not a duration): the
+/// BSD `EX_USAGE`, apart from the run-time error's 2 that clap would give.
+const EXIT_USAGE: u8 = 64;
 
 fn main() -> ExitCode {
-    let cli = Cli::parse();
+    let cli = match Cli::try_parse() {
+        Ok(cli) => cli,
+        Err(e) => {
+            // `--help` and `--version` come this way too, and are not errors.
+            let code = if e.use_stderr() { EXIT_USAGE } else { 0 };
+            let _ = e.print();
+            return ExitCode::from(code);
+        }
+    };
     let color = std::io::stderr().is_terminal();
     match cli.command {
         Command::Run {
@@ -292,6 +304,17 @@ fn run(
         Err(d) => return problems(&d, color),
     };
     warn_raw!("{}", loaded.warnings.render(color));
+    if let Some(d) = duration_ns {
+        let updates = d / loaded.image.tick_ns.max(1);
+        if updates > pacer::config::limits::MAX_UPDATES {
+            warn!(
+                "error: --for: a run of {} updates is too long: at most {} (every update takes time even when nothing moves)",
+                pacer::config::limits::thousands(updates),
+                pacer::config::limits::thousands(pacer::config::limits::MAX_UPDATES)
+            );
+            return ExitCode::from(EXIT_USAGE);
+        }
+    }
     let real_io = match resolve_io(options.io.as_deref(), &loaded) {
         Ok(r) => r,
         Err(e) => {
@@ -441,7 +464,13 @@ fn execute(
         machine.run(duration_ns)
     };
     if let Err(e) = machine.finish() {
-        warn!("error: writing the trace: {e}");
+        let path = trace
+            .as_ref()
+            .map_or_else(String::new, |p| p.display().to_string());
+        warn!(
+            "error: cannot write the trace to {path}: {e}; the run stopped at t = {:.3} s",
+            summary.seconds
+        );
         return ExitCode::from(EXIT_IO);
     }
     let exported = match export.finish(machine.registry()) {

@@ -67,7 +67,10 @@ fn toml_syntax_and_unknown_keys() {
     let (code, text, msg) = one(machine("[machine]\nupdate_rate = 1\n"));
     assert_eq!(code, "pacer::config");
     assert_eq!(text, "update_rate");
-    assert!(msg.contains("unknown field"), "{msg}");
+    assert!(
+        msg.contains("unknown key `update_rate` in `[machine]`; the keys are `name`"),
+        "{msg}"
+    );
 }
 
 #[test]

@@ -98,6 +98,7 @@ fn pacer_run_says_the_limit_was_reached_and_exits_3() {
         .lines()
         .all(|l| serde_json::from_str::<serde_json::Value>(l).is_ok()));
     let o = common::pacer(&["run", dir.to_str().expect("utf-8"), "--trace-limit", "12X"]);
-    assert_eq!(o.status.code(), Some(2), "{}", common::text(&o));
+    // A usage error (docs/cli.md, "Exit codes").
+    assert_eq!(o.status.code(), Some(64), "{}", common::text(&o));
     assert!(common::text(&o).contains("unknown unit"));
 }

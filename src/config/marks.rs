@@ -135,9 +135,13 @@ pub fn tracks(
         let mut positions = e.at.as_ref().map_or_else(Vec::new, |a| a.get_ref().clone());
         let mut nominal = e.first;
         let mut p = pitch;
+        // The step of each mark, looked up by mark number: the last step written for a mark
+        // wins (a long `steps` list must not cost its length for every mark).
+        let steps: std::collections::HashMap<u32, f64> =
+            e.steps.iter().map(|s| (s.at, s.pitch)).collect();
         for k in 0..count {
-            if let Some(step) = e.steps.iter().rev().find(|s| s.at == k) {
-                p = step.pitch;
+            if let Some(step) = steps.get(&k) {
+                p = *step;
             }
             positions.push(nominal + jitter * unit(&mut rng));
             if let Some(sp) = &e.spurious {

@@ -10,9 +10,11 @@
 pub mod belts;
 pub mod desc;
 pub mod files;
+pub mod limits;
 pub mod links;
 pub mod machine;
 pub mod marks;
+pub mod messages;
 pub mod modbus;
 pub mod objects;
 pub mod pickplace;
@@ -33,19 +35,10 @@ pub const DEFAULT_TASKS: u32 = 4;
 /// Instructions a task may run in one update unless `[machine] budget` says otherwise.
 pub const DEFAULT_BUDGET: u64 = 10_000;
 
-/// Parse a TOML document into `T`, turning a syntax or shape error into a located problem.
+/// Parse a TOML document into `T`, turning a syntax or shape error into a located problem in
+/// the user's words ([`messages`]).
 pub fn parse_toml<T: serde::de::DeserializeOwned>(text: &str, what: &str) -> Result<T, Problem> {
-    toml::from_str::<T>(text).map_err(|e| {
-        let span = e
-            .span()
-            .map_or(Span::new(0, 0), |r| Span::new(r.start, r.end));
-        Problem::error(
-            "pacer::config",
-            span,
-            format!("{what}: {}", e.message().trim()),
-            "here",
-        )
-    })
+    toml::from_str::<T>(text).map_err(|e| messages::toml_problem(text, what, &e))
 }
 
 /// The span of a spanned TOML value.
@@ -59,6 +52,20 @@ pub fn programs(file: &MachineFile, problems: &mut Vec<Problem>) -> Vec<ProgramD
     let mut out: Vec<ProgramDesc> = Vec::new();
     for e in &file.programs {
         let number = *e.number.get_ref();
+        // Every number below the highest gets its Program object: memory and time.
+        if number >= objects::MAX_INSTANCES {
+            problems.push(Problem::error(
+                "pacer::machine::program",
+                span_of(&e.number),
+                format!(
+                    "Program.{} cannot be: programs are numbered 0 to {}",
+                    limits::thousands(u64::from(number)),
+                    limits::thousands(u64::from(objects::MAX_INSTANCES - 1))
+                ),
+                "too high",
+            ));
+            continue;
+        }
         if out.iter().any(|p| p.number == number) {
             problems.push(Problem::error(
                 "pacer::machine::program",
@@ -103,13 +110,28 @@ pub fn machine(
         }
     }
     if let Some(b) = &m.budget {
-        if *b.get_ref() == 0 {
+        let n = *b.get_ref();
+        if n == 0 {
             problems.push(Problem::error(
                 "pacer::machine::budget",
                 span_of(b),
                 "a budget of 0 instructions lets no program run",
                 "must be at least 1",
             ));
+        } else if n > limits::MAX_BUDGET {
+            problems.push(
+                Problem::error(
+                    "pacer::machine::budget",
+                    span_of(b),
+                    format!(
+                        "a budget of {} instructions per update is too many: at most {}",
+                        limits::thousands(n),
+                        limits::thousands(limits::MAX_BUDGET)
+                    ),
+                    "too many",
+                )
+                .with_help("a loop that never waits spends the whole budget every update, so a larger one could hold an update for minutes"),
+            );
         }
     }
     if let Some(t) = &m.tasks {
@@ -171,6 +193,38 @@ pub fn scenario(
     machine: &MachineDesc,
     problems: &mut Vec<Problem>,
 ) -> ScenarioDesc {
+    // A scenario that would lay out too much is checked without its streams, so nothing is
+    // allocated for them.
+    let trimmed;
+    let sc = if limits::world_size(sc, problems) {
+        sc
+    } else {
+        trimmed = ScenarioFile {
+            run: sc.run.clone(),
+            master: sc.master.clone(),
+            belts: sc.belts.clone(),
+            ..ScenarioFile::default()
+        };
+        &trimmed
+    };
+    if let Some(d) = &sc.run.duration {
+        let updates = d.get_ref().0 / machine.update_ns.max(1);
+        if updates > limits::MAX_UPDATES {
+            problems.push(
+                Problem::error(
+                    "pacer::scenario::duration",
+                    span_of(d),
+                    format!(
+                        "a run of {} updates is too long: at most {}",
+                        limits::thousands(updates),
+                        limits::thousands(limits::MAX_UPDATES)
+                    ),
+                    "too long",
+                )
+                .with_help("every update takes time even when nothing moves: run shorter, or with a longer [machine] update"),
+            );
+        }
+    }
     let w = world::world(sc, registry, problems);
     let axes: Vec<u32> = machine.dsp.iter().map(|a| a.config.number).collect();
     let mark_tracks = marks::tracks(&sc.marks, &axes, problems);

@@ -242,8 +242,8 @@ pub struct ProductsEntry {
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct BounceEntry {
-    /// Bounces after each edge.
-    pub count: u32,
+    /// Bounces after each edge (at most [`super::limits::MAX_BOUNCES`]).
+    pub count: Spanned<u32>,
     /// How long each bounce lasts.
     pub width: Duration,
     /// Time between bounces.

@@ -40,12 +40,16 @@ pub fn parse_duration(text: &str) -> Result<u64, String> {
 pub fn seconds_to_ns(s: f64) -> Result<u64, String> {
     if !s.is_finite() || s < 0.0 {
         return Err(format!(
-            "a duration must be a finite number of seconds, at least 0 (got {s})"
+            "a duration must be a finite number of seconds, at least 0 (got {})",
+            crate::diag::number(s)
         ));
     }
     let ns = (s * 1e9).round();
-    if ns > 1e18 {
-        return Err(format!("{s} s is too long"));
+    if ns > super::limits::MAX_TIME_NS as f64 {
+        return Err(format!(
+            "{} s is too long: times are at most 1,000,000 s (about 11.6 days)",
+            crate::diag::number(s)
+        ));
     }
     Ok(ns as u64)
 }

@@ -1,6 +1,7 @@
 //! The scenario's world: input edges from levels, presses, pulse trains and product streams,
 //! and the master axis, each checked with errors that point into `scenario.toml`.
 
+use super::limits::{thousands, MAX_BOUNCES, MAX_STREAM, MAX_TIME_NS};
 use super::links::resolve_text;
 use crate::config::scenario::ScenarioFile;
 use crate::config::span_of;
@@ -83,12 +84,23 @@ pub fn world(sc: &ScenarioFile, reg: &Registry, problems: &mut Vec<Problem>) -> 
             ));
             continue;
         }
-        if count > 10_000_000 {
+        if count > MAX_STREAM {
             problems.push(Problem::error(
                 "pacer::scenario::pulses",
                 span_of(&p.count),
                 "at most 10,000,000 pulses per train",
                 "too many",
+            ));
+            continue;
+        }
+        // The last pulse must end inside the longest time a file may give.
+        let end = u128::from(start) + u128::from(count) * u128::from(period);
+        if end > u128::from(MAX_TIME_NS) {
+            problems.push(Problem::error(
+                "pacer::scenario::pulses",
+                span_of(&p.count),
+                "this pulse train ends after 1,000,000 s, the longest time a scenario may give",
+                "too long",
             ));
             continue;
         }
@@ -228,6 +240,25 @@ fn products(
         let Some(slot) = input(&p.sensor, problems) else {
             continue;
         };
+        if let Some(b) = &p.bounce {
+            let n = *b.count.get_ref();
+            if n > MAX_BOUNCES {
+                problems.push(
+                    Problem::error(
+                        "pacer::scenario::products",
+                        span_of(&b.count),
+                        format!(
+                            "{} bounces after each edge is too many: at most {}",
+                            thousands(u64::from(n)),
+                            thousands(u64::from(MAX_BOUNCES))
+                        ),
+                        "too many",
+                    )
+                    .with_help("contact bounce is a handful of short excursions; each is kept in memory for the run"),
+                );
+                continue;
+            }
+        }
         let stream = ProductStream {
             first: p.first,
             pitch: p.pitch,
@@ -236,7 +267,7 @@ fn products(
             count: p.count,
             missing: p.missing.clone(),
             bounce: p.bounce.as_ref().map(|b| Bounce {
-                count: b.count,
+                count: *b.count.get_ref(),
                 width: seconds(b.width.0),
                 gap: seconds(b.gap.0),
                 trailing: b.trailing,
@@ -251,7 +282,7 @@ fn products(
             ));
             continue;
         }
-        if p.count > 10_000_000 {
+        if p.count > MAX_STREAM {
             problems.push(Problem::error(
                 "pacer::scenario::products",
                 span_of(&p.sensor),

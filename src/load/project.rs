@@ -201,9 +201,10 @@ fn number_in_name(p: &Path) -> Option<u32> {
         .into_iter()
         .rev()
         .collect();
-    if digits.is_empty() {
-        None
-    } else {
-        digits.parse().ok()
-    }
+    // A number past the most programs a machine may have (`program99999999.pt`) is no program
+    // number: the file is numbered in order.
+    digits
+        .parse()
+        .ok()
+        .filter(|n| *n < crate::config::objects::MAX_INSTANCES)
 }

@@ -126,7 +126,7 @@ impl Tok<'_> {
             Tok::Number(s) | Tok::Name(s) => format!("`{s}`").into(),
             Tok::Str(s) => format!("the string \"{s}\"").into(),
             Tok::Label(s) => format!("the label `{s}:`").into(),
-            Tok::Bad(s) => format!("unexpected character `{s}`").into(),
+            Tok::Bad(s) => format!("unexpected character `{}`", crate::diag::escaped(s)).into(),
             Tok::Wait => word("Wait"),
             Tok::For => word("For"),
             Tok::Time => word("Time"),

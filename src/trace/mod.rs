@@ -75,6 +75,12 @@ impl Trace {
         self.full
     }
 
+    /// A write to the trace failed (disk full, a closed pipe): the run must end at once, for
+    /// nothing after it can be recorded. [`Trace::finish`] returns the error.
+    pub fn failed(&self) -> bool {
+        self.failed.is_some()
+    }
+
     /// The size limit, if any.
     pub fn size_limit(&self) -> Option<u64> {
         self.limit

@@ -336,6 +336,10 @@ impl Machine {
                 stop_reason = StopReason::RunTimeError;
                 break;
             }
+            if self.trace.failed() {
+                stop_reason = StopReason::TraceFailed;
+                break;
+            }
             if self.trace.full() {
                 stop_reason = StopReason::TraceLimit {
                     bytes: self.trace.size_limit().unwrap_or_default(),

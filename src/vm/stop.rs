@@ -20,6 +20,9 @@ pub enum StopReason {
         /// The limit, bytes.
         bytes: u64,
     },
+    /// Writing the trace failed (disk full, a closed pipe): the run stops at once, since
+    /// nothing after it could be recorded.
+    TraceFailed,
     /// Ctrl-C (or SIGTERM) on a real-time run.
     Interrupted,
     /// Too many updates in a row finished late on a real-time run.
@@ -53,6 +56,7 @@ impl std::fmt::Display for StopReason {
                 f,
                 "the trace reached its size limit of {bytes} bytes (--trace-limit)"
             ),
+            StopReason::TraceFailed => f.write_str("the trace could not be written"),
             StopReason::Interrupted => f.write_str("interrupted (Ctrl-C)"),
             StopReason::RealTimeFault { streak, limit } => write!(
                 f,

@@ -98,10 +98,13 @@ impl ProductStream {
     pub fn products(&self, master: &MasterProfile, seed: u64) -> Vec<Product> {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         let mut out = Vec::with_capacity(self.count as usize);
+        // Sorted once: a long `missing` list must not cost its length for every product.
+        let mut missing = self.missing.clone();
+        missing.sort_unstable();
         for i in 0..self.count {
             // Draw for every index, missing ones too, so removing a product moves no other.
             let shift = unit(&mut rng) * self.jitter;
-            if self.missing.contains(&i) {
+            if missing.binary_search(&i).is_ok() {
                 continue;
             }
             let lead = self.first + f64::from(i) * self.pitch + shift;

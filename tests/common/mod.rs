@@ -175,3 +175,32 @@ pub fn scratch_in(group: &str, name: &str) -> PathBuf {
     std::fs::create_dir_all(&d).expect("temp dir");
     d
 }
+
+/// Words that name a Rust type, which no message to a user may show.
+pub const RUST_WORDS: &[&str] = &[
+    "u8", "u16", "u32", "u64", "u128", "usize", "i8", "i16", "i32", "i64", "i128", "isize", "f32",
+    "f64",
+];
+
+/// The Rust type names (and serde's wording of them) in `message`, if any.
+pub fn rust_names(message: &str) -> Vec<String> {
+    let mut found: Vec<String> = message
+        .split(|c: char| !(c.is_ascii_alphanumeric() || c == '_'))
+        .filter(|w| RUST_WORDS.contains(w))
+        .map(str::to_string)
+        .collect();
+    for pat in [
+        "struct ",
+        "enum ",
+        "Option<",
+        "Vec<",
+        "invalid type: map",
+        "as i128",
+        "Spanned",
+    ] {
+        if message.contains(pat) {
+            found.push(pat.to_string());
+        }
+    }
+    found
+}

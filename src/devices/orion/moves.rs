@@ -50,6 +50,11 @@ impl Orion {
             return Ok(Queued::Accepted);
         }
         let speed = finite(speed_rpm.unwrap_or(defaults.speed_rpm), "speed")?.abs() * per_rpm;
+        if speed == 0.0 && time_ms.is_none() {
+            return Err(format!(
+                "MOVE TO/FOR on axis {n}: at 0 RPM the axis never arrives; give a speed above 0 (AT)"
+            ));
+        }
         // Times of the accelerating and cruising parts, and the top speed.
         let (ta, tc, v) = match time_ms {
             None => {
@@ -84,6 +89,14 @@ impl Orion {
                 }
             }
         };
+        // A move so long at so low a speed that its times overflow: no run could see it end.
+        if !(ta.is_finite() && tc.is_finite() && v.is_finite()) {
+            return Err(format!(
+                "MOVE on axis {n}: {} units at {} RPM would never end",
+                crate::diag::number(distance.abs()),
+                crate::diag::number(speed / per_rpm)
+            ));
+        }
         let rpm = v.copysign(distance) / per_rpm;
         let mut ramps = vec![(rpm, ta)];
         if tc > 0.0 {

@@ -67,6 +67,9 @@ pub struct Request {
     pub goal: Goal,
 }
 
+/// The longest move the planner checks, seconds (see `Planner::check`).
+pub const MAX_MOVE_SECONDS: f64 = 3600.0;
+
 /// Why a move cannot be prepared.
 #[derive(Debug, Clone, PartialEq, thiserror::Error)]
 pub enum PlanError {
@@ -401,6 +404,14 @@ impl Planner {
     /// per axis, the discrete velocity, acceleration and jerk the drives will see.
     fn check(&self, traj: &Trajectory, belts: &[Belt]) -> Result<Use, PlanError> {
         let dt = self.dt;
+        // The check runs through every update of the move: a move longer than this (a path
+        // of a million kilometres) is refused rather than checked for hours.
+        if traj.duration.is_nan() || traj.duration > MAX_MOVE_SECONDS {
+            return Err(PlanError::Param(format!(
+                "the path would take {} s; a move may take at most {MAX_MOVE_SECONDS} s",
+                crate::diag::number(traj.duration)
+            )));
+        }
         let follows: Vec<Follow> = traj.src.iter().chain(traj.dst.iter()).copied().collect();
         // What the followed belts may still add: the rest of their speed range, all of their
         // acceleration and jerk, along each Cartesian axis.
