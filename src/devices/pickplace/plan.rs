@@ -46,6 +46,13 @@ pub enum Goal {
         approach: f64,
         /// Aux1 at the target (the belt input's lrAux1TargetPos).
         aux: f64,
+        /// The operating range's end (lrUpperSyncLimit) and how far the belt carries the
+        /// workpiece during the synchronous travel: a workpiece met so far downstream that
+        /// `x + carry > upper` cannot be taken, so the move is not checked (the caller drops
+        /// the workpiece as missed; a path it will never run cannot fail a limit).
+        upper: f64,
+        /// See `upper`.
+        carry: f64,
     },
     /// A parking position, reached by two blended lines.
     Park {
@@ -171,6 +178,17 @@ impl Planner {
                 jerk: params.law.jerk * scale * scale * scale,
             };
             let (traj, arrival_x) = self.shape(req, params, law, belts)?;
+            if let (Goal::Workpiece { upper, carry, .. }, Some(x)) = (req.goal, arrival_x) {
+                // Slowing the path only meets the workpiece further downstream.
+                if x + carry > upper {
+                    return Ok(Planned {
+                        traj,
+                        arrival_x,
+                        scale,
+                        iterations,
+                    });
+                }
+            }
             let used = self.check(&traj, belts)?;
             let worst = used.ratio.iter().cloned().fold(0.0, f64::max);
             if worst <= 1.0 {
@@ -248,6 +266,7 @@ impl Planner {
                     id,
                     approach,
                     aux,
+                    ..
                 } => {
                     let b = belts.get(belt).ok_or(PlanError::Gone(id))?;
                     let w = b
