@@ -936,6 +936,58 @@ fn software_limit_on_the_path_is_error_20306_before_any_motion() {
     assert!(dist(r.now(), target_xyz(TARGET)) < 1e-9);
 }
 
+/// Mode 0 to a workpiece on belt 1 (along +X from the origin, 100 mm/s), detected at belt
+/// X = 150 with the operating range ending at `upper`, and X's software limit at 180 enabled:
+/// the errors the module reports.
+fn workpiece_beyond_x_limit(upper: f64) -> (Rig, Vec<i32>) {
+    let mut setup = cartesian_setup();
+    setup.sw_limits[0] = Some((-10.0, 180.0));
+    setup.belts = vec![BeltSetup {
+        number: 1,
+        limit: AxisLimit::default(),
+    }];
+    let mut r = Rig::new(setup, params());
+    r.inputs.ax_sw_limit_enabled[0] = true;
+    r.inputs.e_set_target = 1;
+    r.belts = vec![(0.0, 100.0)];
+    r.belt_params[0].lr_z_dist_belt = LIFT;
+    r.belt_params[0].lr_lower_sync_limit = 0.0;
+    r.belt_params[0].lr_upper_sync_limit = upper;
+    let mut ev = Vec::new();
+    r.m.receive(0, 1, 0.0, &mut ev);
+    assert!(r.m.validate(0, [150.0, 0.0, 0.0, 0.0, 0.0, 0.0]));
+    r.execute();
+    r.run(5);
+    let ids = r
+        .events
+        .iter()
+        .filter_map(|(_, e)| match e {
+            Event::Error { id, .. } => Some(*id),
+            _ => None,
+        })
+        .collect();
+    (r, ids)
+}
+
+#[test]
+fn workpiece_met_only_beyond_the_range_is_missed_even_past_a_software_limit() {
+    // The tool can meet the workpiece only past X = 200, the end of the operating range and
+    // past the limit: it is missed, and the path it would have needed raises no error.
+    let (r, ids) = workpiece_beyond_x_limit(200.0);
+    assert_eq!(ids, Vec::<i32>::new());
+    let missed = r.events_where(|e| matches!(e, Event::Missed { belt: 1, id: 1, .. }));
+    assert_eq!(missed.len(), 1);
+    assert_eq!(r.m.belts[0].missed, 1);
+    assert!(r.m.belts[0].pieces.is_empty());
+    assert!(!r.out().x_error);
+    // With the range reaching further the same workpiece can be taken, and the path to it
+    // crosses the limit: error 20306 before any motion.
+    let (r, ids) = workpiece_beyond_x_limit(400.0);
+    assert_eq!(ids, vec![20306]);
+    assert_eq!(r.m.belts[0].missed, 0);
+    assert_eq!(r.out().e_tm_state, TmState::Error);
+}
+
 #[test]
 fn hardware_limit_switch_is_error_20500() {
     let mut r = Rig::cartesian();

@@ -922,6 +922,8 @@ impl Module {
                         id,
                         approach: bp.lr_z_dist_belt,
                         aux: bp.lr_aux1_target_pos,
+                        upper: bp.lr_upper_sync_limit,
+                        carry: v * sync,
                     };
                     match self.planner.plan(&request(goal), &pp, &self.belts) {
                         Ok(p) => {
