@@ -246,3 +246,29 @@ fn ctrl_c_cancels_a_typed_wait_that_nothing_satisfies() {
         .unwrap_or_else(|| panic!("no time in: {at}"));
     assert!(t > 0.0 && t < 3600.0, "interrupted at {t} s");
 }
+
+/// Strings and arrays at the prompt (issue 16): a program's arrays and string elements are
+/// read and joined by typed lines, a new string variable gets its own storage (a second one
+/// stays empty), and a DIM typed at the prompt is refused in place.
+#[test]
+fn strings_and_arrays_at_the_prompt() {
+    let dir = scratch("strings");
+    std::fs::write(
+        dir.join("a.mb"),
+        "DIM T(3), N$(2)\nT(1) = 7\nN$(2) = \"ok\"\n",
+    )
+    .expect("program written");
+    let script = ":step 1\nT(1) * 2\nN$(2) + \"!\"\nB$ = \"x\" + N$(2)\nB$\nLEFT$(B$, 2)\nC$ = \"\"\n\"[\" + C$ + \"]\"\nDIM Q(3)\n";
+    let folder = dir.to_string_lossy().to_string();
+    let out = pacer(&["repl", &folder], script, &dir);
+    for want in [
+        "14",
+        "\"ok!\"",
+        "\"xok\"",
+        "\"xo\"",
+        "\"[]\"",
+        "Q cannot be dimensioned here",
+    ] {
+        assert!(out.contains(want), "no {want} in:\n{out}");
+    }
+}

@@ -44,7 +44,7 @@ pub fn check(
 }
 
 /// Check one expression of `dialect` (a line typed at the REPL): its typed form (when it has no
-/// error) and every problem. A MotionBASIC expression must be a number.
+/// error) and every problem. A MotionBASIC expression must be a number or a string.
 pub fn check_expr(
     e: &Expr,
     dialect: Dialect,
@@ -60,12 +60,18 @@ pub fn check_expr(
         Dialect::PowerTools => {
             walk::Rules::expr(&mut powertools::PowerTools, &mut cx, e, walk::Want::Any)
         }
-        Dialect::MotionBasic => walk::Rules::expr(
-            &mut motionbasic::MotionBasic::new(variables),
-            &mut cx,
-            e,
-            walk::Want::Number("a number"),
-        ),
+        Dialect::MotionBasic => {
+            let mut rules = motionbasic::MotionBasic::new(variables);
+            match walk::Rules::expr(&mut rules, &mut cx, e, walk::Want::Any) {
+                Some(t) if t.ty == Ty::Str => Some(t),
+                // Anything else must be a number (an axis set is shown as its error).
+                Some(_) => {
+                    cx.problems.clear();
+                    walk::Rules::expr(&mut rules, &mut cx, e, walk::Want::Number("a number"))
+                }
+                None => None,
+            }
+        }
     };
     let failed = cx
         .problems

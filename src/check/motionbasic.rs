@@ -297,6 +297,40 @@ pub fn dim_bounds(bounds: &[Expr]) -> Result<Vec<u32>, (Span, String)> {
 }
 
 impl Variables {
+    /// The variables and arrays a machine's registry already holds (its MotionBASIC variables
+    /// and array elements by name, as the registry lists them), all taken as assigned: what a
+    /// line typed at the REPL may use.
+    pub fn known<'a>(names: impl Iterator<Item = (&'a str, ValueType)>) -> Variables {
+        let mut vars = Variables::default();
+        for (name, ty) in names {
+            let key = name.to_ascii_uppercase();
+            let Some((base, subs)) = name.split_once('(') else {
+                vars.all.insert(key.clone(), (name.to_string(), ty));
+                vars.assigned.insert(key);
+                continue;
+            };
+            let subs: Vec<u32> = subs
+                .trim_end_matches(')')
+                .split(',')
+                .map(|p| p.trim().parse().unwrap_or(0))
+                .collect();
+            let base_key = base.to_ascii_uppercase();
+            vars.assigned.insert(format!("{base_key}()"));
+            let array = vars.arrays.entry(base_key).or_insert_with(|| Array {
+                written: base.to_string(),
+                ty,
+                bounds: Some(vec![0; subs.len()]),
+                declared: true,
+            });
+            if let Some(bounds) = array.bounds.as_mut() {
+                for (b, s) in bounds.iter_mut().zip(&subs) {
+                    *b = (*b).max(*s);
+                }
+            }
+        }
+        vars
+    }
+
     /// Collect the variables `ast` uses. Names that are objects of the machine, labels and
     /// controller names are not variables.
     pub fn collect(&mut self, ast: &ProgramAst) {
@@ -1321,7 +1355,21 @@ impl MotionBasic<'_> {
         span: Span,
     ) -> Option<typed::Element> {
         let key = seg.text.to_ascii_uppercase();
-        let array = self.vars.arrays.get(&key)?.clone();
+        let Some(array) = self.vars.arrays.get(&key).cloned() else {
+            // Only at the REPL: a program's arrays are all collected before it is checked.
+            cx.push(
+                Problem::error(
+                    "pacer::check::array",
+                    seg.span,
+                    format!("{} is not an array of the machine's programs", seg.text),
+                    "no such array",
+                )
+                .with_help(
+                    "arrays are dimensioned by the programs (DIM); a typed line uses theirs",
+                ),
+            );
+            return None;
+        };
         let mut subs = Vec::new();
         let mut ok = true;
         for a in args {
@@ -1507,6 +1555,19 @@ impl MotionBasic<'_> {
                         continue;
                     }
                     let Some(array) = self.vars.arrays.get(&key) else {
+                        // Only at the REPL: a program's DIMs are all collected first.
+                        cx.push(
+                            Problem::error(
+                                "pacer::check::array",
+                                seg.span,
+                                format!("{} cannot be dimensioned here", seg.text),
+                                "not an array of the programs",
+                            )
+                            .with_help(
+                                "arrays are dimensioned by the programs' DIM, before the run",
+                            ),
+                        );
+                        ok = false;
                         continue;
                     };
                     let wanted = dim_bounds(bounds).unwrap_or_default();

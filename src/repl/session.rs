@@ -264,7 +264,7 @@ impl Session {
                 let compiled = match &checked {
                     Some(Checked::Expression(e)) => {
                         compile_expr(e, text, TYPED, REPL_PROGRAM, &mut self.layout)
-                            .map(|(chunk, reg)| (chunk, Some((reg, e.ty == Ty::Bool))))
+                            .map(|(chunk, reg)| (chunk, Some((reg, e.ty))))
                     }
                     Some(Checked::Statements(program)) => {
                         compile(program, text, TYPED, REPL_PROGRAM, &mut self.layout)
@@ -296,9 +296,9 @@ impl Session {
             }
             Ok(LineRun::Blocked) => Ran::Blocked,
             Ok(LineRun::Done) => {
-                if let Some((reg, boolean)) = result {
+                if let Some((reg, ty)) = result {
                     let v = self.machine.values()[reg as usize];
-                    out.line(self.show_value(v, boolean));
+                    out.line(self.show_value(v, ty));
                 }
                 Ran::Done
             }
@@ -321,7 +321,10 @@ impl Session {
                 .of(Kind::BasicVar)
                 .names
                 .contains_key(&spelling.to_ascii_lowercase());
-            if !known && self.machine.declare_basic_var(spelling, *ty).is_none() {
+            if known {
+                continue;
+            }
+            let Some(slot) = self.machine.declare_basic_var(spelling, *ty) else {
                 return Err(Problem::error(
                     "pacer::repl::variables",
                     crate::span::Span::new(0, 0),
@@ -329,6 +332,11 @@ impl Session {
                     "here",
                 )
                 .with_help("use a variable the programs already have, or :reset"));
+            };
+            // A string variable holds its own cell of the string table.
+            if crate::compile::is_text_name(spelling) {
+                let cell = self.layout.cell();
+                self.machine.bind_text_cell(slot, cell, &self.layout);
             }
         }
         Ok(())
@@ -378,16 +386,12 @@ impl Session {
     /// Every MotionBASIC variable, all taken as assigned: at the prompt, reading a variable
     /// is asking for its value, not a slip.
     fn known_variables(&self) -> Variables {
-        let mut vars = Variables::default();
-        let t = self.machine.registry().of(Kind::BasicVar);
-        for (i, name) in t.display.iter().enumerate() {
+        let registry = self.machine.registry();
+        let t = registry.of(Kind::BasicVar);
+        Variables::known(t.display.iter().enumerate().map(|(i, name)| {
             let slot = t.slot(i as u32, 0, false) as usize;
-            let ty = self.machine.registry().slots[slot].ty;
-            let key = name.to_ascii_uppercase();
-            vars.all.insert(key.clone(), (name.clone(), ty));
-            vars.assigned.insert(key);
-        }
-        vars
+            (name.as_str(), registry.slots[slot].ty)
+        }))
     }
 
     fn report(&self, file: &SourceFile, problems: Vec<Problem>, out: &mut dyn Output) {
@@ -429,11 +433,14 @@ impl Session {
         }
     }
 
-    fn show_value(&self, v: f64, boolean: bool) -> String {
-        if boolean {
-            on_off(v).to_string()
-        } else {
-            number(v)
+    fn show_value(&self, v: f64, ty: Ty) -> String {
+        match ty {
+            Ty::Bool => on_off(v).to_string(),
+            Ty::Str => match self.machine.strings().get(v as usize) {
+                Some(s) if v >= 0.0 && v.fract() == 0.0 => format!("\"{s}\""),
+                _ => "\"\"".to_string(),
+            },
+            _ => number(v),
         }
     }
 

@@ -894,6 +894,10 @@ fn set_text(strings: &mut [String], cell: usize, src: usize) -> bool {
 /// that slot holds; traced when it changes.
 fn store_text(slot: usize, src: f64, v: &[f64], ctx: &mut Ctx<'_, '_>) -> Result<(), String> {
     let cell = handle(v.get(slot).copied().unwrap_or(-1.0), ctx.strings)?;
+    // Cell 0 is the empty string every unassigned string reads: never a variable's own.
+    if cell == 0 {
+        return Err("internal error: a string variable without its storage".into());
+    }
     let from = handle(src, ctx.strings)?;
     let changed = set_text(ctx.strings, cell, from);
     if (changed || ctx.now.trace.writes())

@@ -98,7 +98,11 @@ impl Machine {
             self.values.extend_from_slice(&initial[from..]);
         }
         self.image.chunks.push(chunk);
-        self.image.strings.clone_from(&layout.strings);
+        // The table grows by the line's literals and cells; the cells a run changed stay.
+        let known = self.image.strings.len();
+        if let Some(new) = layout.strings.get(known..) {
+            self.image.strings.extend_from_slice(new);
+        }
         self.image.chunks.len() - 1
     }
 
@@ -234,6 +238,21 @@ impl Machine {
             );
         }
         self.trace.finish()
+    }
+
+    /// Give the string variable in `slot` (declared by [`Machine::declare_basic_var`]) its own
+    /// cell `cell` of `layout`'s string table, empty.
+    pub fn bind_text_cell(&mut self, slot: SlotId, cell: u32, layout: &crate::compile::Layout) {
+        let known = self.image.strings.len();
+        if let Some(new) = layout.strings.get(known..) {
+            self.image.strings.extend_from_slice(new);
+        }
+        if let Some(v) = self.values.get_mut(slot as usize) {
+            *v = f64::from(cell);
+        }
+        if let Some(v) = self.snapshot.get_mut(slot as usize) {
+            *v = f64::from(cell);
+        }
     }
 
     /// Give a spare MotionBASIC variable slot (see [`SPARE_VARIABLE`]) the name `spelling`
