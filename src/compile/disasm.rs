@@ -258,15 +258,7 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 len,
                 decimals,
             } => {
-                let kind = if decimals == crate::compile::bytecode::REAL_STORE {
-                    "r".to_string()
-                } else if decimals == crate::compile::bytecode::INT_STORE {
-                    "i".to_string()
-                } else if decimals == 0 {
-                    "l".to_string()
-                } else {
-                    format!("f{decimals}")
-                };
+                let kind = store_kind(decimals);
                 format!(
                     "store.idx.{kind} {}[{} in 0..{len}] <- {}",
                     r(base),
@@ -284,15 +276,7 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 decimals,
                 ..
             } => {
-                let kind = if decimals == crate::compile::bytecode::REAL_STORE {
-                    "r".to_string()
-                } else if decimals == crate::compile::bytecode::INT_STORE {
-                    "i".to_string()
-                } else if decimals == 0 {
-                    "l".to_string()
-                } else {
-                    format!("f{decimals}")
-                };
+                let kind = store_kind(decimals);
                 format!("store.at.{kind} {}[{}] <- {}", r(base), r(off), r(src))
             }
             Op::Ext { at } => match chunk.ext.get(at as usize) {
@@ -409,5 +393,16 @@ fn ext_text(op: &ExtOp, r: &dyn Fn(u32) -> String, chunk: &Chunk) -> String {
                 None => format!("restore   DATA #{item}"),
             }
         }
+    }
+}
+
+/// How a store rounds, as the disassembly's suffix: `r` real, `i` INTEGER, `l` long, `fN` N
+/// decimals.
+fn store_kind(decimals: u8) -> String {
+    match decimals {
+        crate::compile::bytecode::REAL_STORE => "r".to_string(),
+        crate::compile::bytecode::INT_STORE => "i".to_string(),
+        0 => "l".to_string(),
+        d => format!("f{d}"),
     }
 }

@@ -1088,6 +1088,22 @@ impl<'a> Compiler<'a> {
         }
     }
 
+    /// The values of `args` in consecutive temporaries (a call's arguments), and a fresh
+    /// temporary for the result, which may reuse the first argument's.
+    fn consecutive(&mut self, args: &[Expr], span: Span) -> (Vec<Reg>, Reg) {
+        let mark = self.temp_top;
+        let regs: Vec<Reg> = args.iter().map(|_| self.temp(span)).collect();
+        let top = self.temp_top;
+        for (a, &dst) in args.iter().zip(&regs) {
+            let src = self.expr(a);
+            self.temp_top = top;
+            self.emit(Op::Move { dst, src });
+        }
+        self.temp_top = mark;
+        let dst = self.temp(span);
+        (regs, dst)
+    }
+
     /// The register holding the value of `e`; its instructions carry the span of the
     /// (sub)expression each evaluates.
     fn expr(&mut self, e: &Expr) -> Reg {
@@ -1196,16 +1212,7 @@ impl<'a> Compiler<'a> {
                 dst
             }
             ExprKind::Text(func, args) => {
-                let mark = self.temp_top;
-                let regs: Vec<Reg> = args.iter().map(|_| self.temp(e.span)).collect();
-                let top = self.temp_top;
-                for (a, &dst) in args.iter().zip(&regs) {
-                    let src = self.expr(a);
-                    self.temp_top = top;
-                    self.emit(Op::Move { dst, src });
-                }
-                self.temp_top = mark;
-                let dst = self.temp(e.span);
+                let (regs, dst) = self.consecutive(args, e.span);
                 let cell = if e.ty == Ty::Str {
                     self.layout.cell()
                 } else {
@@ -1296,16 +1303,7 @@ impl<'a> Compiler<'a> {
                 dst
             }
             ExprKind::Kernel { func, args, negate } => {
-                let mark = self.temp_top;
-                let regs: Vec<Reg> = args.iter().map(|_| self.temp(e.span)).collect();
-                let top = self.temp_top;
-                for (a, &dst) in args.iter().zip(&regs) {
-                    let src = self.expr(a);
-                    self.temp_top = top;
-                    self.emit(Op::Move { dst, src });
-                }
-                self.temp_top = mark;
-                let dst = self.temp(e.span);
+                let (regs, dst) = self.consecutive(args, e.span);
                 let args = regs.first().copied().unwrap_or(dst);
                 self.emit(Op::KernelCall {
                     func: *func,

@@ -742,16 +742,9 @@ pub fn run(
                 idx,
                 len,
             } => {
-                let i = match subscript(rd!(idx as usize), len) {
-                    Some(i) => i,
-                    None => {
-                        pc = here;
-                        let x = rd!(idx as usize);
-                        fault!(
-                            "Subscript out of range: {x} is not within 0 to {}",
-                            len.saturating_sub(1)
-                        );
-                    }
+                let Some(i) = subscript(rd!(idx as usize), len) else {
+                    pc = here;
+                    fault!("{}", out_of_range(rd!(idx as usize), len));
                 };
                 wr!(dst as usize, rd!(base as usize + i as usize));
             }
@@ -762,16 +755,9 @@ pub fn run(
                 len,
                 decimals,
             } => {
-                let i = match subscript(rd!(idx as usize), len) {
-                    Some(i) => i,
-                    None => {
-                        pc = here;
-                        let x = rd!(idx as usize);
-                        fault!(
-                            "Subscript out of range: {x} is not within 0 to {}",
-                            len.saturating_sub(1)
-                        );
-                    }
+                let Some(i) = subscript(rd!(idx as usize), len) else {
+                    pc = here;
+                    fault!("{}", out_of_range(rd!(idx as usize), len));
                 };
                 let dst = base + i;
                 let x = rd!(src as usize);
@@ -790,10 +776,7 @@ pub fn run(
                 let i = x.round_ties_even();
                 if !(i >= 0.0 && i < f64::from(len)) {
                     pc = here;
-                    fault!(
-                        "Subscript out of range: {x} is not within 0 to {}",
-                        len.saturating_sub(1)
-                    );
+                    fault!("{}", out_of_range(x, len));
                 }
                 wr!(dst as usize, i);
             }
@@ -846,6 +829,15 @@ pub fn run(
             }
         }
     }
+}
+
+/// The error of subscript `x` outside an array's `len` elements.
+#[cold]
+fn out_of_range(x: f64, len: u32) -> String {
+    format!(
+        "Subscript out of range: {x} is not within 0 to {}",
+        len.saturating_sub(1)
+    )
 }
 
 /// A subscript `x` rounded to an integer (halves to even), if within `0..len`. Whole
