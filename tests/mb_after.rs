@@ -100,7 +100,11 @@ fn a_gear_after_asen_starts_at_the_rising_edge_exactly() {
     // 0.5 s: the last update before the edge, nothing moves. 0.501 s: the update holding the edge
     // (0.00455625 from the edge, where a start at the update's start would give 0.0225 and one
     // at its end 0). Then inside the ramp, at its end (web 3203.3 at 0.53388 s) and beyond.
-    check_closed_form(RISING, 3003.3, &[0.5, 0.501, 0.502, 0.51, 0.533, 0.534, 0.6]);
+    check_closed_form(
+        RISING,
+        3003.3,
+        &[0.5, 0.501, 0.502, 0.51, 0.533, 0.534, 0.6],
+    );
     let (_, knife, _) = run("after-before", RISING, "3003.3", 0.5);
     assert_eq!(knife, 0.0, "nothing moves before the edge");
     let (_, knife, _) = run("after-first", RISING, "3003.3", 0.501);
@@ -115,7 +119,10 @@ fn the_trace_shows_the_start_at_the_edge() {
         .find(|e| e["kind"] == "motion" && e["object"] == "Axis.2")
         .expect("a motion start of Axis.2");
     assert_eq!(start["event"], "start");
-    assert_eq!(start["tick"], 501, "reported at the update holding the edge");
+    assert_eq!(
+        start["tick"], 501,
+        "reported at the update holding the edge"
+    );
     assert!((start["master"].as_f64().unwrap() - 3003.3).abs() < 1e-9);
     assert_eq!(start["position"].as_f64(), Some(0.0));
     let latch = events
@@ -154,7 +161,10 @@ END
         let (web, knife, _) = run("after-next", program, "1000.5, 3003.3", end);
         assert!((web - SPEED * end).abs() < 1e-9);
         let want = knife_at(SPEED * end - 3003.3);
-        assert!((knife - want).abs() < 1e-9, "knife {knife} at {end}, want {want}");
+        assert!(
+            (knife - want).abs() < 1e-9,
+            "knife {knife} at {end}, want {want}"
+        );
     }
 }
 
@@ -170,7 +180,10 @@ END
 ";
     let marks = "1000.5, 3003.3";
     let (_, knife, _) = run("after-two", program, marks, 0.3);
-    assert!((knife - (1800.0 - 1000.5) / 4.0).abs() < 1e-9, "knife {knife}");
+    assert!(
+        (knife - (1800.0 - 1000.5) / 4.0).abs() < 1e-9,
+        "knife {knife}"
+    );
     let (web, knife, _) = run("after-two", program, marks, 0.6);
     let want = (3003.3 - 1000.5) / 4.0 + (web - 3003.3) / 2.0;
     assert!((knife - want).abs() < 1e-9, "knife {knife}, want {want}");

@@ -607,10 +607,16 @@ impl<'v> MotionBasic<'v> {
             );
             return None;
         }
+        let mut near = None;
         let found = match &e.kind {
             ExprKind::Name(n) => match cx.registry().resolve(n) {
                 Ok(r) => (r.ty.is_bit() && !matches!(r.access, Access::Action | Access::Input))
                     .then_some(r.slot),
+                // A lone word is more likely a misspelt sensor than an object of the machine.
+                Err(_) if n.segments.len() == 1 => {
+                    near = nearest(&n.text(), SENSOR_NAMES.iter().map(|(s, _)| *s));
+                    None
+                }
                 Err(p) => {
                     cx.push(p);
                     return None;
@@ -623,13 +629,14 @@ impl<'v> MotionBasic<'v> {
                 Problem::error(
                     "pacer::check::after",
                     e.span,
-                    "AFTER needs an input",
-                    "not an input",
+                    "AFTER needs a sensor or an input",
+                    "not a sensor or an input",
                 )
-                .with_help(
-                    "AFTER takes a sensor of the axis's DSP card (`ZREF`, `ASEN`, `BSEN`) or an \
-                     input bit (e.g. `DriveInput.1`)",
-                ),
+                .with_help(format!(
+                    "{}AFTER takes a sensor of the axis's DSP card (`ZREF`, `ASEN`, `BSEN`) or \
+                     an input bit (e.g. `DriveInput.1`)",
+                    near.map_or(String::new(), |s| format!("did you mean `{s}`? "))
+                )),
             );
         }
         found
