@@ -2,7 +2,7 @@
 //! card latches, checked against closed-form values.
 
 use pacer::devices::orion::dsp::{
-    DspAxes, DspAxisConfig, DspEvent, Layer, Queued, Sensor, DEFAULT_QUEUE_DEPTH,
+    After, DspAxes, DspAxisConfig, DspEvent, Layer, Queued, Sensor, DEFAULT_QUEUE_DEPTH,
 };
 use proptest::prelude::*;
 
@@ -216,7 +216,8 @@ fn gear_after_an_input_starts_at_the_input_instant() {
     s.d.move_at(1, 600.0, 0.0).unwrap();
     s.d.gear_at(2, 1.0, 10.0, None, None).unwrap();
     s.run_to(0.1);
-    s.d.gear_at(2, 1.0, 2.0, None, Some(7)).unwrap();
+    s.d.gear_at(2, 1.0, 2.0, None, Some(After::Input(7)))
+        .unwrap();
     s.run_to(0.2);
     assert!(!s.d.done(2).unwrap(), "waiting for its input");
     assert_eq!(s.d.ratio(2).unwrap(), Some(0.1));

@@ -6,7 +6,8 @@
 use super::functions;
 use super::typed::{self, ExprKind as K, Op, StmtKind as T, Ty};
 use super::walk::{not_here, unknown_label, Context, Rules, Want};
-use crate::devices::command::MotionCmd;
+use crate::devices::command::{GearAfter, MotionCmd};
+use crate::devices::orion::dsp::Sensor;
 use crate::diag::{nearest, Problem};
 use crate::registry::catalog::AXIS_TYPE;
 use crate::registry::{Access, Kind, Registry, Resolved, ValueType};
@@ -492,7 +493,9 @@ impl Variables {
                         } => {
                             self.expr(out);
                             self.expr(inn);
-                            pacer.iter().chain(after.iter()).for_each(|e| self.expr(e));
+                            // `AFTER ASEN` names a sensor, not a variable.
+                            let input = after.as_ref().filter(|a| after_sensor(a).is_none());
+                            pacer.iter().chain(input).for_each(|e| self.expr(e));
                         }
                         GearForm::For { dist, pacer } => {
                             self.expr(dist);
@@ -615,10 +618,39 @@ impl<'v> MotionBasic<'v> {
 
     /// The `AFTER` input of a `GEAR`: its slot.
     fn after_input(&mut self, cx: &mut Context<'_>, e: &Expr) -> Option<u32> {
+        let latch = match &e.kind {
+            ExprKind::Name(n) if n.segments.len() == 1 => {
+                let text = n.text().to_ascii_uppercase();
+                text.strip_suffix('@')
+                    .filter(|t| SENSOR_NAMES.iter().any(|(s, _)| s == t))
+                    .map(str::to_string)
+            }
+            _ => None,
+        };
+        if let Some(name) = latch {
+            cx.push(
+                Problem::error(
+                    "pacer::check::after",
+                    e.span,
+                    format!("AFTER names the sensor input `{name}`, not its latch `{name}@`"),
+                    "a latch",
+                )
+                .with_help(format!(
+                    "write `AFTER {name}`: the gear starts at the sensor's next edge"
+                )),
+            );
+            return None;
+        }
+        let mut near = None;
         let found = match &e.kind {
             ExprKind::Name(n) => match cx.registry().resolve(n) {
                 Ok(r) => (r.ty.is_bit() && !matches!(r.access, Access::Action | Access::Input))
                     .then_some(r.slot),
+                // A lone word is more likely a misspelt sensor than an object of the machine.
+                Err(_) if n.segments.len() == 1 => {
+                    near = nearest(&n.text(), SENSOR_NAMES.iter().map(|(s, _)| *s));
+                    None
+                }
                 Err(p) => {
                     cx.push(p);
                     return None;
@@ -631,10 +663,14 @@ impl<'v> MotionBasic<'v> {
                 Problem::error(
                     "pacer::check::after",
                     e.span,
-                    "AFTER needs an input",
-                    "not an input",
+                    "AFTER needs a sensor or an input",
+                    "not a sensor or an input",
                 )
-                .with_help("name a bit the gear starts on, e.g. `AFTER DriveInput.1`"),
+                .with_help(format!(
+                    "{}AFTER takes a sensor of the axis's DSP card (`ZREF`, `ASEN`, `BSEN`) or \
+                     an input bit (e.g. `DriveInput.1`)",
+                    near.map_or(String::new(), |s| format!("did you mean `{s}`? "))
+                )),
             );
         }
         found
@@ -1174,11 +1210,20 @@ impl Rules for MotionBasic<'_> {
                                 self.want(cx, e, Ty::Num, "ratios and distances are numbers")
                             }));
                         }
-                        let slot = after.as_ref().map(|a| self.after_input(cx, a));
+                        let sensor = after.as_ref().and_then(after_sensor);
+                        let slot = match (after, sensor) {
+                            (Some(a), None) => Some(self.after_input(cx, a)),
+                            _ => None,
+                        };
+                        let after = match (sensor, &slot) {
+                            (Some(s), _) => GearAfter::Sensor(s),
+                            (None, Some(_)) => GearAfter::Input,
+                            (None, None) => GearAfter::Now,
+                        };
                         (
                             MotionCmd::GearAt {
                                 pacer: pacer.is_some(),
-                                after: after.is_some(),
+                                after,
                             },
                             operands,
                             slot,
@@ -1738,6 +1783,27 @@ fn print_precision(e: &Expr) -> typed::PrintHow {
         typed::PrintHow::Double
     } else {
         typed::PrintHow::Single
+    }
+}
+
+/// The sensors `AFTER` names on a DSP axis's card.
+const SENSOR_NAMES: [(&str, Sensor); 3] = [
+    ("ZREF", Sensor::Zref),
+    ("ASEN", Sensor::Asen),
+    ("BSEN", Sensor::Bsen),
+];
+
+/// `AFTER ZREF|ASEN|BSEN` (any case): the sensor of the axis's card the gear starts on.
+fn after_sensor(e: &Expr) -> Option<Sensor> {
+    match &e.kind {
+        ExprKind::Name(n) if n.segments.len() == 1 => {
+            let text = n.text();
+            SENSOR_NAMES
+                .iter()
+                .find(|(s, _)| s.eq_ignore_ascii_case(&text))
+                .map(|&(_, w)| w)
+        }
+        _ => None,
     }
 }
 

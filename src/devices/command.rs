@@ -2,6 +2,8 @@
 //! MotionBASIC motion statement, a kernel function. The front end compiles program text to
 //! these; the devices never see program text.
 
+use super::orion::dsp::Sensor;
+
 /// Where a motion initiate starts from.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum StartRef {
@@ -16,8 +18,9 @@ pub enum StartRef {
 /// A MotionBASIC motion statement; its operands are in consecutive registers from `args`.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum MotionCmd {
-    /// `GEAR … AT out TO in [IN pacer] [AFTER input]`: args out, in, pacer, input slot.
-    GearAt { pacer: bool, after: bool },
+    /// `GEAR … AT out TO in [IN pacer] [AFTER input|sensor]`: args out, in, pacer, and for
+    /// an input its slot.
+    GearAt { pacer: bool, after: GearAfter },
     /// `GEAR … FOR dist IN pacer`: args dist, pacer.
     GearFor,
     /// `MOVE … AT speed [IN time]`: args speed, time.
@@ -28,6 +31,17 @@ pub enum MotionCmd {
         speed: bool,
         time: bool,
     },
+}
+
+/// What a `GEAR … AT` waits for before it starts.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum GearAfter {
+    /// Nothing: it starts when it reaches the head of its axis's queue.
+    Now,
+    /// A drive or module input's rising edge; its slot is the last operand.
+    Input,
+    /// The next edge of this sensor of the axis's own DSP card (`AFTER ZREF|ASEN|BSEN`).
+    Sensor(Sensor),
 }
 
 /// A function served by the kernel (it reads or changes machine state), callable from both

@@ -5,13 +5,13 @@
 pub mod dsp;
 mod moves;
 
-use super::command::{KernelFunc, MotionCmd};
+use super::command::{GearAfter, KernelFunc, MotionCmd};
 use super::regist::axes::{FastTrack, RegistAxes};
 use super::{ActOutcome, AxisSet, Device, Now, StartRef, Target, When};
 use crate::registry::catalog::AXIS_TYPE;
 use crate::registry::{Hook, Kind, Registry, SlotId};
-use crate::trace::Event;
-use dsp::{DspAxes, DspAxisConfig, DspEvent, Queued, Sensor};
+use crate::trace::{Event, MotionPhase};
+use dsp::{After, DspAxes, DspAxisConfig, DspEvent, Queued, Sensor};
 
 /// What a mark sensor is wired to.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -197,6 +197,39 @@ impl Orion {
                         position,
                     },
                 ),
+                // Shown like a drive's motion start: the pacer (master) and axis positions at
+                // the edge, as reported (rolled over at POS.MOD@ the way `Axis.N.Position` is).
+                DspEvent::StartedOnEdge {
+                    axis,
+                    pacer,
+                    position,
+                    ..
+                } => {
+                    let i = self.configs.iter().position(|c| c.number == axis);
+                    let reported = |i: usize, p: f64| {
+                        let p = p + self.regist.reference(i);
+                        let m = self.dsp.pos_mod(self.configs[i].number).unwrap_or(0.0);
+                        if m > 0.0 {
+                            p.rem_euclid(m)
+                        } else {
+                            p
+                        }
+                    };
+                    let pacer_index = self.configs.get(i.unwrap_or(usize::MAX)).and_then(|c| {
+                        c.pacer
+                            .and_then(|p| self.configs.iter().position(|d| d.number == p))
+                    });
+                    now.trace.emit(
+                        now.tick,
+                        &Event::Motion {
+                            object: format!("Axis.{axis}").into(),
+                            phase: MotionPhase::Start {
+                                master: pacer_index.map_or(pacer, |j| reported(j, pacer)),
+                                position: i.map_or(position, |i| reported(i, position)),
+                            },
+                        },
+                    )
+                }
                 DspEvent::EdgeBlinded { card, which, time } => now.trace.emit(
                     now.tick,
                     &Event::Blinded {
@@ -373,14 +406,19 @@ impl AxisSet for Orion {
         for n in axes.iter() {
             let q = match cmd {
                 MotionCmd::GearAt { pacer, after } => {
-                    let input = after.then(|| arg(3) as u32);
-                    if let Some(slot) = input {
-                        if !self.after.iter().any(|(s, _)| *s == slot) {
-                            self.after.push((slot, false));
+                    let after = match after {
+                        GearAfter::Now => None,
+                        GearAfter::Input => {
+                            let slot = arg(3) as u32;
+                            if !self.after.iter().any(|(s, _)| *s == slot) {
+                                self.after.push((slot, false));
+                            }
+                            Some(After::Input(slot))
                         }
-                    }
+                        GearAfter::Sensor(which) => Some(After::Sensor(which)),
+                    };
                     self.dsp
-                        .gear_at(n, arg(0), arg(1), pacer.then(|| arg(2)), input)
+                        .gear_at(n, arg(0), arg(1), pacer.then(|| arg(2)), after)
                         .map_err(|e| e.0)?
                 }
                 MotionCmd::GearFor => self.dsp.gear_for(n, arg(0), arg(1)).map_err(|e| e.0)?,

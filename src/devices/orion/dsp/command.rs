@@ -3,7 +3,7 @@
 
 use super::gear::{BasePiece, BaseSeg};
 use super::superimpose::SuperSeg;
-use super::{err, DspAxes, DspError, Queued};
+use super::{err, After, DspAxes, DspError, Queued, Trigger};
 
 impl DspAxes {
     /// The pacer of axis `i`, or an error for a statement `what` that needs one.
@@ -51,15 +51,17 @@ impl DspAxes {
         Ok(Queued::Accepted)
     }
 
-    /// `GEAR axis AT out TO inn [IN pacer_dist] [AFTER input]`: follow the pacer at out/inn,
-    /// the ratio ramping linearly over `pacer_dist` of pacer travel, starting when `input` comes.
+    /// `GEAR axis AT out TO inn [IN pacer_dist] [AFTER input|sensor]`: follow the pacer at
+    /// out/inn, the ratio ramping linearly over `pacer_dist` of pacer travel, starting when
+    /// `after` comes (an input's rising edge, or the next edge of a sensor of the axis's card
+    /// once the segment is at its queue head).
     pub fn gear_at(
         &mut self,
         axis: u32,
         out: f64,
         inn: f64,
         pacer_dist: Option<f64>,
-        after: Option<u32>,
+        after: Option<After>,
     ) -> Result<Queued, DspError> {
         let i = self.axis(axis)?;
         self.pacer_for(i, "GEAR AT")?;
@@ -142,7 +144,7 @@ impl DspAxes {
             ));
         }
         let at = self.triggers.partition_point(|&(u, _)| u <= t);
-        self.triggers.insert(at, (t, input));
+        self.triggers.insert(at, (t, Trigger::Input(input)));
         Ok(())
     }
 

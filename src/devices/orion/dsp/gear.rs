@@ -3,6 +3,8 @@
 
 use std::collections::VecDeque;
 
+use super::After;
+
 /// A base segment waiting in, or running at the head of, the queue.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub(super) enum BaseSeg {
@@ -12,7 +14,7 @@ pub(super) enum BaseSeg {
     Gear {
         ratio: f64,
         pacer_dist: f64,
-        after: Option<u32>,
+        after: Option<After>,
     },
 }
 

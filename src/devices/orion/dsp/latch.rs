@@ -2,7 +2,7 @@
 //! sensor marks tied to an axis position (the simulated world's printed marks).
 
 use super::pls::wrap;
-use super::{err, DspAxes, DspError, DspEvent, Sensor};
+use super::{err, DspAxes, DspError, DspEvent, Sensor, Trigger};
 
 /// A parsed SENS.MODE@ string.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -150,7 +150,15 @@ impl DspAxes {
         Ok(events)
     }
 
-    fn edge(&mut self, card: u32, which: Sensor, rising: bool, t: f64, events: &mut Vec<DspEvent>) {
+    /// Apply an edge to the latches of the card's axes; false when a PLS gate blinded it.
+    fn edge(
+        &mut self,
+        card: u32,
+        which: Sensor,
+        rising: bool,
+        t: f64,
+        events: &mut Vec<DspEvent>,
+    ) -> bool {
         let on_card: Vec<usize> = (0..self.axes.len())
             .filter(|&i| self.axes[i].card == card)
             .collect();
@@ -172,7 +180,7 @@ impl DspAxes {
                     time: t,
                 });
             }
-            return;
+            return false;
         }
         for i in on_card {
             let absolute = self.pos_at(i, t);
@@ -193,6 +201,7 @@ impl DspAxes {
                 absolute,
             });
         }
+        true
     }
 
     /// A sensor wired to input `which` of `card`, on while axis `axis` is within
@@ -240,14 +249,18 @@ impl DspAxes {
         Ok(())
     }
 
-    /// The card edges made by the marks the axes crossed in [ta, tb], applied in time order.
+    /// The card edges made by the marks the axes crossed in [ta, tb], applied in time order,
+    /// up to the first that starts a gear `waiting` (per axis: the sensor and since when) that
+    /// is not one of the edges `found` already: that edge is returned, the rest not applied.
     pub(super) fn mark_edges(
         &mut self,
         before: &[f64],
         ta: f64,
         tb: f64,
+        waiting: &[Option<(Sensor, f64)>],
+        found: &[(f64, Trigger)],
         events: &mut Vec<DspEvent>,
-    ) {
+    ) -> Option<(f64, Trigger)> {
         // (time, card, which, rising), in the order found; the sort below is stable.
         let mut edges: Vec<(f64, u32, Sensor, bool)> = Vec::new();
         for m in &self.marks {
@@ -285,7 +298,26 @@ impl DspAxes {
         }
         edges.sort_by(|a, b| a.0.total_cmp(&b.0));
         for (t, card, which, rising) in edges {
-            self.edge(card, which, rising, t, events);
+            if !self.edge(card, which, rising, t, events) {
+                continue;
+            }
+            // The edge a latch of the same axis would take: its SENS.MODE@ polarity, through
+            // the same gate (checked above), from the instant the gear began to wait.
+            let starts = (0..self.axes.len()).find(|&i| {
+                let a = &self.axes[i];
+                a.card == card
+                    && a.sens.rising[which.index()] == rising
+                    && waiting
+                        .get(i)
+                        .copied()
+                        .flatten()
+                        .is_some_and(|(w, since)| w == which && since <= t)
+                    && !found.contains(&(t, Trigger::Sensor(i, which)))
+            });
+            if let Some(i) = starts {
+                return Some((t, Trigger::Sensor(i, which)));
+            }
         }
+        None
     }
 }

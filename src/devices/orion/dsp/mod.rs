@@ -107,11 +107,50 @@ impl Sensor {
     }
 }
 
+/// What a queued `GEAR AT … AFTER` waits for at its queue head.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum After {
+    /// A drive or module input (its slot): the caller reports its rising edges with `trigger`.
+    Input(u32),
+    /// An edge of this sensor of the axis's own DSP card, of the polarity its SENS.MODE@ letter
+    /// latches on and not blinded by its PLS gate: found while advancing, at its exact instant.
+    Sensor(Sensor),
+}
+
+/// An event a waiting segment can start on.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Trigger {
+    /// A rising edge of an `AFTER` input.
+    Input(u32),
+    /// An edge of `Sensor` for axis index `usize`; consumed by the segment it starts.
+    Sensor(usize, Sensor),
+}
+
+impl Trigger {
+    /// Whether this trigger is what `after`, waiting on axis `i`, waits for.
+    fn starts(self, i: usize, after: After) -> bool {
+        match (self, after) {
+            (Trigger::Input(k), After::Input(m)) => k == m,
+            (Trigger::Sensor(j, w), After::Sensor(s)) => j == i && w == s,
+            _ => false,
+        }
+    }
+}
+
 /// Something that happened during an update, at an exact time inside it, for the trace.
 #[derive(Debug, Clone, PartialEq)]
 pub enum DspEvent {
     /// A segment left the queue head and began to run (for `AFTER`: when its input came).
     SegmentStarted { axis: u32, layer: Layer, time: f64 },
+    /// A `GEAR … AFTER ZREF|ASEN|BSEN` started at its sensor's edge: the pacer and the axis
+    /// positions (absolute) at that instant.
+    StartedOnEdge {
+        axis: u32,
+        which: Sensor,
+        time: f64,
+        pacer: f64,
+        position: f64,
+    },
     /// A segment completed; the next queued one starts at this instant.
     SegmentDone { axis: u32, layer: Layer, time: f64 },
     /// A `GEAR FOR … IN 0` was applied as a step of `dist`.
@@ -135,6 +174,7 @@ impl DspEvent {
     pub fn time(&self) -> f64 {
         match *self {
             DspEvent::SegmentStarted { time, .. }
+            | DspEvent::StartedOnEdge { time, .. }
             | DspEvent::SegmentDone { time, .. }
             | DspEvent::Stepped { time, .. }
             | DspEvent::Latched { time, .. }
@@ -169,8 +209,8 @@ pub struct DspAxes {
     order: Vec<usize>,
     t_prev: f64,
     t_now: f64,
-    /// `AFTER` inputs not yet consumed: (time, input), in time order.
-    triggers: Vec<(f64, u32)>,
+    /// `AFTER` events not yet consumed: (time, trigger), in time order.
+    triggers: Vec<(f64, Trigger)>,
     marks: Vec<Marks>,
 }
 

@@ -2,7 +2,7 @@
 //! inside it, then the sensor marks the axes crossed make their card edges.
 
 use super::gear::{BaseEnd, BaseSeg};
-use super::{err, DspAxes, DspError, DspEvent, Layer};
+use super::{err, After, DspAxes, DspError, DspEvent, Layer, Sensor, Trigger};
 
 /// More segment starts and ends in one update of one axis than this means a bug, not a program:
 /// the queue holds a handful of segments and none is added while advancing.
@@ -28,15 +28,81 @@ impl DspAxes {
         }
         self.t_prev = ta;
         self.t_now = t1;
-        let mut events = Vec::new();
-        for k in 0..self.order.len() {
-            let i = self.order[k];
-            self.run_axis(i, ta, t1, &mut events)?;
+        // A gear waiting for a sensor of its card starts at an edge that is only known once the
+        // axes have moved: run the update, find the first edge that starts a waiting gear, then
+        // run it again from the same state with that edge as a trigger. Nothing before the edge
+        // changes, so the edges found stay where they were; each round adds one, in time order.
+        let waits = self.axes.iter().any(|a| {
+            a.base.queue.iter().any(|s| {
+                matches!(
+                    s,
+                    BaseSeg::Gear {
+                        after: Some(After::Sensor(_)),
+                        ..
+                    }
+                )
+            })
+        });
+        let saved = waits.then(|| (self.axes.clone(), self.triggers.clone()));
+        let mut found: Vec<(f64, Trigger)> = Vec::new();
+        for _ in 0..LOOP_CAP {
+            let mut events = Vec::new();
+            for k in 0..self.order.len() {
+                let i = self.order[k];
+                self.run_axis(i, ta, t1, &mut events)?;
+            }
+            let waiting = self.waiting_on_sensors(ta, &events);
+            let edge = self.mark_edges(&before, ta, t1, &waiting, &found, &mut events);
+            match (edge, &saved) {
+                (Some(trigger), Some((axes, triggers))) => {
+                    found.push(trigger);
+                    self.axes.clone_from(axes);
+                    self.triggers.clone_from(triggers);
+                    for &(t, k) in &found {
+                        let at = self.triggers.partition_point(|&(u, _)| u <= t);
+                        self.triggers.insert(at, (t, k));
+                    }
+                }
+                _ => {
+                    self.triggers.retain(|&(t, _)| t > t1);
+                    events.sort_by(|a, b| a.time().total_cmp(&b.time()));
+                    return Ok(events);
+                }
+            }
         }
-        self.triggers.retain(|&(t, _)| t > t1);
-        self.mark_edges(&before, ta, t1, &mut events);
-        events.sort_by(|a, b| a.time().total_cmp(&b.time()));
-        Ok(events)
+        err("DSP axes: too many sensor edges starting gears in one update (a bug in pacer)")
+    }
+
+    /// For each axis, the sensor its base queue head waits for at the end of the update and the
+    /// instant it began to wait (the update's start, or when the segment before it completed).
+    fn waiting_on_sensors(&self, ta: f64, events: &[DspEvent]) -> Vec<Option<(Sensor, f64)>> {
+        self.axes
+            .iter()
+            .map(|a| {
+                let which = match (a.base.running, a.base.queue.front()) {
+                    (
+                        None,
+                        Some(BaseSeg::Gear {
+                            after: Some(After::Sensor(w)),
+                            ..
+                        }),
+                    ) => *w,
+                    _ => return None,
+                };
+                let since = events
+                    .iter()
+                    .filter_map(|e| match *e {
+                        DspEvent::SegmentDone {
+                            axis,
+                            layer: Layer::Base,
+                            time,
+                        } if axis == a.number => Some(time),
+                        _ => None,
+                    })
+                    .fold(ta, f64::max);
+                Some((which, since))
+            })
+            .collect()
     }
 
     /// Axis `i` through [ta, tb]: its pacer is already there.
@@ -64,7 +130,7 @@ impl DspAxes {
             };
             let trigger = match a.base.queue.front() {
                 Some(BaseSeg::Gear { after: Some(k), .. }) if a.base.running.is_none() => {
-                    self.trigger_time(*k, t, tb)
+                    self.trigger_time(i, *k, t, tb)
                 }
                 _ => None,
             };
@@ -100,11 +166,11 @@ impl DspAxes {
         ))
     }
 
-    /// The first `AFTER` event for `input` in [t, tb].
-    fn trigger_time(&self, input: u32, t: f64, tb: f64) -> Option<f64> {
+    /// The first event in [t, tb] that starts `after` waiting on axis `i`.
+    fn trigger_time(&self, i: usize, after: After, t: f64, tb: f64) -> Option<f64> {
         self.triggers
             .iter()
-            .find(|&&(u, k)| k == input && t <= u && u <= tb)
+            .find(|&&(u, k)| k.starts(i, after) && t <= u && u <= tb)
             .map(|&(u, _)| u)
     }
 
@@ -122,12 +188,30 @@ impl DspAxes {
             let can_start = base.running.is_none()
                 && match base.queue.front() {
                     Some(BaseSeg::Gear { after: Some(k), .. }) => {
-                        self.trigger_time(*k, t, t).is_some()
+                        self.trigger_time(i, *k, t, t).is_some()
                     }
                     Some(_) => true,
                     None => false,
                 };
             if can_start {
+                if let Some(BaseSeg::Gear {
+                    after: Some(After::Sensor(which)),
+                    ..
+                }) = self.axes[i].base.queue.front().copied()
+                {
+                    // A sensor edge starts one segment: the next one waits for a later edge.
+                    let edge = Trigger::Sensor(i, which);
+                    if let Some(at) = self.triggers.iter().position(|&(u, k)| u == t && k == edge) {
+                        self.triggers.remove(at);
+                    }
+                    events.push(DspEvent::StartedOnEdge {
+                        axis: number,
+                        which,
+                        time: t,
+                        pacer: x,
+                        position: self.pos_at(i, t),
+                    });
+                }
                 events.push(DspEvent::SegmentStarted {
                     axis: number,
                     layer: Layer::Base,
