@@ -969,7 +969,10 @@ fn ext(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(
             match result {
                 Some(x) => v[dst as usize] = x,
                 None => {
-                    if ctx.scratch.chars().count() > text::MAX_LEN {
+                    // Never more characters than bytes: most strings need no count.
+                    if ctx.scratch.len() > text::MAX_LEN
+                        && ctx.scratch.chars().count() > text::MAX_LEN
+                    {
                         return Err(text::too_long());
                     }
                     give_text(dst, cell, v, ctx)?;
