@@ -340,7 +340,9 @@ pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Opt
             if hay.is_ascii() {
                 // Byte positions are character positions: a substring search, no copies.
                 return Ok(Some(
-                    hay[from..].find(needle).map_or(0.0, |i| (from + i + 1) as f64),
+                    hay[from..]
+                        .find(needle)
+                        .map_or(0.0, |i| (from + i + 1) as f64),
                 ));
             }
             let hay_chars: Vec<char> = hay.chars().collect();
@@ -444,9 +446,7 @@ pub fn val(s: &str) -> f64 {
     // without the copies the general way makes; it gives what the general way gives.
     let b = s.as_bytes();
     if !b.is_empty() && b.len() <= 15 && b.iter().all(u8::is_ascii_digit) {
-        return b
-            .iter()
-            .fold(0u64, |acc, d| acc * 10 + u64::from(d - b'0')) as f64;
+        return b.iter().fold(0u64, |acc, d| acc * 10 + u64::from(d - b'0')) as f64;
     }
     let t: String = s
         .chars()
@@ -580,7 +580,14 @@ mod tests {
     #[test]
     fn ascii_quick_ways_agree_with_the_characters() {
         for (s, mu) in [("AB-1234/XY", "µB-1234/XY"), ("HELLO", "HELLµ")] {
-            for (a, b) in [(0.0, 0.0), (1.0, 3.0), (3.0, 4.0), (2.0, 99.0), (9.0, 1.0), (200.0, 5.0)] {
+            for (a, b) in [
+                (0.0, 0.0),
+                (1.0, 3.0),
+                (3.0, 4.0),
+                (2.0, 99.0),
+                (9.0, 1.0),
+                (200.0, 5.0),
+            ] {
                 for func in [TextFunc::Left, TextFunc::Right] {
                     let x = text(func, &[T(s), N(b)]).unwrap();
                     let y = text(func, &[T(mu), N(b)]).unwrap();
@@ -611,7 +618,15 @@ mod tests {
             }
         }
         assert_eq!(num(TextFunc::Instr, &[T("AB-1234/XY"), T("/")]), Some(8.0));
-        for s in ["0", "7", "0042", "1234", "123456789012345", "1234567890123456", " 12"] {
+        for s in [
+            "0",
+            "7",
+            "0042",
+            "1234",
+            "123456789012345",
+            "1234567890123456",
+            " 12",
+        ] {
             assert_eq!(val(s), s.trim().parse::<f64>().unwrap(), "{s}");
         }
     }

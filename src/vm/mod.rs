@@ -860,6 +860,18 @@ impl Machine {
     }
 
     fn exec(&mut self, task: usize, chunk: usize, pc: u32, probe: bool, budget: u64) -> Exit {
+        // The programs (the first 64) on other busy tasks: a `Call Program` of one is an error
+        // the loop below leaves to `run_task`. No other task runs while this one does.
+        let mut busy_elsewhere = 0u64;
+        if self.image.chunks.len() > 1 {
+            for (i, t) in self.tasks.iter().enumerate() {
+                if i != task && t.busy() {
+                    for f in t.frames.iter().filter(|f| f.chunk < 64) {
+                        busy_elsewhere |= 1 << f.chunk;
+                    }
+                }
+            }
+        }
         let (frames, data_at) = match self.tasks.get_mut(task) {
             Some(t) => (Some(&mut t.frames), &mut t.data_at),
             None => (None, &mut self.no_data),
@@ -878,6 +890,9 @@ impl Machine {
             rnd: &mut self.rnd,
             seed: self.image.seed,
             data_at,
+            chunks: &self.image.chunks,
+            programs: &self.image.programs,
+            busy_elsewhere,
         };
         let mut executed = self.instructions;
         let exit = exec::run(
@@ -960,6 +975,9 @@ impl Machine {
                 return;
             };
             let exit = self.exec(ti, frame.chunk, frame.pc, false, budget_end);
+            // The frame running when the interpreter stopped, which a `Call Program` or the
+            // end of a called program may have changed: its program is the one faults name.
+            let frame = self.tasks[ti].frames.last().copied().unwrap_or(frame);
             let set_pc = |m: &mut Machine, pc: u32| {
                 if let Some(f) = m.tasks[ti].frames.last_mut() {
                     f.pc = pc;
