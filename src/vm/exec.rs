@@ -67,9 +67,9 @@ pub struct Ctx<'a, 'b> {
     pub chunks: &'a [Chunk],
     /// Program numbers and their chunks.
     pub programs: &'a indexmap::IndexMap<u32, usize>,
-    /// Bit c: chunk c (below 64) is on another busy task's frames, so calling it is an error
-    /// the machine's loop reports.
-    pub busy_elsewhere: u64,
+    /// The tasks other than the one running (those before it and those after): calling a
+    /// program on one of their frames is an error the machine's loop reports.
+    pub other_tasks: [&'a [super::task::Task]; 2],
 }
 
 /// Run `chunk` from `pc` on `v`. `executed` counts instructions against `budget`.
@@ -923,7 +923,12 @@ pub fn run<'a>(
 fn call_target<'c>(ctx: &Ctx<'c, '_>, program: u32, values: usize) -> Option<(usize, &'c Chunk)> {
     // A machine has few programs: comparing their numbers is quicker than hashing one.
     let (_, &c) = ctx.programs.iter().find(|(&p, _)| p == program)?;
-    if c >= 64 || ctx.busy_elsewhere & (1 << c) != 0 {
+    let elsewhere = ctx
+        .other_tasks
+        .iter()
+        .flat_map(|tasks| tasks.iter())
+        .any(|t| t.busy() && t.frames.iter().any(|f| f.chunk == c));
+    if elsewhere {
         return None;
     }
     let chunk = ctx.chunks.get(c)?;

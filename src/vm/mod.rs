@@ -860,21 +860,13 @@ impl Machine {
     }
 
     fn exec(&mut self, task: usize, chunk: usize, pc: u32, probe: bool, budget: u64) -> Exit {
-        // The programs (the first 64) on other busy tasks: a `Call Program` of one is an error
-        // the loop below leaves to `run_task`. No other task runs while this one does.
-        let mut busy_elsewhere = 0u64;
-        if self.image.chunks.len() > 1 {
-            for (i, t) in self.tasks.iter().enumerate() {
-                if i != task && t.busy() {
-                    for f in t.frames.iter().filter(|f| f.chunk < 64) {
-                        busy_elsewhere |= 1 << f.chunk;
-                    }
-                }
-            }
-        }
-        let (frames, data_at) = match self.tasks.get_mut(task) {
-            Some(t) => (Some(&mut t.frames), &mut t.data_at),
-            None => (None, &mut self.no_data),
+        // The other tasks, read by a `Call Program` to learn whether the program it calls is
+        // running on one (no other task runs while this one does).
+        let at = task.min(self.tasks.len());
+        let (before, rest) = self.tasks.split_at_mut(at);
+        let (frames, data_at, after) = match rest.split_first_mut() {
+            Some((t, after)) => (Some(&mut t.frames), &mut t.data_at, &*after),
+            None => (None, &mut self.no_data, &[][..]),
         };
         let slot_count = self.image.registry.slot_count() as u32;
         let mut ctx = Ctx {
@@ -892,7 +884,7 @@ impl Machine {
             data_at,
             chunks: &self.image.chunks,
             programs: &self.image.programs,
-            busy_elsewhere,
+            other_tasks: [&*before, after],
         };
         let mut executed = self.instructions;
         let exit = exec::run(
