@@ -285,7 +285,22 @@ fn whole(x: f64, lo: i64, hi: i64, what: &str, name: &str) -> Result<i64, String
 
 /// `s` from character `from` (0-based), at most `n` characters.
 fn chars(s: &str, from: usize, n: usize, out: &mut String) {
+    if s.is_ascii() {
+        // One byte a character: a slice, without walking the characters one by one.
+        let start = from.min(s.len());
+        out.push_str(&s[start..start + n.min(s.len() - start)]);
+        return;
+    }
     out.extend(s.chars().skip(from).take(n));
+}
+
+/// The number of characters of `s` (its length in bytes when it is ASCII, as it mostly is).
+fn count(s: &str) -> usize {
+    if s.is_ascii() {
+        s.len()
+    } else {
+        s.chars().count()
+    }
 }
 
 /// Apply `func` to `args`: a string result is written to `out` (emptied first) and `None`
@@ -294,7 +309,7 @@ pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Opt
     out.clear();
     let name = func.name();
     let arg = |i: usize| args.get(i).copied().unwrap_or(Value::Num(0.0));
-    let len = |v: Value<'_>| v.text().chars().count();
+    let len = |v: Value<'_>| count(v.text());
     match func {
         TextFunc::Len => return Ok(Some(len(arg(0)) as f64)),
         TextFunc::Val => return Ok(Some(val(arg(0).text()))),
@@ -316,11 +331,19 @@ pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Opt
             };
             let (hay, needle) = (hay.text(), needle.text());
             let from = start as usize - 1;
-            if from >= hay.chars().count() {
+            if from >= count(hay) {
                 return Ok(Some(0.0));
             }
             if needle.is_empty() {
                 return Ok(Some(start as f64));
+            }
+            if hay.is_ascii() {
+                // Byte positions are character positions: a substring search, no copies.
+                return Ok(Some(
+                    hay[from..]
+                        .find(needle)
+                        .map_or(0.0, |i| (from + i + 1) as f64),
+                ));
             }
             let hay_chars: Vec<char> = hay.chars().collect();
             let needle_chars: Vec<char> = needle.chars().collect();
@@ -402,7 +425,8 @@ pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Opt
 /// Join `a` and `b` into `out`.
 pub fn concat(a: &str, b: &str, out: &mut String) -> Result<(), String> {
     out.clear();
-    if a.chars().count() + b.chars().count() > MAX_LEN {
+    // Never more characters than bytes: most strings need no count.
+    if a.len() + b.len() > MAX_LEN && count(a) + count(b) > MAX_LEN {
         return Err(too_long());
     }
     out.push_str(a);
@@ -418,6 +442,12 @@ pub fn too_long() -> String {
 /// Microsoft BASIC's VAL: blanks are skipped, then the longest number at the start is read
 /// (`&H`/`&O` prefixes for hexadecimal and octal); 0 when there is none.
 pub fn val(s: &str) -> f64 {
+    // The common case, a plain whole number of at most 15 digits (exact in an f64), read
+    // without the copies the general way makes; it gives what the general way gives.
+    let b = s.as_bytes();
+    if !b.is_empty() && b.len() <= 15 && b.iter().all(u8::is_ascii_digit) {
+        return b.iter().fold(0u64, |acc, d| acc * 10 + u64::from(d - b'0')) as f64;
+    }
     let t: String = s
         .chars()
         .filter(|c| !matches!(c, ' ' | '\t' | '\n'))
@@ -543,5 +573,61 @@ mod tests {
         assert_eq!(val("."), 0.0);
         assert_eq!(val("1E"), 1.0);
         assert_eq!(val("-"), 0.0);
+    }
+
+    /// The ASCII quick ways (slices, byte search, digits read directly) give what walking the
+    /// characters gives: the same strings written with a µ take the general way.
+    #[test]
+    fn ascii_quick_ways_agree_with_the_characters() {
+        for (s, mu) in [("AB-1234/XY", "µB-1234/XY"), ("HELLO", "HELLµ")] {
+            for (a, b) in [
+                (0.0, 0.0),
+                (1.0, 3.0),
+                (3.0, 4.0),
+                (2.0, 99.0),
+                (9.0, 1.0),
+                (200.0, 5.0),
+            ] {
+                for func in [TextFunc::Left, TextFunc::Right] {
+                    let x = text(func, &[T(s), N(b)]).unwrap();
+                    let y = text(func, &[T(mu), N(b)]).unwrap();
+                    assert_eq!(x.chars().count(), y.chars().count(), "{func:?} {s} {b}");
+                }
+                if a >= 1.0 {
+                    let x = text(TextFunc::Mid, &[T(s), N(a), N(b)]).unwrap();
+                    let y = text(TextFunc::Mid, &[T(mu), N(a), N(b)]).unwrap();
+                    assert_eq!(x.chars().count(), y.chars().count(), "MID$ {s} {a} {b}");
+                    let start = a as usize - 1;
+                    let want: String = s.chars().skip(start).take(b as usize).collect();
+                    assert_eq!(x, want, "MID$ {s} {a} {b}");
+                }
+            }
+            assert_eq!(num(TextFunc::Len, &[T(s)]), num(TextFunc::Len, &[T(mu)]));
+            for find in ["B", "1234", "/X", "Z", "L", "LO", "µ"] {
+                for start in [1.0, 2.0, 4.0, 11.0] {
+                    for hay in [s, mu] {
+                        let got = num(TextFunc::Instr, &[N(start), T(hay), T(find)]);
+                        let h: Vec<char> = hay.chars().collect();
+                        let f: Vec<char> = find.chars().collect();
+                        let want = (start as usize - 1..h.len())
+                            .find(|&i| h[i..].starts_with(&f))
+                            .map_or(0.0, |i| (i + 1) as f64);
+                        assert_eq!(got, Some(want), "INSTR({start}, {hay}, {find})");
+                    }
+                }
+            }
+        }
+        assert_eq!(num(TextFunc::Instr, &[T("AB-1234/XY"), T("/")]), Some(8.0));
+        for s in [
+            "0",
+            "7",
+            "0042",
+            "1234",
+            "123456789012345",
+            "1234567890123456",
+            " 12",
+        ] {
+            assert_eq!(val(s), s.trim().parse::<f64>().unwrap(), "{s}");
+        }
     }
 }

@@ -63,6 +63,13 @@ pub struct Ctx<'a, 'b> {
     pub seed: Option<u64>,
     /// The next `DATA` constant the running task's `READ` takes.
     pub data_at: &'a mut u32,
+    /// Every compiled program (`Call Program` and its `End` switch between them here).
+    pub chunks: &'a [Chunk],
+    /// Program numbers and their chunks.
+    pub programs: &'a indexmap::IndexMap<u32, usize>,
+    /// The tasks other than the one running (those before it and those after): calling a
+    /// program on one of their frames is an error the machine's loop reports.
+    pub other_tasks: [&'a [super::task::Task]; 2],
 }
 
 /// Run `chunk` from `pc` on `v`. `executed` counts instructions against `budget`.
@@ -71,17 +78,19 @@ pub struct Ctx<'a, 'b> {
 /// leaving the interpreter; only their errors return (`Exit::Gosub`/`Exit::Return`) for the
 /// caller to report. Without them, every `GOSUB` and `RETURN` returns.
 #[allow(clippy::too_many_arguments)]
-pub fn run(
-    chunk: &Chunk,
+pub fn run<'a>(
+    chunk: &'a Chunk,
     mut pc: u32,
     v: &mut [f64],
-    ctx: &mut Ctx<'_, '_>,
+    ctx: &mut Ctx<'a, '_>,
     budget: u64,
     executed: &mut u64,
     probe: bool,
     mut frames: Option<&mut Vec<Frame>>,
 ) -> Exit {
-    let ops = &chunk.ops[..];
+    // Both change when a `Call Program` or the `End` of a called program switches programs.
+    let mut chunk = chunk;
+    let mut ops = &chunk.ops[..];
     if pc as usize >= ops.len() {
         return Exit::End;
     }
@@ -660,8 +669,42 @@ pub fn run(
                 }
             }
             Op::CallProgram { program } => {
-                *executed = n;
-                return Exit::Call { program, pc };
+                // As the machine's loop does it (`Machine::run_task`) when the call is no error:
+                // the caller's frame resumes after the call, the called program's frame runs
+                // from its start, and the task yields there if its budget is spent. Anything
+                // else (no such program, one already running, calls too deep, a chunk this
+                // loop could not run unchecked) returns for the machine to do or report.
+                let entered = match (call_target(ctx, program, v.len()), frames.as_deref_mut()) {
+                    (Some((c, next)), Some(frames))
+                        if frames.len() < super::MAX_CALL_DEPTH
+                            && !frames.iter().any(|f| f.chunk == c) =>
+                    {
+                        match frames.last_mut() {
+                            Some(top) => {
+                                top.pc = pc;
+                                frames.push(Frame {
+                                    chunk: c,
+                                    pc: 0,
+                                    gosub: false,
+                                });
+                                Some(next)
+                            }
+                            None => None,
+                        }
+                    }
+                    _ => None,
+                };
+                let Some(next) = entered else {
+                    *executed = n;
+                    return Exit::Call { program, pc };
+                };
+                chunk = next;
+                ops = &next.ops[..];
+                pc = 0;
+                if n >= budget {
+                    *executed = n;
+                    return Exit::Yield(pc);
+                }
             }
             Op::Print { .. } | Op::PrintZone | Op::PrintLine => {
                 if let Err(message) = print(*op, chunk, v, ctx) {
@@ -824,8 +867,33 @@ pub fn run(
                 }
             }
             Op::End => {
-                *executed = n;
-                return Exit::End;
+                // The end of a called program: back to its caller's frame, as the machine's
+                // loop does it (the program's subroutine frames go with it). The end of the
+                // task's own program, or a caller this loop could not run unchecked, returns.
+                let back = match frames.as_deref_mut() {
+                    Some(frames) => frames
+                        .iter()
+                        .rposition(|f| !f.gosub)
+                        .filter(|&k| k >= 1)
+                        .and_then(|k| {
+                            let caller = frames[k - 1];
+                            let next = ctx.chunks.get(caller.chunk).filter(|c| {
+                                c.closed
+                                    && v.len() >= c.regs_end
+                                    && (caller.pc as usize) < c.ops.len()
+                            })?;
+                            frames.truncate(k);
+                            Some((next, caller.pc))
+                        }),
+                    None => None,
+                };
+                let Some((next, resume)) = back else {
+                    *executed = n;
+                    return Exit::End;
+                };
+                chunk = next;
+                ops = &next.ops[..];
+                pc = resume;
             }
         }
     }
@@ -838,6 +906,25 @@ fn out_of_range(x: f64, len: u32) -> String {
         "Subscript out of range: {x} is not within 0 to {}",
         len.saturating_sub(1)
     )
+}
+
+/// The chunk of `program` when a `Call Program` may run it inside the interpreter: loaded, on
+/// no other busy task, and runnable with the loop's unchecked registers (closed, every
+/// register within the `values` values, an instruction to start at).
+#[inline]
+fn call_target<'c>(ctx: &Ctx<'c, '_>, program: u32, values: usize) -> Option<(usize, &'c Chunk)> {
+    // A machine has few programs: comparing their numbers is quicker than hashing one.
+    let (_, &c) = ctx.programs.iter().find(|(&p, _)| p == program)?;
+    let elsewhere = ctx
+        .other_tasks
+        .iter()
+        .flat_map(|tasks| tasks.iter())
+        .any(|t| t.busy() && t.frames.iter().any(|f| f.chunk == c));
+    if elsewhere {
+        return None;
+    }
+    let chunk = ctx.chunks.get(c)?;
+    (chunk.closed && values >= chunk.regs_end && !chunk.ops.is_empty()).then_some((c, chunk))
 }
 
 /// A subscript `x` rounded to an integer (halves to even), if within `0..len`. Whole
@@ -965,7 +1052,10 @@ fn ext(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(
             match result {
                 Some(x) => v[dst as usize] = x,
                 None => {
-                    if ctx.scratch.chars().count() > text::MAX_LEN {
+                    // Never more characters than bytes: most strings need no count.
+                    if ctx.scratch.len() > text::MAX_LEN
+                        && ctx.scratch.chars().count() > text::MAX_LEN
+                    {
                         return Err(text::too_long());
                     }
                     give_text(dst, cell, v, ctx)?;

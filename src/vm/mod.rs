@@ -860,9 +860,13 @@ impl Machine {
     }
 
     fn exec(&mut self, task: usize, chunk: usize, pc: u32, probe: bool, budget: u64) -> Exit {
-        let (frames, data_at) = match self.tasks.get_mut(task) {
-            Some(t) => (Some(&mut t.frames), &mut t.data_at),
-            None => (None, &mut self.no_data),
+        // The other tasks, read by a `Call Program` to learn whether the program it calls is
+        // running on one (no other task runs while this one does).
+        let at = task.min(self.tasks.len());
+        let (before, rest) = self.tasks.split_at_mut(at);
+        let (frames, data_at, after) = match rest.split_first_mut() {
+            Some((t, after)) => (Some(&mut t.frames), &mut t.data_at, &*after),
+            None => (None, &mut self.no_data, &[][..]),
         };
         let slot_count = self.image.registry.slot_count() as u32;
         let mut ctx = Ctx {
@@ -878,6 +882,9 @@ impl Machine {
             rnd: &mut self.rnd,
             seed: self.image.seed,
             data_at,
+            chunks: &self.image.chunks,
+            programs: &self.image.programs,
+            other_tasks: [&*before, after],
         };
         let mut executed = self.instructions;
         let exit = exec::run(
@@ -960,6 +967,9 @@ impl Machine {
                 return;
             };
             let exit = self.exec(ti, frame.chunk, frame.pc, false, budget_end);
+            // The frame running when the interpreter stopped, which a `Call Program` or the
+            // end of a called program may have changed: its program is the one faults name.
+            let frame = self.tasks[ti].frames.last().copied().unwrap_or(frame);
             let set_pc = |m: &mut Machine, pc: u32| {
                 if let Some(f) = m.tasks[ti].frames.last_mut() {
                     f.pc = pc;
