@@ -2,7 +2,7 @@
 //! figures, places and messages they gave when every call and every end of a called program
 //! went back to the machine's loop (checked against that build's output, trace included).
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 
 mod common;
 
@@ -18,7 +18,7 @@ fn machine(name: &str, machine: &str, programs: &[&str]) -> PathBuf {
     d
 }
 
-fn run(dir: &PathBuf) -> String {
+fn run(dir: &Path) -> String {
     let trace = dir.join("trace.jsonl");
     let o = pacer(&[
         "run",

@@ -90,8 +90,7 @@ pub fn run<'a>(
 ) -> Exit {
     // Both change when a `Call Program` or the `End` of a called program switches programs.
     let mut chunk = chunk;
-    let mut ops = &chunk.ops[..];
-    if pc as usize >= ops.len() {
+    if pc as usize >= chunk.ops.len() {
         return Exit::End;
     }
     if !chunk.closed {
@@ -225,687 +224,688 @@ pub fn run<'a>(
             }
         }};
     }
-    loop {
-        debug_assert!((pc as usize) < ops.len());
-        // SAFETY: pc is inside the chunk: it was on entry (checked above) and every way it
-        // changes keeps it there: a jump goes to a target inside the chunk and running on past
-        // an instruction never passes the last one, `End`, which returns (both checked when the
-        // chunk was compiled: `chunk.closed`); a superinstruction skips its second half, never
-        // the last instruction.
-        let op = unsafe { ops.get_unchecked(pc as usize) };
-        n += 1;
-        let here = pc;
-        pc += 1;
-        match *op {
-            Op::Move { dst, src } => wr!(dst as usize, rd!(src as usize)),
-            Op::Add { dst, a, b } => wr!(dst as usize, rd!(a as usize) + rd!(b as usize)),
-            Op::Sub { dst, a, b } => wr!(dst as usize, rd!(a as usize) - rd!(b as usize)),
-            Op::Mul { dst, a, b } => wr!(dst as usize, rd!(a as usize) * rd!(b as usize)),
-            Op::Div { dst, a, b } => {
-                let y = rd!(b as usize);
-                if y == 0.0 {
-                    pc = here;
-                    fault!("division by zero");
-                }
-                wr!(dst as usize, rd!(a as usize) / y);
-            }
-            Op::Mod { dst, a, b } => {
-                let y = rd!(b as usize);
-                if y == 0.0 {
-                    pc = here;
-                    fault!("MOD by zero");
-                }
-                wr!(dst as usize, int_rem(rd!(a as usize), y));
-            }
-            Op::IMod { dst, a, b } => match basic_mod(rd!(a as usize), rd!(b as usize)) {
-                Ok(r) => wr!(dst as usize, r),
-                Err(message) => {
-                    pc = here;
-                    fault!("{message}");
-                }
-            },
-            Op::IDiv { dst, a, b } => match basic_div(rd!(a as usize), rd!(b as usize)) {
-                Ok(r) => wr!(dst as usize, r),
-                Err(message) => {
-                    pc = here;
-                    fault!("{message}");
-                }
-            },
-            Op::BitAnd { dst, a, b } => {
-                wr!(
-                    dst as usize,
-                    (int(rd!(a as usize)) & int(rd!(b as usize))) as f64
-                )
-            }
-            Op::BitOr { dst, a, b } => {
-                wr!(
-                    dst as usize,
-                    (int(rd!(a as usize)) | int(rd!(b as usize))) as f64
-                )
-            }
-            Op::BitXor { dst, a, b } => {
-                wr!(
-                    dst as usize,
-                    (int(rd!(a as usize)) ^ int(rd!(b as usize))) as f64
-                )
-            }
-            // Superinstructions: the work of this instruction and the next, which is skipped;
-            // they count as two, and a fault in the second half is reported at the second.
-            Op::AddLong { t, dst, a, b } => {
-                n += 1;
-                let x = rd!(a as usize) + rd!(b as usize);
-                wr!(t as usize, x);
-                store_long!(dst, x, here + 1);
-                pc = here + 2;
-            }
-            Op::SubLong { t, dst, a, b } => {
-                n += 1;
-                let x = rd!(a as usize) - rd!(b as usize);
-                wr!(t as usize, x);
-                store_long!(dst, x, here + 1);
-                pc = here + 2;
-            }
-            Op::MulLong { t, dst, a, b } => {
-                n += 1;
-                let x = rd!(a as usize) * rd!(b as usize);
-                wr!(t as usize, x);
-                store_long!(dst, x, here + 1);
-                pc = here + 2;
-            }
-            Op::IntLong { op, t, dst, a, b } => {
-                n += 1;
-                match integer(op, rd!(a as usize), rd!(b as usize)) {
-                    Ok(x) => {
-                        wr!(t as usize, x);
-                        store_long!(dst, x, here + 1);
-                        pc = here + 2;
+    // The outer loop runs once per program entered: the inner one sees its instructions as a
+    // fixed slice, which keeps them in registers.
+    'chunks: loop {
+        let ops = &chunk.ops[..];
+        loop {
+            debug_assert!((pc as usize) < ops.len());
+            // SAFETY: pc is inside the chunk: it was on entry (checked above) and every way it
+            // changes keeps it there: a jump goes to a target inside the chunk and running on past
+            // an instruction never passes the last one, `End`, which returns (both checked when the
+            // chunk was compiled: `chunk.closed`); a superinstruction skips its second half, never
+            // the last instruction.
+            let op = unsafe { ops.get_unchecked(pc as usize) };
+            n += 1;
+            let here = pc;
+            pc += 1;
+            match *op {
+                Op::Move { dst, src } => wr!(dst as usize, rd!(src as usize)),
+                Op::Add { dst, a, b } => wr!(dst as usize, rd!(a as usize) + rd!(b as usize)),
+                Op::Sub { dst, a, b } => wr!(dst as usize, rd!(a as usize) - rd!(b as usize)),
+                Op::Mul { dst, a, b } => wr!(dst as usize, rd!(a as usize) * rd!(b as usize)),
+                Op::Div { dst, a, b } => {
+                    let y = rd!(b as usize);
+                    if y == 0.0 {
+                        pc = here;
+                        fault!("division by zero");
                     }
+                    wr!(dst as usize, rd!(a as usize) / y);
+                }
+                Op::Mod { dst, a, b } => {
+                    let y = rd!(b as usize);
+                    if y == 0.0 {
+                        pc = here;
+                        fault!("MOD by zero");
+                    }
+                    wr!(dst as usize, int_rem(rd!(a as usize), y));
+                }
+                Op::IMod { dst, a, b } => match basic_mod(rd!(a as usize), rd!(b as usize)) {
+                    Ok(r) => wr!(dst as usize, r),
                     Err(message) => {
-                        // The first half failed: the second was not reached.
-                        n -= 1;
                         pc = here;
                         fault!("{message}");
                     }
-                }
-            }
-            Op::AddCheck { dst, a, b } => {
-                n += 1;
-                check_long!(dst, rd!(a as usize) + rd!(b as usize), here + 1);
-                pc = here + 2;
-            }
-            Op::SubCheck { dst, a, b } => {
-                n += 1;
-                check_long!(dst, rd!(a as usize) - rd!(b as usize), here + 1);
-                pc = here + 2;
-            }
-            Op::MulCheck { dst, a, b } => {
-                n += 1;
-                check_long!(dst, rd!(a as usize) * rd!(b as usize), here + 1);
-                pc = here + 2;
-            }
-            Op::AddReal { t, dst, a, b } => {
-                n += 1;
-                let x = rd!(a as usize) + rd!(b as usize);
-                wr!(t as usize, x);
-                store_real!(dst, x, here + 1);
-                pc = here + 2;
-            }
-            Op::SubReal { t, dst, a, b } => {
-                n += 1;
-                let x = rd!(a as usize) - rd!(b as usize);
-                wr!(t as usize, x);
-                store_real!(dst, x, here + 1);
-                pc = here + 2;
-            }
-            Op::MulReal { t, dst, a, b } => {
-                n += 1;
-                let x = rd!(a as usize) * rd!(b as usize);
-                wr!(t as usize, x);
-                store_real!(dst, x, here + 1);
-                pc = here + 2;
-            }
-            Op::StoreLong { dst, src } => store_long!(dst, rd!(src as usize), here),
-            Op::StoreInt { dst, src } => store_int!(dst, rd!(src as usize), here),
-            Op::CheckLong { r } => check_long!(r, rd!(r as usize), here),
-            Op::Binary { op, dst, a, b } => match binary(op, rd!(a as usize), rd!(b as usize)) {
-                Ok(x) => wr!(dst as usize, x),
-                Err(message) => {
-                    pc = here;
-                    fault!("{message}");
-                }
-            },
-            Op::AddFixed {
-                dst,
-                a,
-                b,
-                decimals,
-            } => {
-                store_fixed!(dst, rd!(a as usize) + rd!(b as usize), decimals, here)
-            }
-            Op::SubFixed {
-                dst,
-                a,
-                b,
-                decimals,
-            } => {
-                store_fixed!(dst, rd!(a as usize) - rd!(b as usize), decimals, here)
-            }
-            Op::MulFixed {
-                dst,
-                a,
-                b,
-                decimals,
-            } => {
-                store_fixed!(dst, rd!(a as usize) * rd!(b as usize), decimals, here)
-            }
-            Op::ArithFixed {
-                op,
-                dst,
-                a,
-                b,
-                decimals,
-            } => match binary(op, rd!(a as usize), rd!(b as usize)) {
-                Ok(x) => store_fixed!(dst, x, decimals, here),
-                Err(message) => {
-                    pc = here;
-                    fault!("{message}");
-                }
-            },
-            Op::Compare { cmp, dst, a, b } => {
-                wr!(
-                    dst as usize,
-                    f64::from(cmp.test(rd!(a as usize), rd!(b as usize)))
-                )
-            }
-            Op::Neg { dst, a } => wr!(dst as usize, -rd!(a as usize)),
-            Op::Not { dst, a } => wr!(dst as usize, f64::from(rd!(a as usize) == 0.0)),
-            Op::BitNot { dst, a } => wr!(dst as usize, !int(rd!(a as usize)) as f64),
-            Op::Call { func, dst, a, b } => {
-                wr!(dst as usize, func.apply(rd!(a as usize), rd!(b as usize)))
-            }
-            Op::StoreFixed { dst, src, decimals } => {
-                store_fixed!(dst, rd!(src as usize), decimals, here)
-            }
-            Op::StoreReal { dst, src } => store_real!(dst, rd!(src as usize), here),
-            Op::StoreBit { dst, src } => {
-                let x = f64::from(rd!(src as usize) != 0.0);
-                wr!(dst as usize, x);
-                if trace_on && dst < ctx.slot_count {
-                    traced_write(ctx, dst, x);
-                }
-            }
-            Op::Write {
-                hook,
-                slot,
-                src,
-                instance,
-            } => {
-                let ty = ctx.registry.slots[slot as usize].ty;
-                let raw = rd!(src as usize);
-                let x = match ty {
-                    crate::registry::ValueType::Bit => f64::from(raw != 0.0),
-                    crate::registry::ValueType::Integer => crate::fixed::round_to(raw, 0),
-                    crate::registry::ValueType::Fixed(d) => crate::registry::round_to(raw, d),
-                    crate::registry::ValueType::Real => raw,
-                };
-                if !x.is_finite()
-                    || (ty != crate::registry::ValueType::Real
-                        && !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x))
-                {
-                    pc = here;
-                    let name = name_of(ctx, slot);
-                    fault!("{name} cannot take {raw}: out of range");
-                }
-                if trace_on {
-                    traced_write(ctx, slot, x);
-                }
-                let target = Target {
-                    hook,
-                    slot,
-                    instance,
-                };
-                if let Err(message) = ctx.devices.write(target, x, When::Now, v, &mut ctx.now) {
-                    pc = here;
-                    let name = name_of(ctx, slot);
-                    fault!("{name}: {message}");
-                }
-                // A plain store changed only its own slot, traced above: no scan for changes.
-                if ctx.devices.reacts(hook) {
-                    sync_snapshot(ctx, v);
-                }
-            }
-            Op::Act {
-                hook,
-                slot,
-                instance,
-                start,
-                profile,
-            } => {
-                match hook {
-                    Hook::ProgramInitiate | Hook::ProgramStop | Hook::StopAll => {
-                        *executed = n;
-                        return Exit::Control { hook, instance, pc };
-                    }
-                    Hook::MotionStart if ctx.devices.profile_busy(profile as usize) => {
-                        *executed = n;
-                        return Exit::MotionBusy { profile, pc: here };
-                    }
-                    _ => {}
-                }
-                let target = Target {
-                    hook,
-                    slot,
-                    instance,
-                };
-                match ctx
-                    .devices
-                    .act(target, start, profile, When::Now, v, &mut ctx.now)
-                {
-                    Ok(ActOutcome::Done) => sync_snapshot(ctx, v),
-                    Ok(ActOutcome::ProfileBusy) => {
-                        *executed = n;
-                        return Exit::MotionBusy { profile, pc: here };
-                    }
+                },
+                Op::IDiv { dst, a, b } => match basic_div(rd!(a as usize), rd!(b as usize)) {
+                    Ok(r) => wr!(dst as usize, r),
                     Err(message) => {
+                        pc = here;
+                        fault!("{message}");
+                    }
+                },
+                Op::BitAnd { dst, a, b } => {
+                    wr!(
+                        dst as usize,
+                        (int(rd!(a as usize)) & int(rd!(b as usize))) as f64
+                    )
+                }
+                Op::BitOr { dst, a, b } => {
+                    wr!(
+                        dst as usize,
+                        (int(rd!(a as usize)) | int(rd!(b as usize))) as f64
+                    )
+                }
+                Op::BitXor { dst, a, b } => {
+                    wr!(
+                        dst as usize,
+                        (int(rd!(a as usize)) ^ int(rd!(b as usize))) as f64
+                    )
+                }
+                // Superinstructions: the work of this instruction and the next, which is skipped;
+                // they count as two, and a fault in the second half is reported at the second.
+                Op::AddLong { t, dst, a, b } => {
+                    n += 1;
+                    let x = rd!(a as usize) + rd!(b as usize);
+                    wr!(t as usize, x);
+                    store_long!(dst, x, here + 1);
+                    pc = here + 2;
+                }
+                Op::SubLong { t, dst, a, b } => {
+                    n += 1;
+                    let x = rd!(a as usize) - rd!(b as usize);
+                    wr!(t as usize, x);
+                    store_long!(dst, x, here + 1);
+                    pc = here + 2;
+                }
+                Op::MulLong { t, dst, a, b } => {
+                    n += 1;
+                    let x = rd!(a as usize) * rd!(b as usize);
+                    wr!(t as usize, x);
+                    store_long!(dst, x, here + 1);
+                    pc = here + 2;
+                }
+                Op::IntLong { op, t, dst, a, b } => {
+                    n += 1;
+                    match integer(op, rd!(a as usize), rd!(b as usize)) {
+                        Ok(x) => {
+                            wr!(t as usize, x);
+                            store_long!(dst, x, here + 1);
+                            pc = here + 2;
+                        }
+                        Err(message) => {
+                            // The first half failed: the second was not reached.
+                            n -= 1;
+                            pc = here;
+                            fault!("{message}");
+                        }
+                    }
+                }
+                Op::AddCheck { dst, a, b } => {
+                    n += 1;
+                    check_long!(dst, rd!(a as usize) + rd!(b as usize), here + 1);
+                    pc = here + 2;
+                }
+                Op::SubCheck { dst, a, b } => {
+                    n += 1;
+                    check_long!(dst, rd!(a as usize) - rd!(b as usize), here + 1);
+                    pc = here + 2;
+                }
+                Op::MulCheck { dst, a, b } => {
+                    n += 1;
+                    check_long!(dst, rd!(a as usize) * rd!(b as usize), here + 1);
+                    pc = here + 2;
+                }
+                Op::AddReal { t, dst, a, b } => {
+                    n += 1;
+                    let x = rd!(a as usize) + rd!(b as usize);
+                    wr!(t as usize, x);
+                    store_real!(dst, x, here + 1);
+                    pc = here + 2;
+                }
+                Op::SubReal { t, dst, a, b } => {
+                    n += 1;
+                    let x = rd!(a as usize) - rd!(b as usize);
+                    wr!(t as usize, x);
+                    store_real!(dst, x, here + 1);
+                    pc = here + 2;
+                }
+                Op::MulReal { t, dst, a, b } => {
+                    n += 1;
+                    let x = rd!(a as usize) * rd!(b as usize);
+                    wr!(t as usize, x);
+                    store_real!(dst, x, here + 1);
+                    pc = here + 2;
+                }
+                Op::StoreLong { dst, src } => store_long!(dst, rd!(src as usize), here),
+                Op::StoreInt { dst, src } => store_int!(dst, rd!(src as usize), here),
+                Op::CheckLong { r } => check_long!(r, rd!(r as usize), here),
+                Op::Binary { op, dst, a, b } => {
+                    match binary(op, rd!(a as usize), rd!(b as usize)) {
+                        Ok(x) => wr!(dst as usize, x),
+                        Err(message) => {
+                            pc = here;
+                            fault!("{message}");
+                        }
+                    }
+                }
+                Op::AddFixed {
+                    dst,
+                    a,
+                    b,
+                    decimals,
+                } => {
+                    store_fixed!(dst, rd!(a as usize) + rd!(b as usize), decimals, here)
+                }
+                Op::SubFixed {
+                    dst,
+                    a,
+                    b,
+                    decimals,
+                } => {
+                    store_fixed!(dst, rd!(a as usize) - rd!(b as usize), decimals, here)
+                }
+                Op::MulFixed {
+                    dst,
+                    a,
+                    b,
+                    decimals,
+                } => {
+                    store_fixed!(dst, rd!(a as usize) * rd!(b as usize), decimals, here)
+                }
+                Op::ArithFixed {
+                    op,
+                    dst,
+                    a,
+                    b,
+                    decimals,
+                } => match binary(op, rd!(a as usize), rd!(b as usize)) {
+                    Ok(x) => store_fixed!(dst, x, decimals, here),
+                    Err(message) => {
+                        pc = here;
+                        fault!("{message}");
+                    }
+                },
+                Op::Compare { cmp, dst, a, b } => {
+                    wr!(
+                        dst as usize,
+                        f64::from(cmp.test(rd!(a as usize), rd!(b as usize)))
+                    )
+                }
+                Op::Neg { dst, a } => wr!(dst as usize, -rd!(a as usize)),
+                Op::Not { dst, a } => wr!(dst as usize, f64::from(rd!(a as usize) == 0.0)),
+                Op::BitNot { dst, a } => wr!(dst as usize, !int(rd!(a as usize)) as f64),
+                Op::Call { func, dst, a, b } => {
+                    wr!(dst as usize, func.apply(rd!(a as usize), rd!(b as usize)))
+                }
+                Op::StoreFixed { dst, src, decimals } => {
+                    store_fixed!(dst, rd!(src as usize), decimals, here)
+                }
+                Op::StoreReal { dst, src } => store_real!(dst, rd!(src as usize), here),
+                Op::StoreBit { dst, src } => {
+                    let x = f64::from(rd!(src as usize) != 0.0);
+                    wr!(dst as usize, x);
+                    if trace_on && dst < ctx.slot_count {
+                        traced_write(ctx, dst, x);
+                    }
+                }
+                Op::Write {
+                    hook,
+                    slot,
+                    src,
+                    instance,
+                } => {
+                    let ty = ctx.registry.slots[slot as usize].ty;
+                    let raw = rd!(src as usize);
+                    let x = match ty {
+                        crate::registry::ValueType::Bit => f64::from(raw != 0.0),
+                        crate::registry::ValueType::Integer => crate::fixed::round_to(raw, 0),
+                        crate::registry::ValueType::Fixed(d) => crate::registry::round_to(raw, d),
+                        crate::registry::ValueType::Real => raw,
+                    };
+                    if !x.is_finite()
+                        || (ty != crate::registry::ValueType::Real
+                            && !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x))
+                    {
+                        pc = here;
+                        let name = name_of(ctx, slot);
+                        fault!("{name} cannot take {raw}: out of range");
+                    }
+                    if trace_on {
+                        traced_write(ctx, slot, x);
+                    }
+                    let target = Target {
+                        hook,
+                        slot,
+                        instance,
+                    };
+                    if let Err(message) = ctx.devices.write(target, x, When::Now, v, &mut ctx.now) {
                         pc = here;
                         let name = name_of(ctx, slot);
                         fault!("{name}: {message}");
                     }
+                    // A plain store changed only its own slot, traced above: no scan for changes.
+                    if ctx.devices.reacts(hook) {
+                        sync_snapshot(ctx, v);
+                    }
                 }
-            }
-            Op::Jump { target } => pc = target,
-            Op::Loop { target } => {
-                pc = target;
-                if n >= budget {
-                    *executed = n;
-                    return Exit::Yield(pc);
+                Op::Act {
+                    hook,
+                    slot,
+                    instance,
+                    start,
+                    profile,
+                } => {
+                    match hook {
+                        Hook::ProgramInitiate | Hook::ProgramStop | Hook::StopAll => {
+                            *executed = n;
+                            return Exit::Control { hook, instance, pc };
+                        }
+                        Hook::MotionStart if ctx.devices.profile_busy(profile as usize) => {
+                            *executed = n;
+                            return Exit::MotionBusy { profile, pc: here };
+                        }
+                        _ => {}
+                    }
+                    let target = Target {
+                        hook,
+                        slot,
+                        instance,
+                    };
+                    match ctx
+                        .devices
+                        .act(target, start, profile, When::Now, v, &mut ctx.now)
+                    {
+                        Ok(ActOutcome::Done) => sync_snapshot(ctx, v),
+                        Ok(ActOutcome::ProfileBusy) => {
+                            *executed = n;
+                            return Exit::MotionBusy { profile, pc: here };
+                        }
+                        Err(message) => {
+                            pc = here;
+                            let name = name_of(ctx, slot);
+                            fault!("{name}: {message}");
+                        }
+                    }
                 }
-            }
-            Op::JumpIfFalse { cond, target } => {
-                if rd!(cond as usize) == 0.0 {
+                Op::Jump { target } => pc = target,
+                Op::Loop { target } => {
                     pc = target;
-                }
-            }
-            Op::JumpUnlessLt { a, b, target } => {
-                // Not `>=`: a comparison with NaN is false, so NaN must jump here.
-                let holds = rd!(a as usize) < rd!(b as usize);
-                if !holds {
-                    pc = target;
-                }
-            }
-            Op::JumpUnlessLe { a, b, target } => {
-                let holds = rd!(a as usize) <= rd!(b as usize);
-                if !holds {
-                    pc = target;
-                }
-            }
-            Op::JumpUnlessEq { a, b, target } => {
-                if rd!(a as usize) != rd!(b as usize) {
-                    pc = target;
-                }
-            }
-            Op::JumpUnlessNe { a, b, target } => {
-                if rd!(a as usize) == rd!(b as usize) {
-                    pc = target;
-                }
-            }
-            Op::JumpWhenLt { a, b, target } => {
-                if rd!(a as usize) < rd!(b as usize) {
-                    pc = target;
-                }
-            }
-            Op::JumpWhenLe { a, b, target } => {
-                if rd!(a as usize) <= rd!(b as usize) {
-                    pc = target;
-                }
-            }
-            Op::JumpWhenEq { a, b, target } => {
-                if rd!(a as usize) == rd!(b as usize) {
-                    pc = target;
-                }
-            }
-            Op::JumpWhenNe { a, b, target } => {
-                if rd!(a as usize) != rd!(b as usize) {
-                    pc = target;
-                }
-            }
-            Op::JumpIfTrue { cond, target } => {
-                if rd!(cond as usize) != 0.0 {
-                    pc = target;
-                }
-            }
-            Op::ForNext {
-                var,
-                limit,
-                body,
-                decimals,
-            } => {
-                let s = rd!(limit as usize + 1);
-                let x = rd!(var as usize) + s;
-                let val = if decimals == REAL_STORE {
-                    Some(x).filter(|x| x.is_finite())
-                } else if decimals == INT_STORE {
-                    int16(x)
-                } else {
-                    fixed(x, decimals)
-                };
-                let Some(val) = val else {
-                    pc = here;
-                    let message = overflow_message(ctx, var, x, decimals);
-                    fault!("{message}");
-                };
-                wr!(var as usize, val);
-                if trace_on && var < ctx.slot_count {
-                    traced_write(ctx, var, val);
-                }
-                let l = rd!(limit as usize);
-                if (s > 0.0 && val <= l) || (s < 0.0 && val >= l) {
-                    pc = body;
                     if n >= budget {
                         *executed = n;
                         return Exit::Yield(pc);
                     }
                 }
-            }
-            Op::WaitUntil { cond, retry } => {
-                let value = rd!(cond as usize) != 0.0;
-                *executed = n;
-                if probe {
-                    return Exit::Probed { value, resume: pc };
-                }
-                if !value {
-                    return Exit::Wait { retry, resume: pc };
-                }
-            }
-            Op::WaitTime { src } => {
-                let secs = rd!(src as usize);
-                let ns = match crate::config::values::seconds_to_ns(secs) {
-                    Ok(ns) => ns,
-                    Err(e) => {
-                        pc = here;
-                        fault!("Wait For Time: {e}");
+                Op::JumpIfFalse { cond, target } => {
+                    if rd!(cond as usize) == 0.0 {
+                        pc = target;
                     }
-                };
-                let ticks = ns.div_ceil(ctx.now.tick_ns.max(1));
-                if ticks > 0 {
-                    *executed = n;
-                    return Exit::Sleep { ticks, pc };
                 }
-            }
-            Op::Dwell { src, master, last } => {
-                let domain = if master { Domain::Master } else { Domain::Time };
-                let start = if last { StartRef::Last } else { StartRef::Now };
-                let started = match ctx.devices.profiles() {
-                    Some(p) => p.dwell(rd!(src as usize), domain, start, v, &mut ctx.now),
-                    None => Err("this machine has no motion profiles to dwell on".into()),
-                };
-                match started {
-                    Ok(ActOutcome::Done) => sync_snapshot(ctx, v),
-                    Ok(ActOutcome::ProfileBusy) => {
+                Op::JumpUnlessLt { a, b, target } => {
+                    // Not `>=`: a comparison with NaN is false, so NaN must jump here.
+                    let holds = rd!(a as usize) < rd!(b as usize);
+                    if !holds {
+                        pc = target;
+                    }
+                }
+                Op::JumpUnlessLe { a, b, target } => {
+                    let holds = rd!(a as usize) <= rd!(b as usize);
+                    if !holds {
+                        pc = target;
+                    }
+                }
+                Op::JumpUnlessEq { a, b, target } => {
+                    if rd!(a as usize) != rd!(b as usize) {
+                        pc = target;
+                    }
+                }
+                Op::JumpUnlessNe { a, b, target } => {
+                    if rd!(a as usize) == rd!(b as usize) {
+                        pc = target;
+                    }
+                }
+                Op::JumpWhenLt { a, b, target } => {
+                    if rd!(a as usize) < rd!(b as usize) {
+                        pc = target;
+                    }
+                }
+                Op::JumpWhenLe { a, b, target } => {
+                    if rd!(a as usize) <= rd!(b as usize) {
+                        pc = target;
+                    }
+                }
+                Op::JumpWhenEq { a, b, target } => {
+                    if rd!(a as usize) == rd!(b as usize) {
+                        pc = target;
+                    }
+                }
+                Op::JumpWhenNe { a, b, target } => {
+                    if rd!(a as usize) != rd!(b as usize) {
+                        pc = target;
+                    }
+                }
+                Op::JumpIfTrue { cond, target } => {
+                    if rd!(cond as usize) != 0.0 {
+                        pc = target;
+                    }
+                }
+                Op::ForNext {
+                    var,
+                    limit,
+                    body,
+                    decimals,
+                } => {
+                    let s = rd!(limit as usize + 1);
+                    let x = rd!(var as usize) + s;
+                    let val = if decimals == REAL_STORE {
+                        Some(x).filter(|x| x.is_finite())
+                    } else if decimals == INT_STORE {
+                        int16(x)
+                    } else {
+                        fixed(x, decimals)
+                    };
+                    let Some(val) = val else {
+                        pc = here;
+                        let message = overflow_message(ctx, var, x, decimals);
+                        fault!("{message}");
+                    };
+                    wr!(var as usize, val);
+                    if trace_on && var < ctx.slot_count {
+                        traced_write(ctx, var, val);
+                    }
+                    let l = rd!(limit as usize);
+                    if (s > 0.0 && val <= l) || (s < 0.0 && val >= l) {
+                        pc = body;
+                        if n >= budget {
+                            *executed = n;
+                            return Exit::Yield(pc);
+                        }
+                    }
+                }
+                Op::WaitUntil { cond, retry } => {
+                    let value = rd!(cond as usize) != 0.0;
+                    *executed = n;
+                    if probe {
+                        return Exit::Probed { value, resume: pc };
+                    }
+                    if !value {
+                        return Exit::Wait { retry, resume: pc };
+                    }
+                }
+                Op::WaitTime { src } => {
+                    let secs = rd!(src as usize);
+                    let ns = match crate::config::values::seconds_to_ns(secs) {
+                        Ok(ns) => ns,
+                        Err(e) => {
+                            pc = here;
+                            fault!("Wait For Time: {e}");
+                        }
+                    };
+                    let ticks = ns.div_ceil(ctx.now.tick_ns.max(1));
+                    if ticks > 0 {
                         *executed = n;
-                        return Exit::MotionBusy {
-                            profile: 0,
-                            pc: here,
-                        };
+                        return Exit::Sleep { ticks, pc };
+                    }
+                }
+                Op::Dwell { src, master, last } => {
+                    let domain = if master { Domain::Master } else { Domain::Time };
+                    let start = if last { StartRef::Last } else { StartRef::Now };
+                    let started = match ctx.devices.profiles() {
+                        Some(p) => p.dwell(rd!(src as usize), domain, start, v, &mut ctx.now),
+                        None => Err("this machine has no motion profiles to dwell on".into()),
+                    };
+                    match started {
+                        Ok(ActOutcome::Done) => sync_snapshot(ctx, v),
+                        Ok(ActOutcome::ProfileBusy) => {
+                            *executed = n;
+                            return Exit::MotionBusy {
+                                profile: 0,
+                                pc: here,
+                            };
+                        }
+                        Err(message) => {
+                            pc = here;
+                            fault!("{message}");
+                        }
+                    }
+                }
+                Op::ForCheck { var, limit, exit } => {
+                    let (x, l, s) = (
+                        rd!(var as usize),
+                        rd!(limit as usize),
+                        rd!(limit as usize + 1),
+                    );
+                    if s == 0.0 {
+                        pc = here;
+                        fault!("For loop with a Step of 0 never ends");
+                    }
+                    if (s > 0.0 && x > l) || (s < 0.0 && x < l) {
+                        pc = exit;
+                    }
+                }
+                Op::CallProgram { program } => {
+                    // As the machine's loop does it (`Machine::run_task`) when the call is no error:
+                    // the caller's frame resumes after the call, the called program's frame runs
+                    // from its start, and the task yields there if its budget is spent. Anything
+                    // else (no such program, one already running, calls too deep, a chunk this
+                    // loop could not run unchecked) returns for the machine to do or report.
+                    let entered = match (call_target(ctx, program, v.len()), frames.as_deref_mut())
+                    {
+                        (Some((c, next)), Some(frames))
+                            if frames.len() < super::MAX_CALL_DEPTH
+                                && !frames.iter().any(|f| f.chunk == c) =>
+                        {
+                            match frames.last_mut() {
+                                Some(top) => {
+                                    top.pc = pc;
+                                    frames.push(Frame {
+                                        chunk: c,
+                                        pc: 0,
+                                        gosub: false,
+                                    });
+                                    Some(next)
+                                }
+                                None => None,
+                            }
+                        }
+                        _ => None,
+                    };
+                    let Some(next) = entered else {
+                        *executed = n;
+                        return Exit::Call { program, pc };
+                    };
+                    chunk = next;
+                    pc = 0;
+                    if n >= budget {
+                        *executed = n;
+                        return Exit::Yield(pc);
+                    }
+                    continue 'chunks;
+                }
+                Op::Print { .. } | Op::PrintZone | Op::PrintLine => {
+                    if let Err(message) = print(*op, chunk, v, ctx) {
+                        pc = here;
+                        fault!("{message}");
+                    }
+                }
+                Op::Gosub { target } => {
+                    // As the machine's loop does it (`Machine::run_task`): the caller's frame
+                    // resumes after the GOSUB, the subroutine's frame runs from its label, and the
+                    // task yields there if its budget is spent.
+                    let pushed = match frames.as_deref_mut() {
+                        Some(frames) if frames.len() < super::MAX_CALL_DEPTH => {
+                            match frames.last_mut() {
+                                Some(top) => {
+                                    top.pc = pc;
+                                    let chunk = top.chunk;
+                                    frames.push(Frame {
+                                        chunk,
+                                        pc: target,
+                                        gosub: true,
+                                    });
+                                    true
+                                }
+                                None => false,
+                            }
+                        }
+                        _ => false,
+                    };
+                    if !pushed {
+                        *executed = n;
+                        return Exit::Gosub { target, ret: pc };
+                    }
+                    pc = target;
+                    if n >= budget {
+                        *executed = n;
+                        return Exit::Yield(pc);
+                    }
+                }
+                Op::Return => {
+                    // Back to the frame below a subroutine's (the same program), where its GOSUB
+                    // left it; a RETURN without a GOSUB is reported by the caller.
+                    let back = match frames.as_deref_mut() {
+                        Some(frames)
+                            if frames.len() >= 2 && frames.last().is_some_and(|f| f.gosub) =>
+                        {
+                            frames.pop();
+                            frames.last().map(|f| f.pc)
+                        }
+                        _ => None,
+                    };
+                    let Some(back) = back else {
+                        *executed = n;
+                        return Exit::Return { pc: here };
+                    };
+                    pc = back;
+                    if n >= budget {
+                        *executed = n;
+                        return Exit::Yield(pc);
+                    }
+                }
+                Op::AxisBit { .. }
+                | Op::AxisRead { .. }
+                | Op::AxisWrite { .. }
+                | Op::Motion { .. }
+                | Op::KernelCall { .. } => match motionbasic(*op, here, chunk, v, ctx) {
+                    Ok(None) => {}
+                    Ok(Some(exit)) => {
+                        *executed = n;
+                        return exit;
                     }
                     Err(message) => {
                         pc = here;
                         fault!("{message}");
                     }
+                },
+                Op::LoadIdx {
+                    dst,
+                    base,
+                    idx,
+                    len,
+                } => {
+                    let Some(i) = subscript(rd!(idx as usize), len) else {
+                        pc = here;
+                        fault!("{}", out_of_range(rd!(idx as usize), len));
+                    };
+                    wr!(dst as usize, rd!(base as usize + i as usize));
                 }
-            }
-            Op::ForCheck { var, limit, exit } => {
-                let (x, l, s) = (
-                    rd!(var as usize),
-                    rd!(limit as usize),
-                    rd!(limit as usize + 1),
-                );
-                if s == 0.0 {
-                    pc = here;
-                    fault!("For loop with a Step of 0 never ends");
-                }
-                if (s > 0.0 && x > l) || (s < 0.0 && x < l) {
-                    pc = exit;
-                }
-            }
-            Op::CallProgram { program } => {
-                // As the machine's loop does it (`Machine::run_task`) when the call is no error:
-                // the caller's frame resumes after the call, the called program's frame runs
-                // from its start, and the task yields there if its budget is spent. Anything
-                // else (no such program, one already running, calls too deep, a chunk this
-                // loop could not run unchecked) returns for the machine to do or report.
-                let entered = match (call_target(ctx, program, v.len()), frames.as_deref_mut()) {
-                    (Some((c, next)), Some(frames))
-                        if frames.len() < super::MAX_CALL_DEPTH
-                            && !frames.iter().any(|f| f.chunk == c) =>
-                    {
-                        match frames.last_mut() {
-                            Some(top) => {
-                                top.pc = pc;
-                                frames.push(Frame {
-                                    chunk: c,
-                                    pc: 0,
-                                    gosub: false,
-                                });
-                                Some(next)
-                            }
-                            None => None,
-                        }
+                Op::StoreIdx {
+                    base,
+                    idx,
+                    src,
+                    len,
+                    decimals,
+                } => {
+                    let Some(i) = subscript(rd!(idx as usize), len) else {
+                        pc = here;
+                        fault!("{}", out_of_range(rd!(idx as usize), len));
+                    };
+                    let dst = base + i;
+                    let x = rd!(src as usize);
+                    if decimals == 0 {
+                        store_long!(dst, x, here)
+                    } else if decimals == REAL_STORE {
+                        store_real!(dst, x, here)
+                    } else if decimals == INT_STORE {
+                        store_int!(dst, x, here)
+                    } else {
+                        store_fixed!(dst, x, decimals, here)
                     }
-                    _ => None,
-                };
-                let Some(next) = entered else {
-                    *executed = n;
-                    return Exit::Call { program, pc };
-                };
-                chunk = next;
-                ops = &next.ops[..];
-                pc = 0;
-                if n >= budget {
-                    *executed = n;
-                    return Exit::Yield(pc);
                 }
-            }
-            Op::Print { .. } | Op::PrintZone | Op::PrintLine => {
-                if let Err(message) = print(*op, chunk, v, ctx) {
-                    pc = here;
-                    fault!("{message}");
-                }
-            }
-            Op::Gosub { target } => {
-                // As the machine's loop does it (`Machine::run_task`): the caller's frame
-                // resumes after the GOSUB, the subroutine's frame runs from its label, and the
-                // task yields there if its budget is spent.
-                let pushed = match frames.as_deref_mut() {
-                    Some(frames) if frames.len() < super::MAX_CALL_DEPTH => {
-                        match frames.last_mut() {
-                            Some(top) => {
-                                top.pc = pc;
-                                let chunk = top.chunk;
-                                frames.push(Frame {
-                                    chunk,
-                                    pc: target,
-                                    gosub: true,
-                                });
-                                true
-                            }
-                            None => false,
-                        }
+                Op::Subscript { dst, src, len } => {
+                    let x = rd!(src as usize);
+                    let i = x.round_ties_even();
+                    if !(i >= 0.0 && i < f64::from(len)) {
+                        pc = here;
+                        fault!("{}", out_of_range(x, len));
                     }
-                    _ => false,
-                };
-                if !pushed {
-                    *executed = n;
-                    return Exit::Gosub { target, ret: pc };
+                    wr!(dst as usize, i);
                 }
-                pc = target;
-                if n >= budget {
-                    *executed = n;
-                    return Exit::Yield(pc);
-                }
-            }
-            Op::Return => {
-                // Back to the frame below a subroutine's (the same program), where its GOSUB
-                // left it; a RETURN without a GOSUB is reported by the caller.
-                let back = match frames.as_deref_mut() {
-                    Some(frames) if frames.len() >= 2 && frames.last().is_some_and(|f| f.gosub) => {
-                        frames.pop();
-                        frames.last().map(|f| f.pc)
+                Op::LoadAt {
+                    dst,
+                    base,
+                    off,
+                    len,
+                } => {
+                    let o = rd!(off as usize);
+                    if !(o >= 0.0 && o < f64::from(len)) {
+                        pc = here;
+                        fault!("internal error: element {o} of an array of {len}");
                     }
-                    _ => None,
-                };
-                let Some(back) = back else {
-                    *executed = n;
-                    return Exit::Return { pc: here };
-                };
-                pc = back;
-                if n >= budget {
-                    *executed = n;
-                    return Exit::Yield(pc);
+                    wr!(dst as usize, rd!(base as usize + o as usize));
                 }
-            }
-            Op::AxisBit { .. }
-            | Op::AxisRead { .. }
-            | Op::AxisWrite { .. }
-            | Op::Motion { .. }
-            | Op::KernelCall { .. } => match motionbasic(*op, here, chunk, v, ctx) {
-                Ok(None) => {}
-                Ok(Some(exit)) => {
-                    *executed = n;
-                    return exit;
+                Op::StoreAt {
+                    base,
+                    off,
+                    src,
+                    decimals,
+                    len,
+                } => {
+                    let o = rd!(off as usize);
+                    if !(o >= 0.0 && o < f64::from(len)) {
+                        pc = here;
+                        fault!("internal error: element {o} of an array of {len}");
+                    }
+                    let dst = base + o as u32;
+                    let x = rd!(src as usize);
+                    if decimals == INT_STORE {
+                        store_int!(dst, x, here)
+                    } else if decimals == 0 {
+                        store_long!(dst, x, here)
+                    } else if decimals == REAL_STORE {
+                        store_real!(dst, x, here)
+                    } else {
+                        store_fixed!(dst, x, decimals, here)
+                    }
                 }
-                Err(message) => {
-                    pc = here;
-                    fault!("{message}");
+                Op::Ext { at } => {
+                    if let Err(message) = ext(at, chunk, v, ctx) {
+                        pc = here;
+                        fault!("{message}");
+                    }
                 }
-            },
-            Op::LoadIdx {
-                dst,
-                base,
-                idx,
-                len,
-            } => {
-                let Some(i) = subscript(rd!(idx as usize), len) else {
-                    pc = here;
-                    fault!("{}", out_of_range(rd!(idx as usize), len));
-                };
-                wr!(dst as usize, rd!(base as usize + i as usize));
-            }
-            Op::StoreIdx {
-                base,
-                idx,
-                src,
-                len,
-                decimals,
-            } => {
-                let Some(i) = subscript(rd!(idx as usize), len) else {
-                    pc = here;
-                    fault!("{}", out_of_range(rd!(idx as usize), len));
-                };
-                let dst = base + i;
-                let x = rd!(src as usize);
-                if decimals == 0 {
-                    store_long!(dst, x, here)
-                } else if decimals == REAL_STORE {
-                    store_real!(dst, x, here)
-                } else if decimals == INT_STORE {
-                    store_int!(dst, x, here)
-                } else {
-                    store_fixed!(dst, x, decimals, here)
+                Op::End => {
+                    // The end of a called program: back to its caller's frame, as the machine's
+                    // loop does it (the program's subroutine frames go with it). The end of the
+                    // task's own program, or a caller this loop could not run unchecked, returns.
+                    let back = match frames.as_deref_mut() {
+                        Some(frames) => frames
+                            .iter()
+                            .rposition(|f| !f.gosub)
+                            .filter(|&k| k >= 1)
+                            .and_then(|k| {
+                                let caller = frames[k - 1];
+                                let next = ctx.chunks.get(caller.chunk).filter(|c| {
+                                    c.closed
+                                        && v.len() >= c.regs_end
+                                        && (caller.pc as usize) < c.ops.len()
+                                })?;
+                                frames.truncate(k);
+                                Some((next, caller.pc))
+                            }),
+                        None => None,
+                    };
+                    let Some((next, resume)) = back else {
+                        *executed = n;
+                        return Exit::End;
+                    };
+                    chunk = next;
+                    pc = resume;
+                    continue 'chunks;
                 }
-            }
-            Op::Subscript { dst, src, len } => {
-                let x = rd!(src as usize);
-                let i = x.round_ties_even();
-                if !(i >= 0.0 && i < f64::from(len)) {
-                    pc = here;
-                    fault!("{}", out_of_range(x, len));
-                }
-                wr!(dst as usize, i);
-            }
-            Op::LoadAt {
-                dst,
-                base,
-                off,
-                len,
-            } => {
-                let o = rd!(off as usize);
-                if !(o >= 0.0 && o < f64::from(len)) {
-                    pc = here;
-                    fault!("internal error: element {o} of an array of {len}");
-                }
-                wr!(dst as usize, rd!(base as usize + o as usize));
-            }
-            Op::StoreAt {
-                base,
-                off,
-                src,
-                decimals,
-                len,
-            } => {
-                let o = rd!(off as usize);
-                if !(o >= 0.0 && o < f64::from(len)) {
-                    pc = here;
-                    fault!("internal error: element {o} of an array of {len}");
-                }
-                let dst = base + o as u32;
-                let x = rd!(src as usize);
-                if decimals == INT_STORE {
-                    store_int!(dst, x, here)
-                } else if decimals == 0 {
-                    store_long!(dst, x, here)
-                } else if decimals == REAL_STORE {
-                    store_real!(dst, x, here)
-                } else {
-                    store_fixed!(dst, x, decimals, here)
-                }
-            }
-            Op::Ext { at } => {
-                if let Err(message) = ext(at, chunk, v, ctx) {
-                    pc = here;
-                    fault!("{message}");
-                }
-            }
-            Op::End => {
-                // The end of a called program: back to its caller's frame, as the machine's
-                // loop does it (the program's subroutine frames go with it). The end of the
-                // task's own program, or a caller this loop could not run unchecked, returns.
-                let back = match frames.as_deref_mut() {
-                    Some(frames) => frames
-                        .iter()
-                        .rposition(|f| !f.gosub)
-                        .filter(|&k| k >= 1)
-                        .and_then(|k| {
-                            let caller = frames[k - 1];
-                            let next = ctx.chunks.get(caller.chunk).filter(|c| {
-                                c.closed
-                                    && v.len() >= c.regs_end
-                                    && (caller.pc as usize) < c.ops.len()
-                            })?;
-                            frames.truncate(k);
-                            Some((next, caller.pc))
-                        }),
-                    None => None,
-                };
-                let Some((next, resume)) = back else {
-                    *executed = n;
-                    return Exit::End;
-                };
-                chunk = next;
-                ops = &next.ops[..];
-                pc = resume;
             }
         }
     }
-}
-
-/// The error of subscript `x` outside an array's `len` elements.
-#[cold]
-fn out_of_range(x: f64, len: u32) -> String {
-    format!(
-        "Subscript out of range: {x} is not within 0 to {}",
-        len.saturating_sub(1)
-    )
 }
 
 /// The chunk of `program` when a `Call Program` may run it inside the interpreter: loaded, on
@@ -925,6 +925,15 @@ fn call_target<'c>(ctx: &Ctx<'c, '_>, program: u32, values: usize) -> Option<(us
     }
     let chunk = ctx.chunks.get(c)?;
     (chunk.closed && values >= chunk.regs_end && !chunk.ops.is_empty()).then_some((c, chunk))
+}
+
+/// The error of subscript `x` outside an array's `len` elements.
+#[cold]
+fn out_of_range(x: f64, len: u32) -> String {
+    format!(
+        "Subscript out of range: {x} is not within 0 to {}",
+        len.saturating_sub(1)
+    )
 }
 
 /// A subscript `x` rounded to an integer (halves to even), if within `0..len`. Whole
