@@ -48,6 +48,8 @@ fn labeler_map() -> IoMap {
         max_gap: 0,
         enabled: false,
         overrun_limit: 10,
+        period_ns: pacer::io::map::DEFAULT_PERIOD_NS,
+        max_age_ns: pacer::io::map::DEFAULT_MAX_AGE_NS,
         points,
     }
 }

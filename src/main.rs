@@ -87,7 +87,7 @@ enum Command {
         /// Where inputs come from and outputs go: `sim` (the simulated machine), `modbus` (the
         /// coupler of machine.toml's [modbus]) or `modbus://HOST[:PORT][/UNIT]`; real I/O runs
         /// in real time. Default: sim, or modbus when [modbus] says `enabled = true`
-        #[arg(long, value_name = "IO")]
+        #[arg(long, value_name = "IO", value_parser = check_io)]
         io: Option<String>,
         #[command(flatten)]
         export: pacer::export::ExportArgs,
@@ -244,6 +244,12 @@ struct RealIo {
     unit: u8,
 }
 
+/// `--io`'s own syntax, checked with the command line: a value that is no I/O is a usage
+/// error (exit 64), like any other flag's.
+fn check_io(text: &str) -> Result<String, String> {
+    pacer::io::target::IoTarget::parse(text).map(|_| text.to_string())
+}
+
 /// `--io` against the machine file: None for the simulator, the coupler for real I/O, or the
 /// message of a setting that cannot work.
 fn resolve_io(io: Option<&str>, loaded: &pacer::load::Loaded) -> Result<Option<RealIo>, String> {
@@ -356,17 +362,23 @@ fn catch_stop_signals(flag: &std::sync::Arc<std::sync::atomic::AtomicBool>) -> s
     Ok(())
 }
 
-/// Connect to the coupler, writing the safe values first; the supervisor that runs it.
-fn connect(
-    real: RealIo,
-) -> Result<pacer::io::supervisor::Supervisor<pacer::io::modbus::ModbusTcp>, pacer::io::IoFault> {
+/// Connect to the coupler, writing the safe values first, and start its process image: the
+/// backend the run talks to.
+fn connect(real: RealIo) -> Result<Box<dyn pacer::io::IoBackend>, String> {
+    use pacer::io::exchange::{Exchange, ExchangeOptions};
     use pacer::io::memory::PlanBackend;
     use pacer::io::supervisor::{Backoff, Supervisor};
     let device =
         pacer::io::modbus::ModbusTcp::new(&real.host, real.port, real.unit, real.map.timeout_ns);
+    let options = ExchangeOptions {
+        period_ns: real.map.period_ns,
+        max_age_ns: real.map.max_age_ns,
+    };
     let mut supervisor = Supervisor::new(PlanBackend::new(real.map, device), Backoff::default());
-    supervisor.open()?;
-    Ok(supervisor)
+    supervisor.open().map_err(|e| e.to_string())?;
+    let exchange = Exchange::start(supervisor, options)
+        .map_err(|e| format!("cannot start the exchange thread: {e}"))?;
+    Ok(Box::new(exchange))
 }
 
 /// Run the loaded machine (on the simulator, or in real time on `real`) and report.
@@ -419,6 +431,12 @@ fn execute(
     let mut realtime = None;
     if let Some(real) = real {
         let overrun_limit = real.map.overrun_limit;
+        // Caught before the connection: the exchange starts with it, and a Ctrl-C from then on
+        // must end the run with the outputs safe.
+        let interrupt = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
+        if let Err(e) = catch_stop_signals(&interrupt) {
+            warn!("warning: Ctrl-C cannot be caught ({e}): it will end pacer without driving the outputs safe");
+        }
         let supervisor = match connect(real) {
             Ok(s) => s,
             Err(e) => {
@@ -426,13 +444,9 @@ fn execute(
                 return ExitCode::from(EXIT_IO);
             }
         };
-        let dropped = machine.attach_io(Box::new(supervisor));
+        let dropped = machine.attach_io(supervisor);
         if dropped > 0 && !quiet {
             warn!("note: {dropped} scenario input edge(s) dropped: the device drives those inputs");
-        }
-        let interrupt = std::sync::Arc::new(std::sync::atomic::AtomicBool::new(false));
-        if let Err(e) = catch_stop_signals(&interrupt) {
-            warn!("warning: Ctrl-C cannot be caught ({e}): it will end pacer without driving the outputs safe");
         }
         if !quiet {
             warn!(
@@ -575,13 +589,16 @@ fn report_real_time(r: &pacer::vm::realtime::RealTimeReport, device: &str, quiet
     }
     let io = r.io;
     warn!(
-        "io: {device}: {} requests per update; {} requests in {} updates; {} fault(s), {} reconnection(s)",
+        "io: {device}: {} requests per exchange; {} requests in {} exchanges; {} fault(s), {} reconnection(s)",
         io.per_update,
         io.requests,
         io.updates,
         io.faults,
         io.reconnections
     );
+    if let Some(x) = &io.exchange {
+        warn!("exchange: {x}");
+    }
     if let Some(t) = &r.timing {
         warn!(
             "timing: {t}; {}, memory {}",

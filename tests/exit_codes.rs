@@ -55,7 +55,10 @@ fn run_gives_0_1_2_3_and_64() {
     );
     assert_eq!(code(&["run", arg(&ok)]), Some(0));
     assert_eq!(code(&["run", arg(&bad)]), Some(1));
-    assert_eq!(code(&["run", arg(&ok), "--io", "carrier-pigeon"]), Some(1));
+    // An `--io` the machine cannot take (no [modbus] here) is an input problem; one that is no
+    // I/O at all is a usage error.
+    assert_eq!(code(&["run", arg(&ok), "--io", "modbus"]), Some(1));
+    assert_eq!(code(&["run", arg(&ok), "--io", "carrier-pigeon"]), Some(64));
     assert_eq!(code(&["run", arg(&failing)]), Some(2));
     let nowhere = ok.join("no-such-folder").join("t.jsonl");
     assert_eq!(code(&["run", arg(&ok), "--trace", arg(&nowhere)]), Some(3));

@@ -314,6 +314,48 @@ fn overlaps_and_double_drivers_are_errors_and_settings_are_checked() {
 }
 
 #[test]
+fn the_exchange_period_and_max_age_are_checked_at_their_text() {
+    let settings = |body: &str| {
+        problems(
+            "exchange",
+            &format!("[io]\nDriveInput = 6\n\n[modbus]\n{body}\n"),
+        )
+        .into_iter()
+        .map(|(_, t, m)| (t, m))
+        .collect::<Vec<_>>()
+    };
+    let pair = |t: &str, m: &str| vec![(t.to_string(), m.to_string())];
+    assert_eq!(
+        settings("period = \"0.5ms\""),
+        pair("\"0.5ms\"", "the exchange period must be from 1 ms to 1 s")
+    );
+    assert_eq!(
+        settings("max_age = \"120s\""),
+        pair("\"120s\"", "max_age must be from 1 ms to 60 s")
+    );
+    assert_eq!(
+        settings("period = \"50ms\"\nmax_age = \"60ms\""),
+        pair(
+            "\"60ms\"",
+            "max_age must be at least two exchange periods (100 ms): an image is this old between two exchanges"
+        )
+    );
+    // Defaults: 5 ms and 100 ms; a long period raises the default age to two periods.
+    let (_p, result) = load_machine("exchange-ok", "[modbus]\nperiod = \"80ms\"\n");
+    let map = result
+        .unwrap_or_else(|d| panic!("{d:?}"))
+        .io_map
+        .expect("a map");
+    assert_eq!((map.period_ns, map.max_age_ns), (80_000_000, 160_000_000));
+    let (_p, result) = load_machine("exchange-default", "[modbus]\n");
+    let map = result
+        .unwrap_or_else(|d| panic!("{d:?}"))
+        .io_map
+        .expect("a map");
+    assert_eq!((map.period_ns, map.max_age_ns), (5_000_000, 100_000_000));
+}
+
+#[test]
 fn the_docs_example_map_loads_and_costs_what_the_docs_say() {
     let page =
         std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/docs/machine-toml.md"))
@@ -337,5 +379,5 @@ fn the_docs_example_map_loads_and_costs_what_the_docs_say() {
         .expect("a map");
     assert_eq!(map.points.len(), 6 + 3 + 1 + 1);
     assert_eq!(plan(&map).requests_per_update(), 4);
-    assert!(page.contains("map above costs 4 requests per update"));
+    assert!(page.contains("map above costs 4 requests per exchange"));
 }

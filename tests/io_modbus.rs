@@ -261,10 +261,11 @@ fn refused(args: &[&str], code: i32, says: &str) {
     assert!(printed.contains(says), "{printed}");
 }
 
-/// The checkweigher's safe state as the server sees it: both lanes closed, count and
+/// The checkweigher's safe state as the server sees it, served: both lanes closed, count and
 /// deviation registers 0.
 fn safe_writes(log: &[Value]) -> bool {
     log.len() >= 2
+        && log[..2].iter().all(|e| e.get("exception").is_none())
         && log[0]["op"] == "write"
         && log[0]["table"] == "co"
         && log[0]["start"] == 0
@@ -339,7 +340,7 @@ fn a_program_reads_inputs_computes_and_writes_coils_and_registers() {
         "{printed}"
     );
     assert!(printed.contains("timing: "), "{printed}");
-    assert!(printed.contains(": 4 requests per update;"), "{printed}");
+    assert!(printed.contains(": 4 requests per exchange;"), "{printed}");
     assert_whole(&events);
     // The program's first `Var.Count = 0` leaves the value as it was: no change to trace.
     assert_eq!(
@@ -488,6 +489,123 @@ fn a_stalled_server_is_a_timeout_fault_and_a_missing_address_an_exception() {
     assert!(changes(&events, "Var.Count").is_empty());
 }
 
+/// Wait until the server has seen the safe values written again (a reconnection), then
+/// requests flowing after them; returns the log read meanwhile.
+fn wait_for_return(run: &mut Run, server: &mut Peer, what: &str) -> Vec<Value> {
+    let mut log = Vec::new();
+    run.wait_until(what, || {
+        log.extend(server.log());
+        log.windows(2).any(safe_writes)
+    });
+    let before = server.cmd("requests")["requests"].as_u64().unwrap_or(0);
+    run.wait_until("requests after the return", || {
+        server.cmd("requests")["requests"].as_u64() > Some(before + 8)
+    });
+    log.extend(server.log());
+    log
+}
+
+/// Issue 22: the checkweigher exactly as `programs/checkweigher` has it (its overrun limit of
+/// 10 included) rides through a 2 s stall, a coupler answering "busy" and a coupler that is
+/// killed and restarted: each is an I/O fault with its cause in words and the safe state, each
+/// return is traced, and no update is late ten times in a row (the exchange with the coupler
+/// runs on its own thread, so an update never waits on the network).
+#[test]
+fn the_checkweigher_as_it_is_rides_through_a_stall_busy_answers_and_a_restart() {
+    let dir = common::scratch_in("io-modbus", "ride");
+    let mut server = Peer::start(0, 100);
+    let port = server.port;
+    server.set("ir", 0, &[2475]);
+    let mut run = Run::start(
+        &root().join("programs/checkweigher"),
+        port,
+        dir.join("t.jsonl"),
+    );
+    server.set("di", 0, &[1]);
+    run.wait_until("the accept lane", || server.get("co", 0, 2) == [1, 0]);
+
+    // 1. Answers stop for 2 s (the machine's timeout is 50 ms).
+    server.cmd("stall 2");
+    std::thread::sleep(Duration::from_secs(2));
+    server.cmd("stall 0");
+    wait_for_return(&mut run, &mut server, "the return after the stall");
+    assert_eq!(server.get("co", 0, 2), [0, 0], "the lane stays safe");
+
+    // 2. The coupler answers every request with exception 6 for half a second.
+    server.cmd("busy on");
+    std::thread::sleep(Duration::from_millis(500));
+    server.cmd("busy off");
+    wait_for_return(&mut run, &mut server, "the return after the busy answers");
+
+    // 3. Power cut and back.
+    server.kill();
+    std::thread::sleep(Duration::from_millis(300));
+    let mut server = Peer::start(port, 100);
+    server.set("ir", 0, &[2475]);
+    server.set("di", 0, &[1]);
+    wait_for_return(&mut run, &mut server, "the return after the restart");
+
+    // The machine works on: the next product is weighed and counted.
+    server.set("di", 0, &[0]);
+    std::thread::sleep(Duration::from_millis(50));
+    server.set("di", 0, &[1]);
+    run.wait_until("the next product counted", || server.get("hr", 0, 1) == [2]);
+
+    let (out, events) = run.interrupt();
+    let printed = common::text(&out);
+    assert!(out.status.success(), "{printed}");
+    assert!(!printed.contains("real-time fault"), "{printed}");
+    assert!(printed.contains("exchange: "), "{printed}");
+    assert_whole(&events);
+    let faults = of_kind(&events, "io_fault");
+    let causes: Vec<&str> = faults
+        .iter()
+        .map(|f| f["cause"].as_str().expect("cause"))
+        .collect();
+    assert!(
+        causes.iter().any(|c| c.ends_with(" timed out after 50 ms")),
+        "{causes:?}"
+    );
+    assert!(
+        causes
+            .iter()
+            .any(|c| c.ends_with("answered exception 6 (server device busy)")),
+        "{causes:?}"
+    );
+    assert!(
+        causes
+            .iter()
+            .any(|c| c.contains("the coupler closed the connection")),
+        "{causes:?}"
+    );
+    assert!(causes.iter().all(|c| !c.contains("os error")), "{causes:?}");
+    let reconnects = of_kind(&events, "io_reconnect");
+    assert_eq!(reconnects.len(), faults.len(), "each fault has its return");
+    // At each fault's update the lanes are closed in the machine.
+    for f in &faults {
+        let tick = f["tick"].as_u64().expect("tick");
+        for lane in ["DriveIO.1.Out", "DriveIO.2.Out"] {
+            let last = events
+                .iter()
+                .rev()
+                .find(|e| {
+                    e["kind"] == "change"
+                        && e["name"] == lane
+                        && e["tick"].as_u64().is_some_and(|t| t <= tick)
+                })
+                .map(|e| e["value"].clone());
+            assert!(
+                matches!(last, None | Some(Value::Bool(false))),
+                "{lane} at the fault of tick {tick}: {last:?}"
+            );
+        }
+    }
+    assert_eq!(
+        changes(&events, "Var.Count"),
+        [1, 2].map(Value::from).to_vec()
+    );
+}
+
 #[test]
 fn a_refused_connection_is_a_clear_error_before_the_run() {
     // A port nobody listens on: bind one, learn its number, close it.
@@ -549,12 +667,14 @@ fn a_bad_map_never_opens_a_connection() {
 #[test]
 fn io_options_that_cannot_work_are_errors() {
     let labeling = ["programs/labeling", "--for", "1", "--io"];
+    // The flag's own syntax is a usage error; a setting the machine cannot take, an input
+    // error.
     refused(
         &[&labeling[..], &["modbus://h:0"]].concat(),
-        1,
-        "--io: `0` is not a TCP port",
+        64,
+        "`0` is not a TCP port",
     );
-    refused(&[&labeling[..], &["serial"]].concat(), 1, "is not an I/O");
+    refused(&[&labeling[..], &["serial"]].concat(), 64, "is not an I/O");
     refused(
         &["programs/operator-offset", "--io", "modbus"],
         1,

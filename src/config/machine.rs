@@ -81,6 +81,10 @@ pub struct ModbusSection {
     pub enabled: Option<Spanned<bool>>,
     /// Consecutive late updates that make a real-time fault (default 10; 0: never).
     pub overrun_limit: Option<Spanned<i64>>,
+    /// The process image's exchange cycle (default 5 ms).
+    pub period: Option<Spanned<super::values::Duration>>,
+    /// The oldest input image an update accepts before it is an I/O fault (default 100 ms).
+    pub max_age: Option<Spanned<super::values::Duration>>,
     /// The map: one entry per run of points.
     #[serde(default)]
     pub map: Vec<Spanned<ModbusMapEntry>>,

@@ -77,6 +77,36 @@ fn validate_section(
         Some(t) => t.get_ref().0,
         None => DEFAULT_TIMEOUT_NS,
     };
+    let period_ns = duration_in(
+        section.period.as_ref(),
+        DEFAULT_PERIOD_NS,
+        (MIN_PERIOD_NS, MAX_PERIOD_NS),
+        "the exchange period must be from 1 ms to 1 s",
+        problems,
+    );
+    let max_age_ns = duration_in(
+        section.max_age.as_ref(),
+        DEFAULT_MAX_AGE_NS.max(2 * period_ns),
+        (1_000_000, 60_000_000_000),
+        "max_age must be from 1 ms to 60 s",
+        problems,
+    );
+    if let Some(age) = &section.max_age {
+        if max_age_ns < 2 * period_ns {
+            problems.push(
+                Problem::error(
+                    CODE,
+                    span_of(age),
+                    format!(
+                        "max_age must be at least two exchange periods ({} ms): an image is this old between two exchanges",
+                        2 * period_ns / 1_000_000
+                    ),
+                    "shorter than two periods",
+                )
+                .with_help("raise max_age, or shorten period"),
+            );
+        }
+    }
     let mut points: Vec<Point> = Vec::new();
     // The map entry of each point, to name the first of two overlapping entries.
     let mut origins: Vec<usize> = Vec::new();
@@ -139,7 +169,32 @@ fn validate_section(
         max_gap,
         enabled,
         overrun_limit,
+        period_ns,
+        max_age_ns,
         points,
+    }
+}
+
+/// The exchange period's bounds, ns: a coupler is not asked more often than every millisecond,
+/// and inputs a second old are no process image.
+const MIN_PERIOD_NS: u64 = 1_000_000;
+const MAX_PERIOD_NS: u64 = 1_000_000_000;
+
+/// A duration setting that must lie in `lo..=hi` (ns), else `default` with the error `what`.
+fn duration_in(
+    value: Option<&Spanned<crate::config::values::Duration>>,
+    default: u64,
+    (lo, hi): (u64, u64),
+    what: &str,
+    problems: &mut Vec<Problem>,
+) -> u64 {
+    match value {
+        Some(v) if !(lo..=hi).contains(&v.get_ref().0) => {
+            problems.push(Problem::error(CODE, span_of(v), what, "out of range"));
+            default
+        }
+        Some(v) => v.get_ref().0,
+        None => default,
     }
 }
 

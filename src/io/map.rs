@@ -14,6 +14,11 @@ pub const DEFAULT_TIMEOUT_NS: u64 = 100_000_000;
 pub const MAX_GAP: u16 = 125;
 /// Consecutive overruns that make a real-time fault unless the machine file says otherwise.
 pub const DEFAULT_OVERRUN_LIMIT: u64 = 10;
+/// Default exchange cycle of the process image, nanoseconds (5 ms: a cycle remote-I/O couplers
+/// on Modbus TCP serve comfortably, short against mechanical inputs and outputs).
+pub const DEFAULT_PERIOD_NS: u64 = 5_000_000;
+/// Default oldest input image an update accepts, nanoseconds (100 ms).
+pub const DEFAULT_MAX_AGE_NS: u64 = 100_000_000;
 
 /// The four Modbus data tables.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord, Hash)]
@@ -217,6 +222,10 @@ pub struct IoMap {
     pub enabled: bool,
     /// Consecutive overruns that make a real-time fault (0: never).
     pub overrun_limit: u64,
+    /// The process image's exchange cycle, nanoseconds.
+    pub period_ns: u64,
+    /// The oldest input image an update accepts, nanoseconds.
+    pub max_age_ns: u64,
     /// The points, in the order of the map (a run of bits is one point per bit).
     pub points: Vec<Point>,
 }

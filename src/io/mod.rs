@@ -5,9 +5,11 @@
 //! by [`map`] (what is wired where, validated from `machine.toml`) and [`plan`] (the requests
 //! one update costs). [`memory`] executes a plan against an in-memory device, the model the
 //! Modbus TCP client follows; [`supervisor`] adds the fault handling (safe state, reconnection
-//! with back-off, safe values first); [`modbus`] is the Modbus TCP client. [`target`] parses `--io`; [`jitter`] keeps the timing statistics
+//! with back-off, safe values first); [`exchange`] runs a supervised link on a thread of its
+//! own as a process image, so updates never wait on the network; [`modbus`] is the Modbus TCP client. [`target`] parses `--io`; [`jitter`] keeps the timing statistics
 //! of a run paced by the wall clock.
 
+pub mod exchange;
 pub mod jitter;
 pub mod map;
 pub mod memory;
@@ -40,6 +42,17 @@ pub enum IoFault {
         request: String,
         /// The timeout.
         timeout_ms: u64,
+    },
+    /// The latest input image is older than the link allows: the exchange with the device has
+    /// stalled (slow answers, or the exchange starved of processor time).
+    #[error("{device}: inputs {age_ms} ms old, more than max_age {max_age_ms} ms: the exchange with the device has stalled")]
+    Stale {
+        /// The device.
+        device: String,
+        /// The age of the latest input image at the update, milliseconds.
+        age_ms: u64,
+        /// The limit.
+        max_age_ms: u64,
     },
     /// The device answered with a Modbus exception.
     #[error("{device}: {request} answered exception {code} ({})", exception_name(*.code))]
@@ -75,6 +88,7 @@ impl IoFault {
         match self {
             IoFault::Disconnected { device, .. }
             | IoFault::Timeout { device, .. }
+            | IoFault::Stale { device, .. }
             | IoFault::Exception { device, .. } => device,
         }
     }
@@ -88,6 +102,11 @@ impl IoFault {
                 timeout_ms,
                 ..
             } => format!("{request} timed out after {timeout_ms} ms"),
+            IoFault::Stale {
+                age_ms, max_age_ms, ..
+            } => format!(
+                "inputs {age_ms} ms old, more than max_age {max_age_ms} ms: the exchange with the device has stalled"
+            ),
             IoFault::Exception { request, code, .. } => format!(
                 "{request} answered exception {code} ({})",
                 exception_name(*code)
@@ -99,6 +118,8 @@ impl IoFault {
 /// Requests, faults and reconnections of a run, for the end-of-run summary.
 #[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
 pub struct IoStats {
+    /// The exchange cycle's timing, when a process image ran the link ([`exchange`]).
+    pub exchange: Option<exchange::ExchangeSummary>,
     /// Requests one update costs (the poll plan's reads and writes).
     pub per_update: u64,
     /// Requests sent to the device (updates, safe values and reconnections).

@@ -75,11 +75,11 @@ impl ModbusTcp {
             }
             tokio_modbus::Error::Transport(io) => IoFault::Disconnected {
                 device: self.device(),
-                cause: format!("{request}: {io}"),
+                cause: format!("{request}: {}", transport_words(&io, self.timeout_ms())),
             },
             tokio_modbus::Error::Protocol(p) => IoFault::Disconnected {
                 device: self.device(),
-                cause: format!("{request}: protocol error: {p}"),
+                cause: format!("{request}: {}", protocol_words(&p)),
             },
         }
     }
@@ -104,6 +104,77 @@ impl ModbusTcp {
                 code: u8::from(code),
             }),
             Err(e) => Err(self.fault(request(), e)),
+        }
+    }
+}
+
+/// A transport failure in the operator's words: what happened on the wire, never an `errno`
+/// of a non-blocking socket.
+fn transport_words(e: &std::io::Error, timeout_ms: u64) -> String {
+    use std::io::ErrorKind as K;
+    // EINPROGRESS / EALREADY / EAGAIN: a non-blocking connect or request that had not
+    // completed when its time ran out.
+    let unfinished = matches!(e.raw_os_error(), Some(11 | 114 | 115));
+    match e.kind() {
+        K::UnexpectedEof | K::ConnectionReset | K::BrokenPipe | K::ConnectionAborted => {
+            "the coupler closed the connection".into()
+        }
+        K::ConnectionRefused => "the coupler refused the connection".into(),
+        K::TimedOut | K::WouldBlock => format!("no answer within {timeout_ms} ms"),
+        _ if unfinished => format!("no answer within {timeout_ms} ms"),
+        K::NotConnected => "the connection is closed".into(),
+        K::HostUnreachable | K::NetworkUnreachable => {
+            "the coupler cannot be reached (no route on the network)".into()
+        }
+        K::AddrNotAvailable => "the coupler's address is not available on this machine".into(),
+        K::InvalidData => "an answer that is not Modbus TCP".into(),
+        _ => {
+            // The system's own words, without the `(os error N)` suffix.
+            let text = e.to_string();
+            match text.find(" (os error") {
+                Some(at) => text[..at].to_string(),
+                None => text,
+            }
+        }
+    }
+}
+
+/// An answer that does not belong to the request, in words: tokio-modbus says which headers
+/// differ in a debug print, from which the transaction and unit ids are taken.
+fn protocol_words(p: &tokio_modbus::ProtocolError) -> String {
+    match p {
+        tokio_modbus::ProtocolError::HeaderMismatch { message, .. } => {
+            let ids = |key: &str| -> Vec<u64> {
+                message
+                    .match_indices(key)
+                    .filter_map(|(at, _)| {
+                        let rest = &message[at + key.len()..];
+                        let digits: String =
+                            rest.chars().take_while(char::is_ascii_digit).collect();
+                        digits.parse().ok()
+                    })
+                    .collect()
+            };
+            let (transactions, units) = (ids("transaction_id: "), ids("unit_id: "));
+            match (transactions.as_slice(), units.as_slice()) {
+                (&[expected, got], _) if expected != got => {
+                    format!("answer for another request (transaction {got}, expected {expected})")
+                }
+                (_, &[expected, got]) if expected != got => {
+                    format!("answer from another unit (unit {got}, expected {expected})")
+                }
+                _ => "an answer that does not match the request".into(),
+            }
+        }
+        tokio_modbus::ProtocolError::FunctionCodeMismatch { request, result } => {
+            let got = match result {
+                Ok(response) => response.function_code().value(),
+                Err(exception) => exception.function.value(),
+            };
+            format!(
+                "answer to another function (function {got}, expected {})",
+                request.value()
+            )
         }
     }
 }
@@ -134,7 +205,16 @@ impl Device for ModbusTcp {
             }),
             Err(e) => Err(IoFault::Disconnected {
                 device: self.device(),
-                cause: format!("connect: {e}"),
+                cause: format!(
+                    "connect: {}",
+                    match e.kind() {
+                        std::io::ErrorKind::ConnectionRefused => format!(
+                            "the coupler refused the connection (nothing listens on {}:{})",
+                            self.host, self.port
+                        ),
+                        _ => transport_words(&e, self.timeout_ms()),
+                    }
+                ),
             }),
         }
     }
@@ -190,7 +270,55 @@ impl ModbusTcp {
         self.ctx = None;
         IoFault::Disconnected {
             device: self.device(),
-            cause: format!("{request}: answered {got} points for {asked}"),
+            cause: format!("{request}: answered {got} points where {asked} were asked"),
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::io::{Error, ErrorKind};
+
+    #[test]
+    fn transport_failures_are_said_in_words() {
+        let said = |e: Error| transport_words(&e, 50);
+        assert_eq!(
+            said(Error::from(ErrorKind::UnexpectedEof)),
+            "the coupler closed the connection"
+        );
+        assert_eq!(
+            said(Error::from(ErrorKind::ConnectionReset)),
+            "the coupler closed the connection"
+        );
+        assert_eq!(
+            said(Error::from_raw_os_error(115)),
+            "no answer within 50 ms"
+        );
+        assert_eq!(
+            said(Error::from(ErrorKind::TimedOut)),
+            "no answer within 50 ms"
+        );
+        assert!(!said(Error::from_raw_os_error(28)).contains("os error"));
+    }
+
+    #[test]
+    fn an_answer_to_another_request_names_both_transactions() {
+        let p = tokio_modbus::ProtocolError::HeaderMismatch {
+            message: "expected/request = Header { transaction_id: 17, unit_id: 1 }, actual/response = Header { transaction_id: 19, unit_id: 1 }".into(),
+            result: Ok(tokio_modbus::Response::ReadCoils(vec![true])),
+        };
+        assert_eq!(
+            protocol_words(&p),
+            "answer for another request (transaction 19, expected 17)"
+        );
+        let p = tokio_modbus::ProtocolError::HeaderMismatch {
+            message: "expected/request = Header { transaction_id: 4, unit_id: 1 }, actual/response = Header { transaction_id: 4, unit_id: 3 }".into(),
+            result: Ok(tokio_modbus::Response::ReadCoils(vec![true])),
+        };
+        assert_eq!(
+            protocol_words(&p),
+            "answer from another unit (unit 3, expected 1)"
+        );
     }
 }

@@ -151,6 +151,8 @@ mod tests {
             max_gap,
             enabled: false,
             overrun_limit: 10,
+            period_ns: crate::io::map::DEFAULT_PERIOD_NS,
+            max_age_ns: crate::io::map::DEFAULT_MAX_AGE_NS,
             points,
         }
     }

@@ -3,6 +3,11 @@
 //! a doubling back-off; on reconnection the safe output values are written before anything
 //! else, and only then are inputs read and outputs written again.
 //!
+//! The back-off learns: a link that fails again less than [`Backoff::settle_ns`] after it came
+//! back starts its next wait where the last one ended instead of at the first delay, so a
+//! coupler that drops every connection after a few exchanges is retried ever more slowly, up
+//! to the longest delay; a link that has served that long is trusted again.
+//!
 //! Time is passed in (nanoseconds since the start of the run), so the behaviour is a pure
 //! function of the device's answers and the clock, and is tested without sockets or sleeps.
 
@@ -18,14 +23,18 @@ pub struct Backoff {
     pub initial_ns: u64,
     /// The longest delay.
     pub max_ns: u64,
+    /// How long a link must serve after coming back before a new fault starts again at the
+    /// first delay.
+    pub settle_ns: u64,
 }
 
 impl Default for Backoff {
-    /// 100 ms, doubling up to 5 s.
+    /// 100 ms, doubling up to 5 s; trusted again after 10 s of service.
     fn default() -> Self {
         Backoff {
             initial_ns: 100_000_000,
             max_ns: 5_000_000_000,
+            settle_ns: 10_000_000_000,
         }
     }
 }
@@ -82,8 +91,11 @@ pub struct Supervisor<D> {
     pub reconnections: u64,
     /// Updates whose I/O went to the device.
     pub updates: u64,
-    /// Faults since the last update that completed.
+    /// The back-off level the next fault starts at: grows with each fault that comes before
+    /// the link has settled.
     relapses: u32,
+    /// When the link last came up (the start, or a reconnection).
+    up_since_ns: u64,
     /// Outputs already reported as saturated (point indices).
     warned: Vec<usize>,
 }
@@ -100,6 +112,7 @@ impl<D: Device> Supervisor<D> {
             reconnections: 0,
             updates: 0,
             relapses: 0,
+            up_since_ns: 0,
             warned: Vec::new(),
         }
     }
@@ -116,8 +129,12 @@ impl<D: Device> Supervisor<D> {
     fn fail(&mut self, now_ns: u64, fault: IoFault) -> LinkEvent {
         let _ = self.backend.safe_state();
         self.faults += 1;
-        // A link that fails again before completing an update (a device that refuses a
-        // request every time) keeps backing off instead of cycling at the first delay.
+        // A link that fails again before it has settled (a device that refuses a request every
+        // time, or drops each connection after a few exchanges) keeps backing off instead of
+        // cycling at the first delay.
+        if self.faults > 1 && now_ns.saturating_sub(self.up_since_ns) >= self.backoff.settle_ns {
+            self.relapses = 0;
+        }
         let level = self.relapses;
         self.relapses = self.relapses.saturating_add(1);
         self.link = Link::Down {
@@ -156,6 +173,7 @@ impl<D: Device> Supervisor<D> {
                 return events;
             }
             self.link = Link::Up;
+            self.up_since_ns = now_ns;
             self.reconnections += 1;
             events.push(LinkEvent::Reconnected {
                 attempts: failed + 1,
@@ -175,12 +193,26 @@ impl<D: Device> Supervisor<D> {
             return None;
         }
         match self.backend.write_outputs(values) {
-            Ok(()) => {
-                self.relapses = 0;
-                self.saturation_warning()
-            }
+            Ok(()) => self.saturation_warning(),
             Err(fault) => Some(self.fail(now_ns, fault)),
         }
+    }
+
+    /// The output half of an update in which the machine holds its safe state (its inputs went
+    /// stale): write every output's safe value (nothing while the link is down).
+    pub fn write_safe(&mut self, now_ns: u64) -> Option<LinkEvent> {
+        if self.link != Link::Up {
+            return None;
+        }
+        match self.backend.safe_state() {
+            Ok(()) => None,
+            Err(fault) => Some(self.fail(now_ns, fault)),
+        }
+    }
+
+    /// Whether the link is up (requests are being served).
+    pub fn is_up(&self) -> bool {
+        self.link == Link::Up
     }
 }
 
@@ -287,6 +319,7 @@ impl<D: Device> IoBackend for Supervisor<D> {
             updates: self.updates,
             faults: self.faults,
             reconnections: self.reconnections,
+            exchange: None,
         }
     }
 }
@@ -329,6 +362,8 @@ mod tests {
             max_gap: 0,
             enabled: false,
             overrun_limit: 10,
+            period_ns: crate::io::map::DEFAULT_PERIOD_NS,
+            max_age_ns: crate::io::map::DEFAULT_MAX_AGE_NS,
             points,
         }
     }
@@ -344,6 +379,7 @@ mod tests {
             Backoff {
                 initial_ns: 10 * MS,
                 max_ns: 40 * MS,
+                settle_ns: 100 * MS,
             },
         )
     }
@@ -360,6 +396,7 @@ mod tests {
         let b = Backoff {
             initial_ns: 10,
             max_ns: 45,
+            settle_ns: 1000,
         };
         let delays: Vec<u64> = (0..5).map(|n| b.delay(n)).collect();
         assert_eq!(delays, vec![10, 20, 40, 45, 45]);
@@ -471,7 +508,8 @@ mod tests {
         // Each return fails at once: 10, 20, 40, 40 ms apart, not every 10 ms.
         assert_eq!(faults, vec![0, 10, 30, 70, 110, 150, 190]);
         assert_eq!(reconnects, vec![10, 30, 70, 110, 150, 190]);
-        // An update that completes ends the relapse: the next fault starts at 10 ms again.
+        // A link that has served for the settle time (100 ms since its return at 190 ms) is
+        // trusted again: the next fault starts at 10 ms again.
         s.backend.device.refuse_reads = None;
         s.link = Link::Up;
         assert_eq!(s.read(300 * MS, &mut values), vec![]);
@@ -482,6 +520,91 @@ mod tests {
             [LinkEvent::Fault(_)]
         ));
         assert!(matches!(s.link, Link::Down { retry_at_ns, .. } if retry_at_ns == 311 * MS));
+    }
+
+    /// A device that serves `good` requests after each connection, then resets it.
+    #[derive(Debug)]
+    struct Flaky {
+        inner: MemoryDevice,
+        good: u32,
+        left: u32,
+    }
+
+    impl Flaky {
+        fn take(&mut self) -> Result<(), IoFault> {
+            if self.left == 0 {
+                return Err(lost());
+            }
+            self.left -= 1;
+            Ok(())
+        }
+    }
+
+    impl Device for Flaky {
+        fn device(&self) -> String {
+            "memory".into()
+        }
+        fn connect(&mut self) -> Result<(), IoFault> {
+            self.left = self.good;
+            Ok(())
+        }
+        fn read_bits(&mut self, t: Table, a: u16, n: u16) -> Result<Vec<bool>, IoFault> {
+            self.take()?;
+            self.inner.read_bits(t, a, n)
+        }
+        fn read_registers(&mut self, t: Table, a: u16, n: u16) -> Result<Vec<u16>, IoFault> {
+            self.take()?;
+            self.inner.read_registers(t, a, n)
+        }
+        fn write_coils(&mut self, a: u16, bits: &[bool]) -> Result<(), IoFault> {
+            self.take()?;
+            self.inner.write_coils(a, bits)
+        }
+        fn write_registers(&mut self, a: u16, words: &[u16]) -> Result<(), IoFault> {
+            self.take()?;
+            self.inner.write_registers(a, words)
+        }
+    }
+
+    #[test]
+    fn a_coupler_that_drops_each_connection_soon_after_its_return_is_retried_ever_more_slowly() {
+        // Three requests per update (a read, a coil write, a register write) and two for the
+        // safe values on each return: 14 requests are four updates after a reconnection.
+        let map = map(vec![
+            point(Table::DiscreteInput, 0, 0, 0.0),
+            point(Table::Coil, 0, 1, 1.0),
+            point(Table::HoldingRegister, 4, 2, 7.0),
+        ]);
+        let flaky = Flaky {
+            inner: MemoryDevice::default(),
+            good: 14,
+            left: 12,
+        };
+        let mut s = Supervisor::new(
+            PlanBackend::new(map, flaky),
+            Backoff {
+                initial_ns: 10 * MS,
+                max_ns: 80 * MS,
+                settle_ns: 100 * MS,
+            },
+        );
+        let mut values = vec![0.0; 3];
+        let mut faults = Vec::new();
+        for ms in 0..400 {
+            for event in s.read(ms * MS, &mut values) {
+                if let LinkEvent::Fault(_) = event {
+                    faults.push(ms);
+                }
+            }
+            if let Some(LinkEvent::Fault(_)) = s.write(ms * MS, &values) {
+                faults.push(ms);
+            }
+        }
+        // Four good updates, then the fault; the waits grow 10, 20, 40, 80, 80 ms instead of
+        // restarting at 10 ms after each short return.
+        let gaps: Vec<u64> = faults.windows(2).map(|w| w[1] - w[0]).collect();
+        assert_eq!(faults[0], 4);
+        assert_eq!(&gaps[..5], &[14, 24, 44, 84, 84]);
     }
 
     #[test]

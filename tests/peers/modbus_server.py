@@ -18,6 +18,8 @@ read from stdin with exactly one line of JSON on stdout:
     stall SECONDS               -> {"ok": true}        answer each client request SECONDS
                                                        after its arrival (0: at once)
     requests                    -> {"requests": TOTAL} requests served since start
+    busy on|off                 -> {"ok": true}        answer every client request with
+                                                       exception 6 (server device busy) or not
     quit                        -> {"ok": true}, then exit 0 (EOF on stdin exits 0 as well)
     anything malformed          -> {"error": "message"}
 
@@ -74,6 +76,7 @@ class Tables(ModbusServerContext):
         self.simdevices: list = []
         self.old_simulator = True
         self.size = size
+        self.busy = False
         self.lock = threading.Lock()
         self.data = {table: [0] * size for table in TABLES}
 
@@ -89,6 +92,8 @@ class Tables(ModbusServerContext):
         table = DATASTORE_FC.get(func_code)
         if table is None:
             return ExcCodes.ILLEGAL_FUNCTION
+        if self.busy:
+            return ExcCodes.DEVICE_BUSY
         if not self._range_ok(address, count):
             return ExcCodes.ILLEGAL_ADDRESS
         with self.lock:
@@ -102,6 +107,8 @@ class Tables(ModbusServerContext):
         table = DATASTORE_FC.get(func_code)
         if table is None or table not in ("co", "hr"):
             return ExcCodes.ILLEGAL_FUNCTION
+        if self.busy:
+            return ExcCodes.DEVICE_BUSY
         values = list(values)
         if not self._range_ok(address, len(values)):
             return ExcCodes.ILLEGAL_ADDRESS
@@ -347,6 +354,9 @@ def handle_command(line: str, tables: Tables, monitor: Monitor):
         if not math.isfinite(seconds) or seconds < 0:
             raise ValueError(f"SECONDS must be finite and >= 0: {args[0]!r}")
         monitor.set_stall(seconds)
+        return {"ok": True}
+    if cmd == "busy" and len(args) == 1 and args[0] in ("on", "off"):
+        tables.busy = args[0] == "on"
         return {"ok": True}
     if cmd == "quit" and not args:
         return {"ok": True}
