@@ -91,6 +91,32 @@ fn separators_zones_and_a_trailing_separator() {
     assert_eq!(first["program"], 0);
 }
 
+/// GW-BASIC User's Guide, PRINT: items written side by side print as if `;` were between
+/// them; a sign or a parenthesis after an item still continues its expression.
+#[test]
+fn items_side_by_side_print_as_if_a_semicolon_were_between_them() {
+    let r = run_mb(
+        "side-by-side",
+        "C% = 12\nA$ = \"ab\"\nDIM V(3)\nV(1) = 7\nPRINT \"COUNT=\" C%\nPRINT A$ \"cd\" C% A$\n\
+         PRINT V(1) \"x\"\nPRINT C% -2\nPRINT LEFT$(A$, 1) 5\nIF C% > 0 THEN PRINT \"p\" C% ELSE PRINT \"n\"\n\
+         PRINT \"a\" : PRINT \"b\" C%\n",
+    );
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    assert_eq!(
+        printed(&r),
+        [
+            "COUNT= 12 ",
+            "abcd 12 ab",
+            " 7 x",
+            " 10 ",
+            "a 5 ",
+            "p 12 ",
+            "a",
+            "b 12 ",
+        ]
+    );
+}
+
 #[test]
 fn an_axis_set_cannot_be_printed_and_powertools_has_no_print() {
     let d = load_error("axis", &[("program0.mb", "PRINT {1}\n")]);

@@ -173,7 +173,12 @@ pub fn lex(src: &str) -> impl Iterator<Item = Spanned<'_>> {
         })
         .peekable();
     let mut line_start = true;
+    let mut print = PrintItems::default();
+    let mut held: Option<(usize, Tok<'_>, usize)> = None;
     std::iter::from_fn(move || {
+        if let Some(t) = held.take() {
+            return Some(Ok(t));
+        }
         let (l, mut tok, mut r) = raw.next()?;
         // `PickPlace.alrActPos[3]`: an index right after a dotted name is part of the name.
         if let Tok::Name(n) = tok {
@@ -193,8 +198,48 @@ pub fn lex(src: &str) -> impl Iterator<Item = Spanned<'_>> {
                 return Some(Ok((l, Tok::Label(n), cr)));
             }
         }
+        if let Some(at) = print.next(tok, r) {
+            held = Some((l, tok, r));
+            return Some(Ok((at, Tok::Semicolon, at)));
+        }
         Some(Ok((l, tok, r)))
     })
+}
+
+/// Microsoft BASIC prints two items written side by side as if `;` were between them
+/// (`PRINT "COUNT=" C%` is `PRINT "COUNT="; C%`). Inside a PRINT statement, an item that ends
+/// (a literal, a name, `)`) followed by one that starts with a literal or a name — which no
+/// expression can continue with — gets the `;` it implies, at the end of the first item. A sign
+/// or a parenthesis after an item still continues the expression (`PRINT A -B`, `PRINT A (1)`),
+/// as in Microsoft BASIC.
+#[derive(Debug, Default)]
+struct PrintItems {
+    /// Inside a PRINT statement.
+    inside: bool,
+    /// Where the item just read ends, when the last token ended one.
+    item_end: Option<usize>,
+}
+
+impl PrintItems {
+    /// See `tok` (ending at `r`); the place of a `;` to put before it, if it needs one.
+    fn next(&mut self, tok: Tok<'_>, r: usize) -> Option<usize> {
+        let starts_item = matches!(
+            tok,
+            Tok::Number(_) | Tok::Str(_) | Tok::Name(_) | Tok::True | Tok::False
+        );
+        let implied = if self.inside && starts_item {
+            self.item_end
+        } else {
+            None
+        };
+        match tok {
+            Tok::Print => self.inside = true,
+            Tok::Newline | Tok::Colon | Tok::Else => self.inside = false,
+            _ => {}
+        }
+        self.item_end = (self.inside && (starts_item || tok == Tok::RParen)).then_some(r);
+        implied
+    }
 }
 
 /// Where a dotted name `n` ending at `r` ends when `[digits]` follows it with no space
