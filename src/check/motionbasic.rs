@@ -719,6 +719,7 @@ impl<'v> MotionBasic<'v> {
             kind,
             ty,
             long,
+            int16: false,
             truth,
             span: e.span,
         };
@@ -748,8 +749,10 @@ impl<'v> MotionBasic<'v> {
             ExprKind::Str(s) => Some(typed(K::Str(s.clone()), Ty::Str, false, false)),
             ExprKind::Paren(a) => {
                 let inner = self.ty(cx, a)?;
-                let (ty, long, truth) = (inner.ty, inner.long, inner.truth);
-                Some(typed(K::Paren(Box::new(inner)), ty, long, truth))
+                let (ty, long, truth, int16) = (inner.ty, inner.long, inner.truth, inner.int16);
+                let mut t = typed(K::Paren(Box::new(inner)), ty, long, truth);
+                t.int16 = int16;
+                Some(t)
             }
             ExprKind::AxisSet(items) => {
                 let mut typed_items = Vec::new();
@@ -805,7 +808,10 @@ impl<'v> MotionBasic<'v> {
                 };
                 // MotionBASIC's true is -1: a bit reads as -1 or 0.
                 let negate = r.ty.is_bit();
-                Some(typed(K::Read { target: r, negate }, ty, long, false))
+                let int16 = r.kind == Kind::BasicVar && r.name.ends_with('%');
+                let mut t = typed(K::Read { target: r, negate }, ty, long, false);
+                t.int16 = int16;
+                Some(t)
             }
             ExprKind::Unary(op, a) => {
                 let why = match op {
@@ -817,8 +823,10 @@ impl<'v> MotionBasic<'v> {
                 };
                 Some(match op {
                     UnOp::Neg => {
-                        let long = inner.long;
-                        typed(K::Neg(Box::new(inner)), Ty::Num, long, false)
+                        let (long, int16) = (inner.long, inner.int16);
+                        let mut t = typed(K::Neg(Box::new(inner)), Ty::Num, long, false);
+                        t.int16 = int16;
+                        t
                     }
                     UnOp::Not => {
                         let truth = inner.truth;
@@ -896,7 +904,13 @@ impl<'v> MotionBasic<'v> {
                 };
                 let truth = compare
                     || (matches!(op, BinOp::And | BinOp::Or | BinOp::Xor) && ta.truth && tb.truth);
-                Some(typed(
+                // INTEGER op INTEGER is INTEGER arithmetic (16 bits) in Microsoft BASIC; pacer
+                // asks for one `%` operand, so constants alone keep computing as long integers.
+                let int16 = matches!(op, BinOp::Add | BinOp::Sub | BinOp::Mul | BinOp::IntDiv)
+                    && (ta.int16 || tb.int16)
+                    && integer_operand(&ta)
+                    && integer_operand(&tb);
+                let mut t = typed(
                     K::Binary {
                         op: op_t,
                         a: Box::new(ta),
@@ -906,7 +920,9 @@ impl<'v> MotionBasic<'v> {
                     Ty::Num,
                     long,
                     truth,
-                ))
+                );
+                t.int16 = int16;
+                Some(t)
             }
             ExprKind::Call(f, args) => {
                 if let Some(c) = controller(&f.text) {
@@ -950,7 +966,10 @@ impl<'v> MotionBasic<'v> {
                         var_type(&f.text).map_or(Ty::Num, |t| t.1),
                         el.base.ty == ValueType::Fixed(0),
                     );
-                    return Some(typed(K::Element(Box::new(el)), ty, long, false));
+                    let int16 = f.text.ends_with('%');
+                    let mut t = typed(K::Element(Box::new(el)), ty, long, false);
+                    t.int16 = int16;
+                    return Some(t);
                 }
                 let math = functions::find(&f.text);
                 let kernel = functions::find_kernel(&f.text);
@@ -1046,6 +1065,17 @@ impl<'v> MotionBasic<'v> {
     }
 }
 
+/// An operand of INTEGER arithmetic: an INTEGER expression, or a whole-number constant within
+/// 16 bits (Microsoft BASIC types `1000` as INTEGER), signed or not.
+fn integer_operand(t: &typed::Expr) -> bool {
+    match &t.kind {
+        _ if t.int16 => true,
+        K::Const(v) => v.fract() == 0.0 && v.abs() <= 32767.0,
+        K::Neg(inner) | K::Paren(inner) => integer_operand(inner),
+        _ => false,
+    }
+}
+
 /// A value of type `ty` standing for an expression that has a problem: what holds it can still
 /// be checked (the program never compiles with a problem, so it is never run).
 fn placeholder(ty: Ty, span: Span) -> typed::Expr {
@@ -1053,6 +1083,7 @@ fn placeholder(ty: Ty, span: Span) -> typed::Expr {
         kind: K::Const(0.0),
         ty,
         long: false,
+        int16: false,
         truth: false,
         span,
     }
@@ -1386,6 +1417,7 @@ impl MotionBasic<'_> {
             kind: K::Text(func, typed_args),
             ty,
             long,
+            int16: false,
             truth: false,
             span: e.span,
         })

@@ -33,6 +33,7 @@ pub fn expr(e: &Expr, registry: &Registry) -> Result<typed::Expr, Problem> {
         kind,
         ty,
         long: false,
+        int16: false,
         truth: ty == Ty::Bool,
         span: e.span,
     };

@@ -31,6 +31,10 @@ pub struct Expr {
     /// A MotionBASIC long integer: its arithmetic overflows outside 32 bits, as in Microsoft
     /// BASIC.
     pub long: bool,
+    /// A MotionBASIC INTEGER (`%`) computed from INTEGER operands, at least one of them a `%`
+    /// variable or element: Microsoft BASIC computes it in 16 bits, so a result outside -32768
+    /// to 32767 is an Overflow even before it is stored.
+    pub int16: bool,
     /// A truth value (-1/0 in MotionBASIC, ON/OFF in PowerTools): a condition on it may jump
     /// without computing it.
     pub truth: bool,

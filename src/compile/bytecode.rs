@@ -227,6 +227,8 @@ pub enum Op {
     CallProgram { program: u32 },
     /// Fail with "Overflow" unless `r` fits a 32-bit long integer (MotionBASIC `&` arithmetic).
     CheckLong { r: Reg },
+    /// Fail with "Overflow" unless `r` fits a 16-bit INTEGER (MotionBASIC `%` arithmetic).
+    CheckInt { r: Reg },
     /// `dst` = the axis set holding axis number `a` (1..16).
     AxisBit { dst: Reg, a: Reg },
     /// Read member `member` of the DSP axis in the set `axes`; `truth` gives -1/0 for a bit
@@ -549,7 +551,8 @@ impl Op {
             Op::JumpIfFalse { cond, .. }
             | Op::JumpIfTrue { cond, .. }
             | Op::WaitUntil { cond, .. }
-            | Op::CheckLong { r: cond } => cond,
+            | Op::CheckLong { r: cond }
+            | Op::CheckInt { r: cond } => cond,
             Op::JumpUnlessLt { a, b, .. }
             | Op::JumpUnlessLe { a, b, .. }
             | Op::JumpUnlessEq { a, b, .. }

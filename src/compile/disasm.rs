@@ -185,6 +185,7 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             }
             Op::CallProgram { program } => format!("call      Program.{program}"),
             Op::CheckLong { r: x } => format!("chk.long  {}", r(x)),
+            Op::CheckInt { r: x } => format!("chk.int   {}", r(x)),
             Op::StoreLong { dst, src } => format!("store.l   {} <- {}", r(dst), r(src)),
             Op::StoreInt { dst, src } => format!("store.i   {} <- {}", r(dst), r(src)),
             Op::AxisBit { dst, a } => format!("axis      {} <- {{{}}}", r(dst), r(a)),

@@ -903,10 +903,24 @@ impl<'a> Compiler<'a> {
         }
     }
 
+    /// Drop the range check of `src` this statement just emitted, when the store after it
+    /// checks a range as narrow.
+    fn drop_check_of(&mut self, src: Reg) {
+        if let Some(&(Op::CheckLong { r } | Op::CheckInt { r })) = self.ops.last() {
+            if r == src && self.ops.len() > self.stmt_start {
+                self.ops.pop();
+                self.lines.pop();
+                self.spans.pop();
+            }
+        }
+    }
+
     /// Store `src` into `r` as its type says.
     fn store(&mut self, r: &Resolved, src: Reg) {
-        // A MotionBASIC INTEGER: 16 bits.
+        // A MotionBASIC INTEGER: 16 bits; the store checks the range, so a check of the value
+        // just computed is not needed.
         if r.kind == Kind::BasicVar && is_int16_name(&r.name) {
+            self.drop_check_of(src);
             self.emit(Op::StoreInt { dst: r.slot, src });
             return;
         }
@@ -1147,7 +1161,9 @@ impl<'a> Compiler<'a> {
                     ExprKind::Not(_) => Op::Not { dst, a },
                     _ => Op::BitNot { dst, a },
                 });
-                if negative && e.long {
+                if negative && e.int16 {
+                    self.emit(Op::CheckInt { r: dst });
+                } else if negative && e.long {
                     self.emit(Op::CheckLong { r: dst });
                 }
                 dst
@@ -1280,6 +1296,9 @@ impl<'a> Compiler<'a> {
                 if *negate {
                     // MotionBASIC's comparisons give -1 or 0.
                     self.emit(Op::Neg { dst, a: dst });
+                } else if e.int16 {
+                    // 16-bit INTEGER arithmetic (`\` too: -32768 \ -1).
+                    self.emit(Op::CheckInt { r: dst });
                 } else if e.long && matches!(op, TypedOp::Add | TypedOp::Sub | TypedOp::Mul) {
                     self.emit(Op::CheckLong { r: dst });
                 }

@@ -370,6 +370,13 @@ pub fn run<'a>(
                 Op::StoreLong { dst, src } => store_long!(dst, rd!(src as usize), here),
                 Op::StoreInt { dst, src } => store_int!(dst, rd!(src as usize), here),
                 Op::CheckLong { r } => check_long!(r, rd!(r as usize), here),
+                Op::CheckInt { r } => {
+                    let x = rd!(r as usize);
+                    if !(-32768.0..=32767.0).contains(&x) {
+                        pc = here;
+                        fault!("Overflow: {x} does not fit an integer (-32768 to 32767): INTEGER (%) arithmetic is 16-bit; make an operand long (CLNG, a & variable)");
+                    }
+                }
                 Op::Binary { op, dst, a, b } => {
                     match binary(op, rd!(a as usize), rd!(b as usize)) {
                         Ok(x) => wr!(dst as usize, x),
