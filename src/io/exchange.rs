@@ -152,28 +152,22 @@ impl<D: Device + Send + 'static> Exchange<D> {
     pub fn start(supervisor: Supervisor<D>, options: ExchangeOptions) -> std::io::Result<Self> {
         let driven = supervisor.driven_inputs();
         let safe_outputs = supervisor.safe_outputs();
-        let outputs: Vec<SlotId> = supervisor
+        // Every output the device is sent, starting from its safe value.
+        let (outputs, first): (Vec<SlotId>, Vec<f64>) = supervisor
             .backend
             .map
             .points
             .iter()
             .filter(|p| p.table.is_output())
-            .map(|p| p.slot)
-            .collect();
+            .map(|p| (p.slot, p.safe))
+            .unzip();
         let device = supervisor.device();
         let image = Image {
             inputs: vec![0.0; driven.len()],
             read_at_ns: None,
             link_up: supervisor.is_up(),
             events: Vec::new(),
-            outputs: supervisor
-                .backend
-                .map
-                .points
-                .iter()
-                .filter(|p| p.table.is_output())
-                .map(|p| p.safe)
-                .collect(),
+            outputs: first,
             safe: false,
             stats: supervisor.stats(),
             cycle: Timing::default(),
