@@ -224,7 +224,7 @@ impl Base {
                 &self.scenario_path,
                 &scenario,
             )?;
-            overlay.files.insert(self.scenario_path.clone(), text);
+            overlay.files.insert(as_set(&self.scenario_path), text);
         }
         let machine: Vec<_> = values
             .iter()
@@ -235,15 +235,16 @@ impl Base {
             .collect();
         if !machine.is_empty() {
             let text = edit(self.machine_text.as_deref(), &self.machine_path, &machine)?;
-            overlay.files.insert(self.machine_path.clone(), text);
+            overlay.files.insert(as_set(&self.machine_path), text);
         }
         let mut req = self.req.clone();
-        // A file made only by the values set is read from where the loader would look for it.
-        if overlay.files.contains_key(&self.scenario_path) {
-            req.scenario = Some(self.scenario_path.clone());
+        // An edited file is read under a name of its own, so a problem in it is not shown with
+        // the line numbers of the file on the disk; beside it, so paths in it mean the same.
+        if overlay.files.contains_key(&as_set(&self.scenario_path)) {
+            req.scenario = Some(as_set(&self.scenario_path));
         }
-        if overlay.files.contains_key(&self.machine_path) {
-            req.machine = Some(self.machine_path.clone());
+        if overlay.files.contains_key(&as_set(&self.machine_path)) {
+            req.machine = Some(as_set(&self.machine_path));
         }
         let mut loaded =
             load_from(&overlay, &req, &LoadOptions::default()).map_err(SetError::Load)?;
@@ -254,6 +255,13 @@ impl Base {
         }
         Ok(loaded)
     }
+}
+
+/// The name an edited file is read under: `scenario.toml (as set)`, beside the original.
+fn as_set(path: &Path) -> PathBuf {
+    let mut name = path.file_name().unwrap_or_default().to_os_string();
+    name.push(" (as set)");
+    path.with_file_name(name)
 }
 
 /// Why a project with values set did not load.
