@@ -355,6 +355,7 @@ fn meta_of(
             spec.plot.x.clone().unwrap_or_default(),
             spec.plot.y.clone().unwrap_or_default(),
         ],
+        sampled: spec.sample.is_some(),
         shard,
     }
 }

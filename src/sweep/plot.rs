@@ -50,7 +50,7 @@ pub fn figure(meta: &Meta, results: &[VariantResult]) -> Figure {
             Some(0)
         });
     let mut charts = Vec::new();
-    let (x, y) = chosen_axes(meta);
+    let (x, y) = chosen_axes(meta, results);
     if let Some(x) = x {
         let xs = axis_values(results, x);
         let xn = meta.axes[x].clone();

@@ -31,6 +31,8 @@ pub struct Meta {
     pub rerun: Vec<String>,
     /// The plot's choice: measure, x, y (names).
     pub plot: Vec<String>,
+    /// The variants are a random sample (no grid: no boundary is read from them).
+    pub sampled: bool,
     /// This folder holds shard `index` of `count` (none: the whole sweep).
     pub shard: Option<Shard>,
 }

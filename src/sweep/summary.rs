@@ -12,6 +12,9 @@ use std::fmt::Write as _;
 /// Failing variants listed in full.
 const LISTED: usize = 10;
 
+/// Values of the first axis the boundary lists at most.
+const BOUNDARY_ROWS: usize = 100;
+
 /// Order of two values: numbers by value, before text, text by text.
 pub fn cmp_value(a: &toml::Value, b: &toml::Value) -> Ordering {
     match (as_number(a), as_number(b)) {
@@ -148,13 +151,21 @@ pub fn describe_row(name: &str, row: &[(toml::Value, bool)]) -> String {
     format!("{name} in {}", runs.join(", "))
 }
 
-/// The axes the boundary and the plot use: the plot's choice, else the first two (a seed last:
-/// seeds are repeats, not a dimension).
-pub fn chosen_axes(meta: &Meta) -> (Option<usize>, Option<usize>) {
+/// The axes the boundary and the plot use: the plot's choice, else the first two that take
+/// more than one value (seeds left out: they are repeats, not a dimension).
+pub fn chosen_axes(meta: &Meta, results: &[VariantResult]) -> (Option<usize>, Option<usize>) {
     let find = |n: &str| meta.axes.iter().position(|a| a == n);
-    let dims: Vec<usize> = (0..meta.axes.len())
+    let mut dims: Vec<usize> = (0..meta.axes.len())
         .filter(|i| meta.axes[*i] != "run.seed")
         .collect();
+    let varied: Vec<usize> = dims
+        .iter()
+        .copied()
+        .filter(|i| axis_values(results, *i).len() > 1)
+        .collect();
+    if !varied.is_empty() {
+        dims = varied;
+    }
     let x = meta
         .plot
         .get(1)
@@ -208,7 +219,23 @@ pub fn summary(meta: &Meta, results: &[VariantResult]) -> String {
             if *n == 1 { "" } else { "s" }
         );
     }
-    if let (Some(x), Some(y)) = chosen_axes(meta) {
+    let rows = chosen_axes(meta, results)
+        .0
+        .map_or(0, |x| axis_values(results, x).len());
+    if meta.sampled || rows > BOUNDARY_ROWS {
+        let _ = writeln!(
+            out,
+            "safe operation: {}: no grid to read a boundary from; see the plot (--plot)",
+            if meta.sampled {
+                "a random sample".to_string()
+            } else {
+                format!(
+                    "{rows} values of {}",
+                    meta.axes[chosen_axes(meta, results).0.unwrap_or(0)]
+                )
+            }
+        );
+    } else if let (Some(x), Some(y)) = chosen_axes(meta, results) {
         let (xn, yn) = (&meta.axes[x], &meta.axes[y]);
         let _ = writeln!(
             out,
@@ -217,7 +244,7 @@ pub fn summary(meta: &Meta, results: &[VariantResult]) -> String {
         for (xv, row) in passing(results, x, y) {
             let _ = writeln!(out, "  {xn} = {}: {}", show(&xv), describe_row(yn, &row));
         }
-    } else if let (Some(x), None) = chosen_axes(meta) {
+    } else if let (Some(x), None) = chosen_axes(meta, results) {
         let xn = &meta.axes[x];
         let row: Vec<(toml::Value, bool)> = axis_values(results, x)
             .into_iter()
@@ -233,7 +260,7 @@ pub fn summary(meta: &Meta, results: &[VariantResult]) -> String {
                 (v, pass)
             })
             .collect();
-        let _ = writeln!(out, "safe operation: {}", describe_row(xn, &row));
+        let _ = writeln!(out, "safe operation: {xn}: {}", describe_row(xn, &row));
     }
     if failing.is_empty() {
         return out;
