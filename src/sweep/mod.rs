@@ -257,13 +257,14 @@ fn sweep(args: &SweepArgs, color: bool) -> u8 {
         warn("\n");
     }
     let seconds = started.elapsed().as_secs_f64();
+    let used = jobs.min(run::MAX_JOBS).min(results.len().max(1));
     if !args.quiet {
         warn(&format!(
             "sweep: {} variant{} in {seconds:.2} s on {} job{}{}\n",
             results.len(),
             if results.len() == 1 { "" } else { "s" },
-            jobs.min(results.len().max(1)),
-            if jobs == 1 { "" } else { "s" },
+            used,
+            if used == 1 { "" } else { "s" },
             shard
                 .map(|s| format!(" (shard {}/{})", s.index, s.count))
                 .unwrap_or_default()

@@ -457,6 +457,9 @@ fn first_line(text: &str) -> String {
     text.lines().next().unwrap_or_default().trim().to_string()
 }
 
+/// The most runs at once (`--jobs` above it is held to it).
+pub const MAX_JOBS: usize = 256;
+
 /// Run the variants `indices` on `jobs` threads; `progress(done, total)` after each. The
 /// results are in the order of `indices`.
 pub fn run_all(
@@ -471,7 +474,8 @@ pub fn run_all(
     let next = AtomicUsize::new(0);
     let (tx, rx) = std::sync::mpsc::channel::<(usize, VariantResult)>();
     std::thread::scope(|scope| {
-        for _ in 0..jobs.clamp(1, total.max(1)) {
+        // No more threads than variants, nor than a machine could hold.
+        for _ in 0..jobs.clamp(1, total.clamp(1, MAX_JOBS)) {
             let tx = tx.clone();
             let next = &next;
             scope.spawn(move || loop {
