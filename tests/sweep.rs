@@ -374,3 +374,37 @@ fn run_set_changes_the_run_as_the_files_would() {
     let o = pacer(&["run", "programs/labeling", "--set", "nothing"]);
     assert_eq!(o.status.code(), Some(64), "{}", text(&o));
 }
+
+#[test]
+fn a_random_sample_is_the_same_whatever_the_jobs() {
+    let d = scratch_in("sweep", "sample");
+    let args = |jobs: &str, out: &Path| {
+        vec![
+            "sweep".to_string(),
+            "programs/labeling".into(),
+            "--sample".into(),
+            "6".into(),
+            "--sample-seed".into(),
+            "9".into(),
+            "--for".into(),
+            "1.5".into(),
+            "-q".into(),
+            "--jobs".into(),
+            jobs.into(),
+            "--out".into(),
+            arg(out),
+        ]
+    };
+    let (a, b) = (d.join("a"), d.join("b"));
+    let oa = run(&args("1", &a));
+    let ob = run(&args("2", &b));
+    assert!(matches!(oa.status.code(), Some(0 | 2)), "{}", text(&oa));
+    assert_eq!(files(&a), files(&b));
+    assert_eq!(oa.stdout, ob.stdout);
+    let summary = String::from_utf8_lossy(&oa.stdout).to_string();
+    assert!(summary.contains("a random sample: no grid"), "{summary}");
+    let meta: serde_json::Value =
+        serde_json::from_slice(&std::fs::read(a.join("sweep.json")).expect("sweep.json"))
+            .expect("JSON");
+    assert_eq!(meta["sampled"], true);
+}

@@ -259,6 +259,16 @@ pub fn read(dir: &Path) -> Result<(Meta, Vec<VariantResult>), String> {
             meta.format
         ));
     }
+    // A file edited by hand must not make the merge allocate without bound or divide by zero.
+    let shard_ok = meta
+        .shard
+        .is_none_or(|s| s.count > 0 && s.index < s.count && s.count <= super::spec::MAX_VARIANTS);
+    if meta.variants > super::spec::MAX_VARIANTS || !shard_ok {
+        return Err(format!(
+            "{}: the variant count or the shard is out of range",
+            meta_path.display()
+        ));
+    }
     let lines_path = path("results.jsonl");
     let mut results = Vec::new();
     for (n, l) in text(lines_path.clone())?.lines().enumerate() {
