@@ -13,6 +13,7 @@ pub mod load;
 pub mod registry;
 pub mod repl;
 pub mod span;
+pub mod sweep;
 pub mod syntax;
 pub mod trace;
 pub mod vm;

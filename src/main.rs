@@ -67,6 +67,11 @@ enum Command {
         /// Scenario file (default: scenario.toml beside the programs)
         #[arg(long)]
         scenario: Option<PathBuf>,
+        /// Set a scenario, machine-file or member value for this run (repeatable):
+        /// master.speed=40, products.0.pitch=0.8, run.seed=7, machine.update=2ms,
+        /// Queue.0.QueueOffset=9.5 (the names of `pacer sweep --vary`)
+        #[arg(long, value_name = "NAME=VALUE", value_parser = pacer::sweep::set::parse_assignment)]
+        set: Vec<(pacer::sweep::set::Name, toml::Value)>,
         /// Simulated time to run: seconds, or with a unit (`90`, `1.5s`, `250ms`); default: the
         /// scenario's duration, else until every program has ended and motion is at rest
         #[arg(long = "for", value_name = "SECONDS", value_parser = pacer::config::values::parse_duration)]
@@ -107,6 +112,8 @@ enum Command {
     },
     /// Draw plots (SVG) from a recorded trace, without running again
     Plot(pacer::export::PlotArgs),
+    /// Run the machine over many variants of its scenario and settings, and summarise
+    Sweep(pacer::sweep::SweepCommand),
     /// Poke at the simulated machine: type statements, step, watch, set inputs
     Repl {
         /// A machine folder (default: an empty machine with the default machine.toml)
@@ -140,6 +147,7 @@ fn main() -> ExitCode {
         Command::Run {
             project,
             scenario,
+            set,
             duration,
             trace,
             trace_writes,
@@ -150,6 +158,7 @@ fn main() -> ExitCode {
         } => run(
             project,
             scenario,
+            &set,
             RunOptions {
                 duration,
                 trace,
@@ -161,6 +170,7 @@ fn main() -> ExitCode {
             },
             export,
         ),
+        Command::Sweep(cmd) => ExitCode::from(pacer::sweep::command(&cmd, color)),
         Command::Plot(args) => match pacer::export::plot_command(&args) {
             Ok(path) => {
                 say!("plot: {}", path.display());
@@ -295,6 +305,7 @@ fn resolve_io(io: Option<&str>, loaded: &pacer::load::Loaded) -> Result<Option<R
 fn run(
     project: Project,
     scenario: Option<PathBuf>,
+    set: &[(pacer::sweep::set::Name, toml::Value)],
     options: RunOptions,
     export: pacer::export::ExportArgs,
 ) -> ExitCode {
@@ -305,9 +316,21 @@ fn run(
         machine: project.machine,
         scenario,
     };
-    let loaded = match load(&req) {
-        Ok(l) => l,
-        Err(d) => return problems(&d, color),
+    // Values set are applied to the files as read, so the loader checks them as if written there.
+    let loaded = if set.is_empty() {
+        match load(&req) {
+            Ok(l) => l,
+            Err(d) => return problems(&d, color),
+        }
+    } else {
+        match pacer::sweep::set::Base::open(req).load(set) {
+            Ok(l) => l,
+            Err(pacer::sweep::set::SetError::Load(d)) => return problems(&d, color),
+            Err(e) => {
+                warn_raw!("{}", e.render(color));
+                return ExitCode::from(EXIT_PROBLEMS);
+            }
+        }
     };
     warn_raw!("{}", loaded.warnings.render(color));
     if let Some(d) = duration_ns {

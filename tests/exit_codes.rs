@@ -110,3 +110,36 @@ fn repl_gives_1_and_64_and_help_and_version_0() {
     assert_eq!(code(&["--version"]), Some(0));
     assert_eq!(code(&["repl", "--help"]), Some(0));
 }
+
+#[test]
+fn sweep_gives_0_1_2_3_and_64() {
+    let ok = folder(
+        "sweep",
+        &[
+            ("program0.pt", "Var.A = 1\nEnd\n"),
+            ("machine.toml", "[variables.A]\n"),
+            (
+                "sweep.toml",
+                "[vary]\n\"run.seed\" = \"1..2\"\n[[measure]]\nname = \"a\"\nfinal = \"Var.A\"\n",
+            ),
+        ],
+    );
+    let bad = folder(
+        "sweep-bad",
+        &[
+            ("program0.pt", "End\n"),
+            ("sweep.toml", "[vary]\nspeed = [1]\n"),
+        ],
+    );
+    let d = arg(&ok);
+    assert_eq!(code(&["sweep", d, "--expect", "a == 1", "-q"]), Some(0));
+    assert_eq!(code(&["sweep", d, "--expect", "a == 2", "-q"]), Some(2));
+    assert_eq!(code(&["sweep", arg(&bad)]), Some(1));
+    let under_a_file = ok.join("program0.pt").join("out");
+    assert_eq!(
+        code(&["sweep", d, "-q", "--out", arg(&under_a_file)]),
+        Some(3)
+    );
+    assert_eq!(code(&["sweep", d, "--vary", "run.seed=3..1"]), Some(64));
+    assert_eq!(code(&["sweep"]), Some(64));
+}
