@@ -19,6 +19,7 @@ pub mod modbus;
 pub mod objects;
 pub mod pickplace;
 pub mod scenario;
+pub mod servo;
 pub mod values;
 pub mod world;
 

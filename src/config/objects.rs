@@ -55,6 +55,13 @@ pub fn objects(
     plss(machine, &mut d, &mut drive, problems);
     super::pickplace::initials(machine, &mut d, problems);
     axis_set_up(machine, &mut drive, problems);
+    let update_s = machine
+        .machine
+        .update
+        .as_ref()
+        .map_or(crate::registry::DEFAULT_UPDATE_NS, |u| u.get_ref().0) as f64
+        / 1e9;
+    super::servo::servo(machine, update_s, &mut d, &mut drive, problems);
     (d, drive)
 }
 

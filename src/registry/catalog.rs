@@ -78,6 +78,8 @@ hooks! {
     FeedRateOverride,
     /// Clears an index's ProfileLimited (`Index.N.ResetProfileLimited`).
     ProfileLimitedReset,
+    /// Clears the drive's fault (`FaultReset`).
+    FaultReset,
     /// Re-arms a DSP axis latch (`ASEN@(axis) = 0`).
     AxisLatch,
     /// A DSP axis setting the kernel applies at once (POS.MOD@, PLS…@, SENS.MODE@).
@@ -710,6 +712,27 @@ pub const MOTION: &[MemberDef] = &[
         ReadWrite,
         "fault above this following error",
     ),
+    m(
+        "FollowingErrorEnable",
+        Bit,
+        ReadWrite,
+        "a following error above FollowingErrorLimit faults the drive",
+    ),
+    m(
+        "FollowingErrorFault",
+        Bit,
+        Read,
+        "the drive faulted on its following error: motion stopped, until FaultReset",
+    ),
+    hook(
+        Hook::FaultReset,
+        m(
+            "FaultReset",
+            Bit,
+            Action,
+            "clear the drive's fault; the command restarts at the feedback position",
+        ),
+    ),
     continuous(m(
         "FreeRunTime",
         Integer,
@@ -735,6 +758,12 @@ pub const MOTION: &[MemberDef] = &[
         "motor command position (both profiles added)",
     )),
     continuous(m("PosnFeedback", Real, Read, "motor feedback position")),
+    continuous(m(
+        "VelFeedback",
+        Real,
+        Read,
+        "motor feedback velocity, units per second",
+    )),
     continuous(m(
         "VelCommand",
         Real,
