@@ -560,21 +560,26 @@ fn io_options_that_cannot_work_are_errors() {
         1,
         "machine.toml has no [modbus] section",
     );
-    // A MotionBASIC machine with DSP axes is refused (an I/O fault could not stop them).
-    let dsp = variant(
-        "dsp",
-        &root().join("programs/regist/case1"),
-        "[machine]",
-        "[modbus]\nhost = \"127.0.0.1\"\n\n[machine]",
-    );
-    let dsp = dsp.to_str().expect("utf-8 path");
-    refused(&[dsp, "--io", "modbus"], 1, "MotionBASIC DSP axes");
-    // `[modbus] enabled = true` makes the coupler the default (here nothing listens: the run
-    // stops before it starts); `--io sim` still simulates.
     let closed = std::net::TcpListener::bind("127.0.0.1:0")
         .and_then(|l| l.local_addr())
         .expect("a free port")
         .port();
+    // A MotionBASIC machine with DSP axes is no longer refused (its axes ramp to rest on an
+    // I/O fault): here it goes on to connect, and nothing listens.
+    let dsp = variant(
+        "dsp",
+        &root().join("programs/regist/case1"),
+        "[machine]",
+        &format!("[modbus]\nhost = \"127.0.0.1\"\nport = {closed}\n\n[machine]"),
+    );
+    let dsp = dsp.to_str().expect("utf-8 path");
+    refused(
+        &[dsp, "--io", "modbus", "--for", "1"],
+        3,
+        &format!("modbus://127.0.0.1:{closed} unit 1: not connected"),
+    );
+    // `[modbus] enabled = true` makes the coupler the default (here nothing listens: the run
+    // stops before it starts); `--io sim` still simulates.
     let enabled = variant(
         "enabled",
         &checkweigher("enabled-base"),

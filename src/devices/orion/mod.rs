@@ -477,11 +477,6 @@ impl Device for Orion {
         "MotionBASIC DSP axes"
     }
 
-    /// The DSP axes have no stop ramp yet: an I/O fault could not bring them to rest.
-    fn safe_state(&self) -> bool {
-        false
-    }
-
     fn serves(&self, hook: Hook) -> bool {
         matches!(hook, Hook::AxisLatch | Hook::AxisSetting)
     }
@@ -516,6 +511,17 @@ impl Device for Orion {
         _now: &mut Now<'_>,
     ) -> Result<ActOutcome, String> {
         Err(format!("{:?} is not an action", target.hook))
+    }
+
+    /// `Stop` or an I/O fault: each axis ramps to rest at its `[axis.N] accel` (the
+    /// deceleration of its MOVE TO/FOR), pacers and time-based axes by their own ramp, geared
+    /// axes with their pacer.
+    fn stop_all(&mut self, _v: &mut [f64], now: &mut Now<'_>) {
+        for (c, d) in self.configs.iter().zip(&self.defaults) {
+            if let Err(e) = self.dsp.stop(c.number, d.accel) {
+                now.trace.machine_warning(now.tick, e.0);
+            }
+        }
     }
 
     fn moving(&self, _master_moves: bool, out: &mut Vec<crate::devices::Moving>) {
