@@ -188,3 +188,59 @@ fn servo_values_out_of_range_are_errors_at_their_text() {
         "{text}"
     );
 }
+
+/// A MotionBASIC web axis on the weak servo (one unit per revolution: 159.15 units/s² at most)
+/// ramped at 1000 units/s², and a PowerTools program that watches its fault and resets it.
+const DSP_MACHINE: &str = "[machine]\nupdate = \"1ms\"\n\
+    [[program]]\nnumber = 0\nfile = \"web.mb\"\nautostart = true\n\
+    [[program]]\nnumber = 1\nfile = \"watch.pt\"\nautostart = true\n\
+    [variables.T]\ndecimals = 0\n\
+    [axis.1]\nunits_per_rev = 1\naccel = 10\n\
+    [axis.1.servo]\nmodel = \"cascade\"\nposition_gain = 100.0\nvelocity_gain = 314.0\n\
+    velocity_integral = 12000.0\nmotor_inertia = 1.0e-4\nload_inertia = 1.0e-4\n\
+    torque_limit = 0.2\nfollowing_error_limit = 0.05\n";
+
+#[test]
+fn a_dsp_axis_past_its_torque_limit_faults_its_command_ramps_to_rest_and_a_reset_clears_it() {
+    let loaded = common::load_memory(
+        "dsp-servo-fault",
+        &[
+            ("web.mb", "w~ = {1}\nMOVE w~ AT 6000 IN 100\nEND\n"),
+            (
+                "watch.pt",
+                "Wait For Axis.1.FollowingErrorFault\nVar.T = FreeRunTime\nWait For Time 2\n\
+                 Axis.1.FaultReset = ON\nEnd\n",
+            ),
+            ("machine.toml", DSP_MACHINE),
+            ("scenario.toml", "[run]\nduration = 3.0\n"),
+        ],
+    )
+    .unwrap_or_else(|d| panic!("{}", d.render_plain()));
+    let r = common::run_loaded(loaded);
+    assert!(r.summary.error.is_none(), "{:?}", r.summary.error);
+    let faults = kind(&r, "fault");
+    assert_eq!(faults.len(), 1, "{faults:?}");
+    let f = faults[0];
+    // As on the drive: the command 500·t² passes 0.05 at 10 ms, the motor cannot be ahead of
+    // ½·159.15·t², so the error passes the limit at the 11 ms update, the command at 0.0605.
+    assert_eq!(f["tick"], 11, "{f}");
+    assert_eq!(f["axis"], "Axis.1");
+    assert!((num(f, "command") - 0.0605).abs() < 1e-12, "{f}");
+    assert!(num(f, "command") - num(f, "feedback") > 0.05, "{f}");
+    assert_eq!(r.machine.value_of("Var.T"), Some(11_000.0));
+    // The command ramped to rest at 10 units/s² (from 11 units/s: 1.1 s) and the reset put it
+    // on the held motor: no error left, nothing moving, the fault off.
+    assert_eq!(r.machine.value_of("Axis.1.Velocity"), Some(0.0));
+    assert_eq!(r.machine.value_of("Axis.1.FollowingErrorFault"), Some(0.0));
+    let error = r.machine.value_of("Axis.1.FollowingError").expect("error");
+    assert!(error.abs() < 2.0 / 4096.0, "{error}");
+    let position = r.machine.value_of("Axis.1.Position").expect("position");
+    let feedback = r.machine.value_of("Axis.1.Feedback").expect("feedback");
+    assert!((position - feedback - error).abs() < 1e-12);
+    let a_max = 0.2 / 2.0e-4 / std::f64::consts::TAU;
+    let v_max = a_max * 0.011;
+    assert!(
+        feedback > 0.0
+            && feedback < 0.5 * a_max * 0.011 * 0.011 + v_max * v_max / (2.0 * a_max) + 1e-3
+    );
+}

@@ -296,6 +296,9 @@ pub struct ServoSection {
     pub following_error_limit: Option<Spanned<f64>>,
     /// From a capture input's edge to the encoder count latched (default 1 µs).
     pub latch_delay: Option<Spanned<Duration>>,
+    /// Encoder counts per motor revolution (default: `[units] motor_counts_per_rev` for the
+    /// drive, 4096 for a DSP axis).
+    pub counts_per_rev: Option<Spanned<f64>>,
 }
 
 /// `[axis.N]`: one DSP axis (the motor data and links MotionBASIC's set-up menus give).
@@ -316,6 +319,8 @@ pub struct AxisSetup {
     pub speed: Option<Spanned<f64>>,
     /// An input wired to the axis's fast input (REGIST), e.g. "ModuleInput.1".
     pub fast_input: Option<Spanned<String>>,
+    /// The axis's servo loop (`[axis.N.servo]`, the keys of `[servo]`); without it, ideal.
+    pub servo: Option<Spanned<ServoSection>>,
 }
 
 /// `[machine]`.

@@ -68,6 +68,16 @@ const FIELDS: &[(&str, &str)] = &[
         "a duration from 0 to 1 ms: seconds, or text with a unit (\"1us\")",
     ),
     ("servo.*", "a number"),
+    (
+        "axis.*.servo",
+        "a table (`[axis.1.servo]`, the keys of `[servo]`)",
+    ),
+    ("axis.*.servo.model", "text: ideal or cascade"),
+    (
+        "axis.*.servo.latch_delay",
+        "a duration from 0 to 1 ms: seconds, or text with a unit (\"1us\")",
+    ),
+    ("axis.*.servo.*", "a number"),
     ("index.*", "a table (`[index.0]`)"),
     (
         "index.*.type",

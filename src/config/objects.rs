@@ -62,6 +62,7 @@ pub fn objects(
         .map_or(crate::registry::DEFAULT_UPDATE_NS, |u| u.get_ref().0) as f64
         / 1e9;
     super::servo::servo(machine, update_s, &mut d, &mut drive, problems);
+    super::servo::dsp_initials(machine, &mut d);
     (d, drive)
 }
 
@@ -770,6 +771,7 @@ pub fn dsp_axes(machine: &MachineFile) -> Vec<DspAxisDesc> {
                 config: c,
                 defaults,
                 fast_input: None,
+                servo: None,
             })
         })
         .collect()

@@ -631,6 +631,45 @@ pub const AXIS: &[MemberDef] = &[
             "sensor edges and gating, a SENS.MODE@ string",
         ),
     )),
+    continuous(m(
+        "Feedback",
+        Real,
+        Read,
+        "feedback position, as Position is reported (Position itself on an ideal servo)",
+    )),
+    continuous(m(
+        "FollowingError",
+        Real,
+        Read,
+        "command minus feedback position",
+    )),
+    m(
+        "FollowingErrorLimit",
+        Real,
+        ReadWrite,
+        "fault above this following error",
+    ),
+    m(
+        "FollowingErrorEnable",
+        Bit,
+        ReadWrite,
+        "a following error above FollowingErrorLimit faults the axis",
+    ),
+    m(
+        "FollowingErrorFault",
+        Bit,
+        Read,
+        "the axis faulted on its following error: its motion stopped, until FaultReset",
+    ),
+    hook(
+        Hook::AxisSetting,
+        m(
+            "FaultReset",
+            Bit,
+            ReadWrite,
+            "write 1 to clear the axis's fault; its command restarts at the feedback",
+        ),
+    ),
 ];
 pub const BASIC_VAR: &[MemberDef] = &[m(
     "Value",

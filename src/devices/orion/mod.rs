@@ -4,6 +4,7 @@
 
 pub mod dsp;
 mod moves;
+mod servo;
 
 use super::command::{GearAfter, KernelFunc, MotionCmd};
 use super::regist::axes::{FastTrack, RegistAxes};
@@ -44,6 +45,8 @@ pub struct AxisSetUp {
     pub defaults: MoveDefaults,
     /// The input wired to its fast input (REGIST), if any.
     pub fast_input: Option<SlotId>,
+    /// Its servo loop (`[axis.N.servo]`); `None`: ideal, feedback equals command.
+    pub servo: Option<crate::devices::servo::ServoParams>,
 }
 
 /// What MOVE TO / MOVE FOR use when the statement gives no speed or time.
@@ -102,6 +105,8 @@ pub struct Orion {
     after: Vec<(SlotId, bool)>,
     /// REGIST on the axes' fast inputs.
     regist: RegistAxes,
+    /// The servo loop of each axis of `configs` (`None`: ideal).
+    servos: Vec<Option<servo::AxisLoop>>,
 }
 
 const SENSORS: [Sensor; 3] = [Sensor::Zref, Sensor::Asen, Sensor::Bsen];
@@ -156,6 +161,10 @@ impl Orion {
             members: MEMBERS,
             after: Vec::new(),
             regist,
+            servos: axes_set_up
+                .iter()
+                .map(|a| a.servo.map(servo::AxisLoop::new))
+                .collect(),
         })
     }
 
@@ -241,8 +250,8 @@ impl Orion {
                 _ => {}
             }
         }
-        for (i, c) in self.configs.iter().enumerate() {
-            let n = c.number;
+        for i in 0..self.configs.len() {
+            let n = self.configs[i].number;
             let m = self.members;
             self.regist
                 .note_position(i, self.dsp.position(n).map_err(|e| e.0)?);
@@ -253,7 +262,8 @@ impl Orion {
                     v[s as usize] = x;
                 }
             };
-            put(v, m.position, self.reported(i)?);
+            let reported = self.reported(i)?;
+            put(v, m.position, reported);
             put(v, m.velocity, self.dsp.velocity(n).map_err(|e| e.0)?);
             put(
                 v,
@@ -270,6 +280,7 @@ impl Orion {
                     self.dsp.latched_position(n, *sensor).map_err(|e| e.0)?,
                 );
             }
+            self.servo_update(i, reported, v, now)?;
         }
         Ok(())
     }
@@ -358,6 +369,12 @@ impl AxisSet for Orion {
             }
             _ => {
                 let r = match name {
+                    "FaultReset" => {
+                        if value != 0.0 {
+                            self.servo_reset(n, v)?;
+                        }
+                        return Ok(());
+                    }
                     "PosMod" => self.dsp.set_pos_mod(n, value),
                     "PlsMod" => self.dsp.set_pls_mod(n, value),
                     "SensMode" => {
@@ -391,6 +408,16 @@ impl AxisSet for Orion {
         v: &mut [f64],
     ) -> Result<(bool, Option<String>), String> {
         let axes = self.axes_of(mask)?;
+        if let Some(n) = axes.iter().find(|&n| self.servo_faulted(n)) {
+            // A faulted axis takes no motion until Axis.N.FaultReset: the statement is
+            // dropped, as a drive with its power stage off ignores commands.
+            return Ok((
+                true,
+                Some(format!(
+                    "axis {n} has a following-error fault: the motion statement is ignored until Axis.{n}.FaultReset"
+                )),
+            ));
+        }
         for n in axes.iter() {
             let depth = self
                 .configs

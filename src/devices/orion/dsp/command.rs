@@ -154,6 +154,16 @@ impl DspAxes {
     /// rest with its pacer, still in step with it. A superimposed correction already running
     /// ends over its pacer distance.
     pub fn stop(&mut self, axis: u32, decel: f64) -> Result<(), DspError> {
+        self.stop_axis(axis, decel, true)
+    }
+
+    /// Bring `axis` to rest by its own ramp, a geared axis too (its gear let go at the ratio it
+    /// moves at): a faulted axis's command, which its motor cannot follow.
+    pub fn halt(&mut self, axis: u32, decel: f64) -> Result<(), DspError> {
+        self.stop_axis(axis, decel, false)
+    }
+
+    fn stop_axis(&mut self, axis: u32, decel: f64, keep_gear: bool) -> Result<(), DspError> {
         let i = self.axis(axis)?;
         if !(decel.is_finite() && decel > 0.0) {
             return err(format!(
@@ -161,14 +171,20 @@ impl DspAxes {
             ));
         }
         let t = self.time();
+        let v = self.vel_at(i, t);
         let a = &mut self.axes[i];
         a.sup.queue.truncate(usize::from(a.sup.running.is_some()));
         let piece = a.base.piece_at(t);
-        if piece.geared() && a.pacer.is_some() {
+        if keep_gear && piece.geared() && a.pacer.is_some() {
             a.base.queue.truncate(usize::from(a.base.running.is_some()));
             return Ok(());
         }
-        let v = piece.velocity(t, 0.0, 0.0);
+        // A geared axis let go ramps down from the velocity its gear gives it now.
+        let v = if piece.geared() {
+            v
+        } else {
+            piece.velocity(t, 0.0, 0.0)
+        };
         a.base.queue.clear();
         a.base.running = None;
         if v != 0.0 {
