@@ -6,9 +6,10 @@
 //!
 //! The loop is computed at its own rate (`loop_rate`), a whole number of times inside each
 //! trajectory update, as a drive's DSP does: the command position is interpolated linearly
-//! across the update, every loop step samples the encoder and the reference at its start and
-//! holds its torque to the next step, and the motor's motion under a held torque is integrated
-//! exactly. The same commands give the same feedback, bit for bit.
+//! across the update, every loop step samples the encoder and the reference at its start (both
+//! in whole counts, as the drive compares them) and holds its torque to the next step, and the
+//! motor's motion under a held torque is integrated exactly. The same commands give the same
+//! feedback, bit for bit.
 //!
 //! Units: positions in the axis's user units, times in seconds; inertias in kg·m² and torque
 //! in N·m at the motor, turned into user units by the units per motor revolution. The gains
@@ -108,6 +109,22 @@ impl ServoParams {
     }
 }
 
+/// `x.floor()` without the library call the default x86-64 target makes of it (it has no
+/// rounding instruction): the loop quantizes every step. Exact for |x| < 2⁵²; beyond that
+/// every float is whole anyway.
+fn floor(x: f64) -> f64 {
+    if x.abs() < 4_503_599_627_370_496.0 {
+        let t = x as i64 as f64;
+        if t > x {
+            t - 1.0
+        } else {
+            t
+        }
+    } else {
+        x.floor()
+    }
+}
+
 /// What the motor is doing.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub enum Mode {
@@ -125,6 +142,8 @@ pub struct Servo {
     params: ServoParams,
     /// Counts per user unit.
     counts_per_unit: f64,
+    /// User units per count (the loop multiplies: a division every loop step costs).
+    unit_per_count: f64,
     /// Actual acceleration per acceleration reference: the inertia the drive assumes over the
     /// inertia it moves.
     plant_gain: f64,
@@ -161,6 +180,7 @@ impl Servo {
         Servo {
             params,
             counts_per_unit: params.counts_per_rev / params.units_per_rev,
+            unit_per_count: params.units_per_rev / params.counts_per_rev,
             plant_gain: params.nominal_inertia() / params.inertia(),
             accel_limit: params.acceleration_limit(),
             position,
@@ -183,12 +203,18 @@ impl Servo {
 
     /// The encoder's count of a position (whole counts, rounded down as an encoder counts).
     pub fn count_of(&self, position: f64) -> f64 {
-        (position * self.counts_per_unit).floor()
+        floor(position * self.counts_per_unit)
     }
 
     /// Feedback position: the encoder's count in user units.
     pub fn feedback(&self) -> f64 {
-        self.count_of(self.position) / self.counts_per_unit
+        self.in_counts(self.position)
+    }
+
+    /// A position in whole encoder counts, in user units: what the drive's position loop
+    /// compares (its command is in counts too).
+    fn in_counts(&self, position: f64) -> f64 {
+        self.count_of(position) * self.unit_per_count
     }
 
     /// Motor velocity, units/s (the velocity an observer on the encoder gives).
@@ -207,11 +233,34 @@ impl Servo {
         if dt.is_nan() || dt <= 0.0 {
             return;
         }
-        let n = self.params.steps_in(dt);
-        let h = dt / f64::from(n);
         let segment = self.segment(command, velocity, dt);
-        for k in 0..n {
-            self.loop_step(&segment, f64::from(k) * h, h);
+        // The command stands still across the update: a motor at rest on it (or held after a
+        // fault) computes nothing but zeros in every loop step, so the steps are skipped — the
+        // same result, bit for bit. An axis spends most of its time so.
+        let still = segment.slope == 0.0 && velocity == 0.0 && segment.accel == 0.0;
+        let resting = self.mode == Mode::Following
+            && self.velocity == 0.0
+            && self.integral == 0.0
+            && self.feedback() == self.in_counts(command);
+        if !(still && (resting || self.mode == Mode::Held)) {
+            let n = self.params.steps_in(dt);
+            let h = dt / f64::from(n);
+            for k in 0..n {
+                self.loop_step(&segment, f64::from(k) * h, h);
+            }
+            // Settled on a still command: the velocity and the integral decay toward 0 without
+            // ever reaching it in floating point; below a millionth of a count per second (and
+            // an integral worth as little) they are 0, so the motor rests.
+            let tiny = 1e-6 * self.unit_per_count;
+            if still
+                && self.mode == Mode::Following
+                && self.velocity.abs() < tiny
+                && self.integral.abs() < tiny
+                && self.feedback() == self.in_counts(command)
+            {
+                self.velocity = 0.0;
+                self.integral = 0.0;
+            }
         }
         self.command = (command, velocity);
     }
@@ -280,7 +329,7 @@ impl Servo {
         let p = &self.params;
         let accel = match self.mode {
             Mode::Following => {
-                let reference = s.from + s.slope * t;
+                let reference = self.in_counts(s.from + s.slope * t);
                 let error = reference - self.feedback();
                 let limit = p.velocity_limit;
                 let v_ref = (p.position_gain * error + p.velocity_feedforward * s.velocity)
@@ -509,6 +558,28 @@ mod tests {
             s.step(1000.0, 0.0, 1e-3);
         }
         assert!((s.velocity() - 3.0).abs() < 1e-6, "{}", s.velocity());
+    }
+
+    #[test]
+    fn the_quick_floor_is_floor() {
+        for x in [
+            0.0,
+            -0.0,
+            0.5,
+            -0.5,
+            1.0,
+            -1.0,
+            2.999_999,
+            -2.000_001,
+            1e15 + 0.5,
+            -1e15 - 0.5,
+            1e300,
+            -1e300,
+        ] {
+            assert_eq!(floor(x), x.floor(), "{x}");
+        }
+        assert!(floor(f64::NAN).is_nan());
+        assert_eq!(floor(f64::NEG_INFINITY), f64::NEG_INFINITY);
     }
 
     #[test]
