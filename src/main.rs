@@ -290,7 +290,7 @@ fn resolve_io(io: Option<&str>, loaded: &pacer::load::Loaded) -> Result<Option<R
     };
     if let Some(d) = loaded.image.devices.iter().find(|d| !d.safe_state()) {
         return Err(format!(
-            "--io modbus: this machine has {}, which pacer cannot yet bring to a stop on an I/O fault; real I/O runs PowerTools and pick & place machines",
+            "--io modbus: this machine has {}, which pacer cannot bring to a stop on an I/O fault",
             d.describe()
         ));
     }

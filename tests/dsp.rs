@@ -626,3 +626,46 @@ fn a_step_at_the_start_of_an_update_crosses_marks_at_that_instant() {
     assert_eq!(l.len(), 2, "{l:?}");
     assert_eq!((l[1].0, l[1].2, l[1].3), (2, 0.01, 12.5));
 }
+
+#[test]
+fn a_stop_ramps_the_web_to_rest_and_the_geared_knife_with_it() {
+    // Web at 600 RPM = 1000 units/s, knife geared at 0.24 with a queued ratio change and a
+    // queued correction: the stop drops what is queued, ramps the web down at 2000 units/s²
+    // (0.5 s, 250 units) and the knife follows it, still in step.
+    let mut s = web_knife(100.0, 0.0007);
+    s.d.move_at(1, 600.0, 0.0).unwrap();
+    s.d.gear_at(2, 3600.0, 15000.0, None, None).unwrap();
+    s.run_to(0.3);
+    s.d.gear_at(2, 3600.0, 12000.0, Some(5000.0), Some(After::Input(1)))
+        .unwrap();
+    s.d.move_at(3, 6.0, 0.0).unwrap();
+    let (t0, w0, k0) = (s.d.time(), s.pos(1), s.pos(2));
+    s.d.stop(1, 2000.0).unwrap();
+    s.d.stop(2, 2000.0).unwrap();
+    s.d.stop(3, 100.0).unwrap();
+    assert!(s.d.stop(1, 0.0).is_err());
+    s.run_to(t0 + 0.25);
+    let tau = s.d.time() - t0;
+    assert!(close(
+        s.pos(1),
+        w0 + 1000.0 * tau - 1000.0 * tau * tau,
+        1e-9
+    ));
+    s.run_to(t0 + 1.0);
+    assert_eq!(s.d.velocity(1).unwrap(), 0.0);
+    assert!(close(s.pos(1) - w0, 250.0, 1e-9), "{}", s.pos(1) - w0);
+    assert!(
+        close(s.pos(2) - k0, 0.24 * 250.0, 1e-9),
+        "{}",
+        s.pos(2) - k0
+    );
+    assert_eq!(
+        s.d.ratio(2).unwrap(),
+        Some(0.24),
+        "the queued ratio change is dropped"
+    );
+    assert_eq!(s.d.motion_state(1).unwrap(), None);
+    assert_eq!(s.d.motion_state(2).unwrap(), None);
+    // Axis 3 had a MOVE queued, not yet started at the stop: it never moved.
+    assert_eq!(s.pos(3), 0.0);
+}

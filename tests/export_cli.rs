@@ -301,6 +301,7 @@ fn the_csv_has_every_position_and_velocity_by_default_one_row_per_update() {
             "MasterVelFeedback",
             "PosnCommand",
             "PosnFeedback",
+            "VelFeedback",
             "VelCommand"
         ]
     );
@@ -314,6 +315,7 @@ fn the_csv_has_every_position_and_velocity_by_default_one_row_per_update() {
         assert_eq!(r[3], 20.0);
         // An ideal servo: feedback is command.
         assert_eq!(r[4], r[5]);
+        assert_eq!(r[6], r[7]);
     }
 }
 

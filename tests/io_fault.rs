@@ -394,3 +394,112 @@ fn ctrl_c_ends_a_real_time_run_after_the_update_with_the_outputs_safe() {
     let d = device.0.lock().expect("device lock");
     assert_eq!(d.coils[..2], [false, true]);
 }
+
+/// A MotionBASIC machine on the memory device: the web (axis 1) runs at 600 RPM = 6000 units/s,
+/// the knife (axis 2) geared 1:4 to it; the device is lost at 1.1 s.
+const MB_MACHINE: &str = r#"
+[machine]
+name = "dsp-fault"
+update = "1ms"
+
+[[program]]
+number = 0
+file = "web.mb"
+
+[axis.1]
+units_per_rev = 600
+accel = 12000
+
+[axis.2]
+units_per_rev = 3600
+pacer = 1
+
+[modbus]
+host = "memory"
+
+[[modbus.map]]
+kind = "discrete_input"
+address = 0
+member = "DriveInput.1"
+
+[[modbus.map]]
+kind = "coil"
+address = 0
+member = "DriveIO.1.Out"
+"#;
+
+const MB_PROGRAM: &str = "w~ = {1} : k~ = {2}
+GEAR k~ AT 1 TO 4
+MOVE w~ AT 600 IN 200
+END
+";
+
+#[test]
+fn a_lost_device_ramps_the_dsp_axes_to_rest_the_knife_in_step_with_the_web() {
+    let device = Shared::default();
+    let sink = common::Sink::default();
+    let dir = common::project(
+        "io-fault-dsp",
+        &[("web.mb", MB_PROGRAM), ("machine.toml", MB_MACHINE)],
+    );
+    let loaded = load(&LoadRequest {
+        paths: vec![dir.clone()],
+        ..Default::default()
+    });
+    let _ = std::fs::remove_dir_all(&dir);
+    let loaded = loaded.unwrap_or_else(|d| panic!("{}", d.render_plain()));
+    assert!(loaded.image.devices.iter().all(|d| d.safe_state()));
+    let map = loaded.io_map.clone().expect("the [modbus] map");
+    let mut supervisor = Supervisor::new(PlanBackend::new(map, device.clone()), Backoff::default());
+    supervisor.open().expect("the memory device is there");
+    let tick = loaded.image.tick_ns;
+    let mut machine = Machine::new(loaded.image, Trace::new(Some(Box::new(sink.clone())), tick));
+    assert_eq!(machine.attach_io(Box::new(supervisor)), 0);
+    let lost = IoFault::Disconnected {
+        device: "memory".into(),
+        cause: "connection reset by peer".into(),
+    };
+    // (web position, web velocity, knife position) after every update.
+    let mut axes = Vec::new();
+    machine.run_observed(Some(2_500_000_000), &mut |m| {
+        axes.push((
+            m.value_of("Axis.1.Position").expect("web"),
+            m.value_of("Axis.1.Velocity").expect("web velocity"),
+            m.value_of("Axis.2.Position").expect("knife"),
+        ));
+        let next = (m.time() * 1000.0).round() as u64 + 1;
+        let mut d = device.lock();
+        match next {
+            1100 => d.down = Some(lost.clone()),
+            1500 => d.down = None,
+            _ => {}
+        }
+    });
+    machine.finish().expect("in-memory trace");
+    let faults = sink
+        .text()
+        .lines()
+        .filter(|l| l.contains("\"io_fault\""))
+        .count();
+    assert_eq!(faults, 1);
+    // Cruising at 6000 units/s at the fault's update; from there down at 12,000 units/s²:
+    // 0.5 s and 6000² / (2 × 12,000) = 1500 units of web, the knife a quarter of it.
+    // (The observer sees update n + 1 at index n.)
+    let (w0, v0, k0) = axes[1099];
+    assert_eq!(v0, 6000.0);
+    assert!(axes[1100].1 < 6000.0);
+    let stopped = (1099..axes.len())
+        .find(|&i| axes[i].1 == 0.0)
+        .expect("the web stops");
+    assert_eq!(stopped, 1599);
+    let (w1, _, k1) = axes[axes.len() - 1];
+    assert!((w1 - w0 - 1500.0).abs() < 1e-6, "{}", w1 - w0);
+    assert!((k1 - k0 - 375.0).abs() < 1e-6, "{}", k1 - k0);
+    for w in axes[1099..=stopped].windows(2) {
+        let dv = w[0].1 - w[1].1;
+        assert!((-1e-9..=12.0 + 1e-9).contains(&dv), "{dv}");
+    }
+    assert!(axes[stopped..]
+        .iter()
+        .all(|&(w, v, k)| v == 0.0 && w == w1 && k == k1));
+}

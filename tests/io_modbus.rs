@@ -690,21 +690,26 @@ fn io_options_that_cannot_work_are_errors() {
         1,
         "machine.toml has no [modbus] section",
     );
-    // A MotionBASIC machine with DSP axes is refused (an I/O fault could not stop them).
-    let dsp = variant(
-        "dsp",
-        &root().join("programs/regist/case1"),
-        "[machine]",
-        "[modbus]\nhost = \"127.0.0.1\"\n\n[machine]",
-    );
-    let dsp = dsp.to_str().expect("utf-8 path");
-    refused(&[dsp, "--io", "modbus"], 1, "MotionBASIC DSP axes");
-    // `[modbus] enabled = true` makes the coupler the default (here nothing listens: the run
-    // stops before it starts); `--io sim` still simulates.
     let closed = std::net::TcpListener::bind("127.0.0.1:0")
         .and_then(|l| l.local_addr())
         .expect("a free port")
         .port();
+    // A MotionBASIC machine with DSP axes is no longer refused (its axes ramp to rest on an
+    // I/O fault): here it goes on to connect, and nothing listens.
+    let dsp = variant(
+        "dsp",
+        &root().join("programs/regist/case1"),
+        "[machine]",
+        &format!("[modbus]\nhost = \"127.0.0.1\"\nport = {closed}\n\n[machine]"),
+    );
+    let dsp = dsp.to_str().expect("utf-8 path");
+    refused(
+        &[dsp, "--io", "modbus", "--for", "1"],
+        3,
+        &format!("modbus://127.0.0.1:{closed} unit 1: not connected"),
+    );
+    // `[modbus] enabled = true` makes the coupler the default (here nothing listens: the run
+    // stops before it starts); `--io sim` still simulates.
     let enabled = variant(
         "enabled",
         &checkweigher("enabled-base"),
@@ -722,4 +727,61 @@ fn io_options_that_cannot_work_are_errors() {
     // The simulator is still the default, and `--io sim` names it.
     let o = common::pacer(&["run", "programs/checkweigher", "--io", "sim", "--quiet"]);
     assert!(o.status.success(), "{}", common::text(&o));
+}
+
+#[test]
+fn the_web_registration_machine_survives_a_killed_server_with_its_dsp_axes_ramped_to_rest() {
+    let dir = common::scratch_in("io-modbus", "web-kill");
+    let mut server = Peer::start(0, 100);
+    let port = server.port;
+    // The web's velocity (units/s) and the knife's position in holding registers 0–3, a spare
+    // input: the programs do no I/O of their own, the map is how the coupler sees the axes.
+    let map = "[modbus]\nhost = \"127.0.0.1\"\ntimeout = \"50ms\"\noverrun_limit = 0\n\n\
+        [[modbus.map]]\nkind = \"discrete_input\"\naddress = 0\nmember = \"DriveInput.1\"\n\n\
+        [[modbus.map]]\nkind = \"holding_register\"\naddress = 0\ncount = 2\n\
+        member = \"Axis.1.Velocity\"\nsigned = true\n\n\
+        [[modbus.map]]\nkind = \"holding_register\"\naddress = 2\ncount = 2\n\
+        member = \"Axis.2.Position\"\nsigned = true\n\n[machine]";
+    let machine = variant(
+        "web-kill-machine",
+        &root().join("programs/web-registration"),
+        "[machine]",
+        map,
+    );
+    let velocity = |server: &mut Peer| {
+        let w = server.get("hr", 0, 2);
+        (((w[0] << 16) | w[1]) as u32) as i32
+    };
+    let mut run = Run::start(&machine, port, dir.join("t.jsonl"));
+    // MOVE web~ AT 1000 IN 1000: 1000 RPM of 6000 units per revolution.
+    run.wait_until("the web at 1000 RPM", || velocity(&mut server) == 100_000);
+
+    server.kill();
+    std::thread::sleep(Duration::from_millis(300));
+    let mut server = Peer::start(port, 100);
+    // Back: the safe values first (registers 0), then the axes as they are — the web ramping
+    // down at 10 revolutions/s² (1.67 s from 1000 RPM) and then at rest, the knife with it.
+    run.wait_until("the web at rest", || {
+        server.log().iter().any(|l| l["op"] == "write") && velocity(&mut server) == 0
+    });
+    let knife = server.get("hr", 2, 2);
+    std::thread::sleep(Duration::from_millis(200));
+    assert_eq!(server.get("hr", 2, 2), knife, "the knife stands still");
+    assert_eq!(velocity(&mut server), 0);
+
+    let (out, events) = run.interrupt();
+    let printed = common::text(&out);
+    assert!(out.status.success(), "{printed}");
+    assert!(
+        printed.contains("1 fault(s), 1 reconnection(s)"),
+        "{printed}"
+    );
+    assert_whole(&events);
+    assert_eq!(of_kind(&events, "io_fault").len(), 1);
+    assert_eq!(of_kind(&events, "io_reconnect").len(), 1);
+    assert!(
+        of_kind(&events, "error").is_empty(),
+        "{:?}",
+        of_kind(&events, "error")
+    );
 }

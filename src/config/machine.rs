@@ -49,6 +49,9 @@ pub struct MachineFile {
     /// Source → destination assignments.
     #[serde(default, rename = "assignment")]
     pub assignments: Vec<AssignmentEntry>,
+    /// The servo loop of the PowerTools drive's axis (`[servo]`); without it the servo is
+    /// ideal (feedback equals command).
+    pub servo: Option<Spanned<ServoSection>>,
     /// ORION DSP axes by number (`[axis.1]`), for MotionBASIC programs.
     #[serde(default)]
     pub axis: IndexMap<String, Spanned<AxisSetup>>,
@@ -264,6 +267,44 @@ impl<'de> serde::de::Visitor<'de> for TomlValueVisitor {
     }
 }
 
+/// `[servo]`: the drive's position / velocity loop, its motor and load, its limits. Checked
+/// by `config::servo`.
+#[derive(Debug, Clone, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ServoSection {
+    /// `ideal` (feedback equals command, the default) or `cascade` (the loop below).
+    pub model: Option<Spanned<String>>,
+    /// Loop updates per second, Hz (default 8000).
+    pub loop_rate: Option<Spanned<f64>>,
+    /// Position gain, 1/s.
+    pub position_gain: Option<Spanned<f64>>,
+    /// Velocity gain (the velocity loop's bandwidth), rad/s.
+    pub velocity_gain: Option<Spanned<f64>>,
+    /// Velocity integral gain, 1/s².
+    pub velocity_integral: Option<Spanned<f64>>,
+    /// Velocity feedforward, percent.
+    pub velocity_feedforward: Option<Spanned<f64>>,
+    /// Acceleration feedforward, percent.
+    pub acceleration_feedforward: Option<Spanned<f64>>,
+    /// Rotor inertia, kg·m².
+    pub motor_inertia: Option<Spanned<f64>>,
+    /// Load inertia reflected to the motor, kg·m².
+    pub load_inertia: Option<Spanned<f64>>,
+    /// The drive's inertia ratio setting (default: the load's over the motor's).
+    pub inertia_ratio: Option<Spanned<f64>>,
+    /// Peak torque, N·m.
+    pub torque_limit: Option<Spanned<f64>>,
+    /// Highest velocity, units/s.
+    pub velocity_limit: Option<Spanned<f64>>,
+    /// FollowingErrorLimit at the start, units; giving it sets FollowingErrorEnable.
+    pub following_error_limit: Option<Spanned<f64>>,
+    /// From a capture input's edge to the encoder count latched (default 1 µs).
+    pub latch_delay: Option<Spanned<Duration>>,
+    /// Encoder counts per motor revolution (default: `[units] motor_counts_per_rev` for the
+    /// drive, 4096 for a DSP axis).
+    pub counts_per_rev: Option<Spanned<f64>>,
+}
+
 /// `[axis.N]`: one DSP axis (the motor data and links MotionBASIC's set-up menus give).
 #[derive(Debug, Clone, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -282,6 +323,8 @@ pub struct AxisSetup {
     pub speed: Option<Spanned<f64>>,
     /// An input wired to the axis's fast input (REGIST), e.g. "ModuleInput.1".
     pub fast_input: Option<Spanned<String>>,
+    /// The axis's servo loop (`[axis.N.servo]`, the keys of `[servo]`); without it, ideal.
+    pub servo: Option<Spanned<ServoSection>>,
 }
 
 /// `[machine]`.

@@ -61,6 +61,23 @@ const FIELDS: &[(&str, &str)] = &[
     ("units.motor", "text (the unit's name)"),
     ("units.master", "text (the unit's name)"),
     ("units.*", "a number above 0"),
+    ("servo", "a table: write `[servo]` once"),
+    ("servo.model", "text: ideal or cascade"),
+    (
+        "servo.latch_delay",
+        "a duration from 0 to 1 ms: seconds, or text with a unit (\"1us\")",
+    ),
+    ("servo.*", "a number"),
+    (
+        "axis.*.servo",
+        "a table (`[axis.1.servo]`, the keys of `[servo]`)",
+    ),
+    ("axis.*.servo.model", "text: ideal or cascade"),
+    (
+        "axis.*.servo.latch_delay",
+        "a duration from 0 to 1 ms: seconds, or text with a unit (\"1us\")",
+    ),
+    ("axis.*.servo.*", "a number"),
     ("index.*", "a table (`[index.0]`)"),
     (
         "index.*.type",

@@ -19,6 +19,7 @@ pub mod modbus;
 pub mod objects;
 pub mod pickplace;
 pub mod scenario;
+pub mod servo;
 pub mod values;
 pub mod world;
 
@@ -147,6 +148,12 @@ pub fn machine(
     let assignments = links::assignments(file, &registry, programs, problems);
     let pickplace = pickplace::setup(file, problems);
     let mut dsp = objects::dsp_axes(file);
+    let update_s = m
+        .update
+        .as_ref()
+        .map_or(DEFAULT_UPDATE_NS, |u| u.get_ref().0) as f64
+        / 1e9;
+    servo::dsp_servos(file, update_s, &mut dsp, problems);
     if !dsp.is_empty() {
         let configs: Vec<_> = dsp.iter().map(|a| a.config.clone()).collect();
         if let Err(e) = crate::devices::orion::dsp::DspAxes::new(&configs) {

@@ -55,6 +55,14 @@ pub fn objects(
     plss(machine, &mut d, &mut drive, problems);
     super::pickplace::initials(machine, &mut d, problems);
     axis_set_up(machine, &mut drive, problems);
+    let update_s = machine
+        .machine
+        .update
+        .as_ref()
+        .map_or(crate::registry::DEFAULT_UPDATE_NS, |u| u.get_ref().0) as f64
+        / 1e9;
+    super::servo::servo(machine, update_s, &mut d, &mut drive, problems);
+    super::servo::dsp_initials(machine, &mut d);
     (d, drive)
 }
 
@@ -763,6 +771,7 @@ pub fn dsp_axes(machine: &MachineFile) -> Vec<DspAxisDesc> {
                 config: c,
                 defaults,
                 fast_input: None,
+                servo: None,
             })
         })
         .collect()

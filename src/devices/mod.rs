@@ -19,6 +19,7 @@ pub mod drive;
 pub mod orion;
 pub mod pickplace;
 pub mod regist;
+pub mod servo;
 
 use crate::registry::{Hook, SlotId};
 use crate::trace::Trace;

@@ -78,6 +78,8 @@ hooks! {
     FeedRateOverride,
     /// Clears an index's ProfileLimited (`Index.N.ResetProfileLimited`).
     ProfileLimitedReset,
+    /// Clears the drive's fault (`FaultReset`).
+    FaultReset,
     /// Re-arms a DSP axis latch (`ASEN@(axis) = 0`).
     AxisLatch,
     /// A DSP axis setting the kernel applies at once (POS.MOD@, PLS…@, SENS.MODE@).
@@ -629,6 +631,45 @@ pub const AXIS: &[MemberDef] = &[
             "sensor edges and gating, a SENS.MODE@ string",
         ),
     )),
+    continuous(m(
+        "Feedback",
+        Real,
+        Read,
+        "feedback position, as Position is reported (Position itself on an ideal servo)",
+    )),
+    continuous(m(
+        "FollowingError",
+        Real,
+        Read,
+        "command minus feedback position",
+    )),
+    m(
+        "FollowingErrorLimit",
+        Real,
+        ReadWrite,
+        "fault above this following error",
+    ),
+    m(
+        "FollowingErrorEnable",
+        Bit,
+        ReadWrite,
+        "a following error above FollowingErrorLimit faults the axis",
+    ),
+    m(
+        "FollowingErrorFault",
+        Bit,
+        Read,
+        "the axis faulted on its following error: its motion stopped, until FaultReset",
+    ),
+    hook(
+        Hook::AxisSetting,
+        m(
+            "FaultReset",
+            Bit,
+            ReadWrite,
+            "write 1 to clear the axis's fault; its command restarts at the feedback",
+        ),
+    ),
 ];
 pub const BASIC_VAR: &[MemberDef] = &[m(
     "Value",
@@ -710,6 +751,27 @@ pub const MOTION: &[MemberDef] = &[
         ReadWrite,
         "fault above this following error",
     ),
+    m(
+        "FollowingErrorEnable",
+        Bit,
+        ReadWrite,
+        "a following error above FollowingErrorLimit faults the drive",
+    ),
+    m(
+        "FollowingErrorFault",
+        Bit,
+        Read,
+        "the drive faulted on its following error: motion stopped, until FaultReset",
+    ),
+    hook(
+        Hook::FaultReset,
+        m(
+            "FaultReset",
+            Bit,
+            Action,
+            "clear the drive's fault; the command restarts at the feedback position",
+        ),
+    ),
     continuous(m(
         "FreeRunTime",
         Integer,
@@ -735,6 +797,12 @@ pub const MOTION: &[MemberDef] = &[
         "motor command position (both profiles added)",
     )),
     continuous(m("PosnFeedback", Real, Read, "motor feedback position")),
+    continuous(m(
+        "VelFeedback",
+        Real,
+        Read,
+        "motor feedback velocity, units per second",
+    )),
     continuous(m(
         "VelCommand",
         Real,

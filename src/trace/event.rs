@@ -112,6 +112,10 @@ pub enum MotionPhase {
         /// Axis position at the end.
         #[serde(deserialize_with = "real")]
         position: f64,
+        /// Feedback position at this update, with a servo model (`[servo]`) only: the
+        /// command position less the following error (an ideal servo leaves it out).
+        #[serde(default, skip_serializing_if = "Option::is_none")]
+        feedback: Option<f64>,
     },
 }
 
@@ -430,6 +434,19 @@ pub enum Event<'a> {
         /// Why.
         cause: Text<'a>,
     },
+    /// A drive faulted: its motion stopped.
+    Fault {
+        /// The axis (`Motion` for the PowerTools drive's).
+        axis: Text<'a>,
+        /// Which fault (`following_error`).
+        fault: Text<'a>,
+        /// The command position when it faulted.
+        command: f64,
+        /// The feedback position when it faulted.
+        feedback: f64,
+        /// The limit it passed.
+        limit: f64,
+    },
     /// The I/O link is back.
     IoReconnect {
         /// The device.
@@ -495,6 +512,7 @@ event_kinds! {
     PpHomed => "pp_homed",
     IoFault => "io_fault",
     IoReconnect => "io_reconnect",
+    Fault => "fault",
 }
 
 impl std::fmt::Display for EventKind {
@@ -537,6 +555,7 @@ impl Event<'_> {
             Event::PpHomed { .. } => EventKind::PpHomed,
             Event::IoFault { .. } => EventKind::IoFault,
             Event::IoReconnect { .. } => EventKind::IoReconnect,
+            Event::Fault { .. } => EventKind::Fault,
         }
     }
 
@@ -619,6 +638,7 @@ impl Event<'_> {
                     end: 2.25,
                     master: 30.0,
                     position: 6.5,
+                    feedback: Some(6.4975),
                 },
             },
             EventKind::Latch => Event::Latch {
@@ -720,6 +740,13 @@ impl Event<'_> {
             EventKind::IoReconnect => Event::IoReconnect {
                 device: "modbus://127.0.0.1:5020 unit 1".into(),
                 attempts: 3,
+            },
+            EventKind::Fault => Event::Fault {
+                axis: "Motion".into(),
+                fault: "following_error".into(),
+                command: 12.5,
+                feedback: 12.25,
+                limit: 0.2,
             },
         }
     }

@@ -9,6 +9,7 @@ mod marks;
 pub mod motion;
 mod objects;
 pub mod queue;
+mod servo;
 pub mod setup;
 mod start;
 pub mod timer;
@@ -91,6 +92,8 @@ pub struct Drive {
     units: Units,
     /// The edge (time, master position) an initiate from an input starts at, while it runs.
     edge_start: Option<(f64, f64)>,
+    /// The servo loop behind the axis (`None`: ideal, feedback equals command).
+    servo: Option<servo::ServoLoop>,
 }
 
 impl Drive {
@@ -162,6 +165,7 @@ impl Drive {
             rollover: setup.rollover,
             units: setup.units.clone(),
             edge_start: None,
+            servo: setup.servo.map(servo::ServoLoop::new),
         }
     }
 
@@ -271,6 +275,7 @@ impl Drive {
             .pending
             .extend(crossings.into_iter().map(|(e, _)| e));
         self.sensors.previous = (clocks.time, self.axis.command());
+        let (feedback, feedback_velocity) = self.step_servo(now);
         for e in &events {
             match *e {
                 Event::Started {
@@ -301,6 +306,7 @@ impl Drive {
                                 end,
                                 master: now.master,
                                 position,
+                                feedback: self.event_feedback(feedback),
                             },
                         },
                     );
@@ -324,12 +330,15 @@ impl Drive {
                 }
             }
         }
+        self.check_following_error(feedback, v, now);
         let a = self.slots.axis;
-        let reported = self.wrap(self.axis.command());
-        v[a.command as usize] = reported;
-        v[a.feedback as usize] = reported;
+        let command = self.axis.command();
+        v[a.command as usize] = self.wrap(command);
+        v[a.feedback as usize] = self.wrap(feedback);
+        v[a.vel_feedback as usize] = feedback_velocity;
+        v[a.following_error as usize] = command - feedback;
         // In motor revolutions and encoder counts (the encoders count whole counts).
-        let revs = self.axis.command() / self.units.motor_per_rev;
+        let revs = feedback / self.units.motor_per_rev;
         v[a.revs as usize] = revs;
         v[a.counts as usize] = (revs * self.units.motor_counts_per_rev).floor();
         v[a.master_counts as usize] = (now.master * self.units.master_counts_per_unit).floor();
@@ -440,6 +449,7 @@ impl Device for Drive {
                 | Hook::MotionInput
                 | Hook::FeedRateOverride
                 | Hook::ProfileLimitedReset
+                | Hook::FaultReset
         )
     }
 
@@ -459,11 +469,15 @@ impl Device for Drive {
     fn derive(&mut self, v: &mut [f64], now: &mut Now<'_>) {
         let command = self.axis.command();
         let velocity = self.axis.velocity();
+        // The feedback is the command's on an ideal servo.
+        let feedback = command - v[self.slots.axis.following_error as usize];
+        let feedback_velocity = v[self.slots.axis.vel_feedback as usize];
         let master_speed = now.master_speed();
         for pls in &self.objects.plss {
             let (p, vel) = match pls.config.source {
                 QueueSource::Master => (now.master, master_speed),
-                QueueSource::Feedback | QueueSource::Command => (command, velocity),
+                QueueSource::Feedback => (feedback, feedback_velocity),
+                QueueSource::Command => (command, velocity),
             };
             pls.evaluate(p, vel, v);
         }
@@ -471,7 +485,8 @@ impl Device for Drive {
         for (q, source) in o.queues.iter_mut().zip(&o.queue_sources) {
             let position = match source {
                 QueueSource::Master => now.master,
-                QueueSource::Feedback | QueueSource::Command => command,
+                QueueSource::Feedback => feedback,
+                QueueSource::Command => command,
             };
             q.compare(position, v, now.trace, now.tick);
         }
@@ -523,7 +538,7 @@ impl Device for Drive {
                             Positions {
                                 master: now.master_at(t),
                                 command,
-                                feedback: command,
+                                feedback: self.latched_feedback(t, command, v, now),
                             },
                         )
                     }
@@ -546,7 +561,8 @@ impl Device for Drive {
             | Hook::TimerStop
             | Hook::MotionStart
             | Hook::MotionStop
-            | Hook::ProfileLimitedReset => {
+            | Hook::ProfileLimitedReset
+            | Hook::FaultReset => {
                 if value != 0.0 {
                     self.act(target, StartRef::Now, 0, When::Now, v, now)?;
                 }
@@ -578,6 +594,7 @@ impl Device for Drive {
                     v[ix.s.profile_limited as usize] = 0.0;
                 }
             }
+            Hook::FaultReset => self.fault_reset(v),
             Hook::MotionStop => {
                 if let Some(owner) = self.owner_of(target) {
                     self.stop_motion(owner, v, now);

@@ -79,6 +79,11 @@ crate::bind_slots! {
     pub struct AxisSlots for MOTION_TYPE {
         command: "PosnCommand",
         feedback: "PosnFeedback",
+        vel_feedback: "VelFeedback",
+        following_error: "FollowingError",
+        fe_limit: "FollowingErrorLimit",
+        fe_enable: "FollowingErrorEnable",
+        fault: "FollowingErrorFault",
         velocity: "VelCommand",
         revs: "MotorRevs",
         counts: "MotorCounts",

@@ -124,4 +124,6 @@ pub struct DriveSetup {
     pub rollover: f64,
     /// User units.
     pub units: Units,
+    /// The servo loop (`[servo]`); `None`: the ideal servo, feedback equals command.
+    pub servo: Option<crate::devices::servo::ServoParams>,
 }

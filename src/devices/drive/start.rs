@@ -61,6 +61,10 @@ impl Drive {
         if self.axis.profiles[p].busy() {
             return Ok(ActOutcome::ProfileBusy);
         }
+        if self.faulted() {
+            self.refuse_faulted(&format!("{owner} initiate"), now);
+            return Ok(ActOutcome::Done);
+        }
         match owner {
             Owner::Home(i) => self.start_home(i, start, p, v, now),
             Owner::Gear => self.start_gear(start, p, v, now),

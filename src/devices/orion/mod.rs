@@ -4,6 +4,7 @@
 
 pub mod dsp;
 mod moves;
+mod servo;
 
 use super::command::{GearAfter, KernelFunc, MotionCmd};
 use super::regist::axes::{FastTrack, RegistAxes};
@@ -44,6 +45,8 @@ pub struct AxisSetUp {
     pub defaults: MoveDefaults,
     /// The input wired to its fast input (REGIST), if any.
     pub fast_input: Option<SlotId>,
+    /// Its servo loop (`[axis.N.servo]`); `None`: ideal, feedback equals command.
+    pub servo: Option<crate::devices::servo::ServoParams>,
 }
 
 /// What MOVE TO / MOVE FOR use when the statement gives no speed or time.
@@ -102,6 +105,8 @@ pub struct Orion {
     after: Vec<(SlotId, bool)>,
     /// REGIST on the axes' fast inputs.
     regist: RegistAxes,
+    /// The servo loop of each axis of `configs` (`None`: ideal).
+    servos: Vec<Option<servo::AxisLoop>>,
 }
 
 const SENSORS: [Sensor; 3] = [Sensor::Zref, Sensor::Asen, Sensor::Bsen];
@@ -156,6 +161,10 @@ impl Orion {
             members: MEMBERS,
             after: Vec::new(),
             regist,
+            servos: axes_set_up
+                .iter()
+                .map(|a| a.servo.map(servo::AxisLoop::new))
+                .collect(),
         })
     }
 
@@ -241,8 +250,8 @@ impl Orion {
                 _ => {}
             }
         }
-        for (i, c) in self.configs.iter().enumerate() {
-            let n = c.number;
+        for i in 0..self.configs.len() {
+            let n = self.configs[i].number;
             let m = self.members;
             self.regist
                 .note_position(i, self.dsp.position(n).map_err(|e| e.0)?);
@@ -253,7 +262,8 @@ impl Orion {
                     v[s as usize] = x;
                 }
             };
-            put(v, m.position, self.reported(i)?);
+            let reported = self.reported(i)?;
+            put(v, m.position, reported);
             put(v, m.velocity, self.dsp.velocity(n).map_err(|e| e.0)?);
             put(
                 v,
@@ -270,6 +280,7 @@ impl Orion {
                     self.dsp.latched_position(n, *sensor).map_err(|e| e.0)?,
                 );
             }
+            self.servo_update(i, reported, v, now)?;
         }
         Ok(())
     }
@@ -358,6 +369,12 @@ impl AxisSet for Orion {
             }
             _ => {
                 let r = match name {
+                    "FaultReset" => {
+                        if value != 0.0 {
+                            self.servo_reset(n, v)?;
+                        }
+                        return Ok(());
+                    }
                     "PosMod" => self.dsp.set_pos_mod(n, value),
                     "PlsMod" => self.dsp.set_pls_mod(n, value),
                     "SensMode" => {
@@ -391,6 +408,16 @@ impl AxisSet for Orion {
         v: &mut [f64],
     ) -> Result<(bool, Option<String>), String> {
         let axes = self.axes_of(mask)?;
+        if let Some(n) = axes.iter().find(|&n| self.servo_faulted(n)) {
+            // A faulted axis takes no motion until Axis.N.FaultReset: the statement is
+            // dropped, as a drive with its power stage off ignores commands.
+            return Ok((
+                true,
+                Some(format!(
+                    "axis {n} has a following-error fault: the motion statement is ignored until Axis.{n}.FaultReset"
+                )),
+            ));
+        }
         for n in axes.iter() {
             let depth = self
                 .configs
@@ -477,11 +504,6 @@ impl Device for Orion {
         "MotionBASIC DSP axes"
     }
 
-    /// The DSP axes have no stop ramp yet: an I/O fault could not bring them to rest.
-    fn safe_state(&self) -> bool {
-        false
-    }
-
     fn serves(&self, hook: Hook) -> bool {
         matches!(hook, Hook::AxisLatch | Hook::AxisSetting)
     }
@@ -516,6 +538,17 @@ impl Device for Orion {
         _now: &mut Now<'_>,
     ) -> Result<ActOutcome, String> {
         Err(format!("{:?} is not an action", target.hook))
+    }
+
+    /// `Stop` or an I/O fault: each axis ramps to rest at its `[axis.N] accel` (the
+    /// deceleration of its MOVE TO/FOR), pacers and time-based axes by their own ramp, geared
+    /// axes with their pacer.
+    fn stop_all(&mut self, _v: &mut [f64], now: &mut Now<'_>) {
+        for (c, d) in self.configs.iter().zip(&self.defaults) {
+            if let Err(e) = self.dsp.stop(c.number, d.accel) {
+                now.trace.machine_warning(now.tick, e.0);
+            }
+        }
     }
 
     fn moving(&self, _master_moves: bool, out: &mut Vec<crate::devices::Moving>) {

@@ -148,6 +148,54 @@ impl DspAxes {
         Ok(())
     }
 
+    /// Bring `axis` to rest for a stop (an I/O fault's safe state): what is queued is dropped,
+    /// a time-based axis ramps its velocity linearly to 0 at `decel` units/s² from the current
+    /// time, and a geared axis keeps its gear (its running ratio ramp included) and so comes to
+    /// rest with its pacer, still in step with it. A superimposed correction already running
+    /// ends over its pacer distance.
+    pub fn stop(&mut self, axis: u32, decel: f64) -> Result<(), DspError> {
+        self.stop_axis(axis, decel, true)
+    }
+
+    /// Bring `axis` to rest by its own ramp, a geared axis too (its gear let go at the ratio it
+    /// moves at): a faulted axis's command, which its motor cannot follow.
+    pub fn halt(&mut self, axis: u32, decel: f64) -> Result<(), DspError> {
+        self.stop_axis(axis, decel, false)
+    }
+
+    fn stop_axis(&mut self, axis: u32, decel: f64, keep_gear: bool) -> Result<(), DspError> {
+        let i = self.axis(axis)?;
+        if !(decel.is_finite() && decel > 0.0) {
+            return err(format!(
+                "stopping axis {axis}: the deceleration must be above 0, not {decel}"
+            ));
+        }
+        let t = self.time();
+        let v = self.vel_at(i, t);
+        let a = &mut self.axes[i];
+        a.sup.queue.truncate(usize::from(a.sup.running.is_some()));
+        let piece = a.base.piece_at(t);
+        if keep_gear && piece.geared() && a.pacer.is_some() {
+            a.base.queue.truncate(usize::from(a.base.running.is_some()));
+            return Ok(());
+        }
+        // A geared axis let go ramps down from the velocity its gear gives it now.
+        let v = if piece.geared() {
+            v
+        } else {
+            piece.velocity(t, 0.0, 0.0)
+        };
+        a.base.queue.clear();
+        a.base.running = None;
+        if v != 0.0 {
+            a.base.queue.push_back(BaseSeg::Move {
+                speed: 0.0,
+                duration: v.abs() / decel,
+            });
+        }
+        Ok(())
+    }
+
     /// DSP.DONE@: no segment running or queued in either layer (steady gear, steady velocity
     /// or standing still are done).
     pub fn done(&self, axis: u32) -> Result<bool, DspError> {
