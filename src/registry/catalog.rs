@@ -637,12 +637,14 @@ pub const AXIS: &[MemberDef] = &[
         Read,
         "feedback position, as Position is reported (Position itself on an ideal servo)",
     )),
-    continuous(m(
+    // Traced as it changes (every update a real servo lags; never with the ideal one), so a
+    // trace shows what the servo did, not only the VCD.
+    m(
         "FollowingError",
         Real,
         Read,
         "command minus feedback position",
-    )),
+    ),
     m(
         "FollowingErrorLimit",
         Real,
@@ -739,12 +741,14 @@ pub const MOTION: &[MemberDef] = &[
         ReadWrite,
         "deceleration used by Stop",
     ),
-    continuous(m(
+    // Traced as it changes (every update a real servo lags; never with the ideal one), so a
+    // trace shows what the servo did, not only the VCD.
+    m(
         "FollowingError",
         Real,
         Read,
         "command minus feedback position",
-    )),
+    ),
     m(
         "FollowingErrorLimit",
         Real,
