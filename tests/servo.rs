@@ -244,3 +244,50 @@ fn a_dsp_axis_past_its_torque_limit_faults_its_command_ramps_to_rest_and_a_reset
             && feedback < 0.5 * a_max * 0.011 * 0.011 + v_max * v_max / (2.0 * a_max) + 1e-3
     );
 }
+
+/// Issue 20: the labeler on a real servo shows its following error in the trace (a `change` at
+/// each update it moves) and in the VCD (a real variable with the same changes).
+#[test]
+fn the_labeler_on_a_real_servo_traces_its_following_error_and_exports_it_to_vcd() {
+    let dir = common::scratch_in("servo", "labeling-vcd");
+    let trace = dir.join("t.jsonl");
+    let vcd = dir.join("t.vcd");
+    let (trace_arg, vcd_arg) = (trace.to_string_lossy(), vcd.to_string_lossy());
+    let o = common::pacer(&[
+        "run",
+        "programs/labeling-servo",
+        "--for",
+        "2",
+        "--quiet",
+        "--trace",
+        &trace_arg,
+        "--vcd",
+        &vcd_arg,
+    ]);
+    assert!(o.status.success(), "{}", common::text(&o));
+    let text = std::fs::read_to_string(&trace).expect("the trace");
+    let errors: Vec<f64> = text
+        .lines()
+        .filter(|l| l.contains("\"name\":\"FollowingError\""))
+        .map(|l| {
+            let e: Value = serde_json::from_str(l).expect("a JSON line");
+            num(&e, "value")
+        })
+        .collect();
+    assert!(errors.len() > 100, "{} changes", errors.len());
+    // The servo lags while the label moves, within its 1-unit fault limit.
+    let worst = errors.iter().fold(0.0f64, |m, e| m.max(e.abs()));
+    assert!(worst > 1e-4 && worst < 1.0, "worst following error {worst}");
+    let vcd_text = std::fs::read_to_string(&vcd).expect("the VCD");
+    let id = vcd_text
+        .lines()
+        .find(|l| l.starts_with("$var real") && l.contains(" FollowingError "))
+        .and_then(|l| l.split_whitespace().nth(3))
+        .expect("FollowingError declared in the VCD")
+        .to_string();
+    let changes = vcd_text
+        .lines()
+        .filter(|l| l.starts_with('r') && l.ends_with(&format!(" {id}")))
+        .count();
+    assert!(changes > 100, "{changes} VCD changes");
+}
