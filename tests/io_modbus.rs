@@ -761,8 +761,15 @@ fn the_web_registration_machine_survives_a_killed_server_with_its_dsp_axes_rampe
     let mut server = Peer::start(port, 100);
     // Back: the safe values first (registers 0), then the axes as they are — the web ramping
     // down at 10 revolutions/s² (1.67 s from 1000 RPM) and then at rest, the knife with it.
+    // The safe values are themselves 0: wait for a write after them (the axes as they are).
+    let mut writes = 0;
     run.wait_until("the web at rest", || {
-        server.log().iter().any(|l| l["op"] == "write") && velocity(&mut server) == 0
+        writes += server
+            .log()
+            .iter()
+            .filter(|l| l["op"] == "write" && l["table"] == "hr")
+            .count();
+        writes >= 2 && velocity(&mut server) == 0
     });
     let knife = server.get("hr", 2, 2);
     std::thread::sleep(Duration::from_millis(200));
