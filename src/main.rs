@@ -92,8 +92,8 @@ enum Command {
         /// Where inputs come from and outputs go: `sim` (the simulated machine), `modbus` (the
         /// coupler of machine.toml's [modbus]) or `modbus://HOST[:PORT][/UNIT]`; real I/O runs
         /// in real time. Default: sim, or modbus when [modbus] says `enabled = true`
-        #[arg(long, value_name = "IO", value_parser = check_io)]
-        io: Option<String>,
+        #[arg(long, value_name = "IO", value_parser = pacer::io::target::IoTarget::parse)]
+        io: Option<pacer::io::target::IoTarget>,
         #[command(flatten)]
         export: pacer::export::ExportArgs,
     },
@@ -242,7 +242,7 @@ struct RunOptions {
     trace_writes: bool,
     trace_limit: Option<u64>,
     quiet: bool,
-    io: Option<String>,
+    io: Option<pacer::io::target::IoTarget>,
     color: bool,
 }
 
@@ -254,18 +254,17 @@ struct RealIo {
     unit: u8,
 }
 
-/// `--io`'s own syntax, checked with the command line: a value that is no I/O is a usage
-/// error (exit 64), like any other flag's.
-fn check_io(text: &str) -> Result<String, String> {
-    pacer::io::target::IoTarget::parse(text).map(|_| text.to_string())
-}
-
 /// `--io` against the machine file: None for the simulator, the coupler for real I/O, or the
 /// message of a setting that cannot work.
-fn resolve_io(io: Option<&str>, loaded: &pacer::load::Loaded) -> Result<Option<RealIo>, String> {
+/// `--io`'s own syntax is parsed with the command line (a value that is no I/O is a usage
+/// error, exit 64, like any other flag's); here it meets the machine file.
+fn resolve_io(
+    io: Option<&pacer::io::target::IoTarget>,
+    loaded: &pacer::load::Loaded,
+) -> Result<Option<RealIo>, String> {
     use pacer::io::target::IoTarget;
     let target = match io {
-        Some(text) => IoTarget::parse(text).map_err(|e| format!("--io: {e}"))?,
+        Some(target) => target.clone(),
         None if loaded.io_map.as_ref().is_some_and(|m| m.enabled) => IoTarget::Modbus {
             host: None,
             port: None,
@@ -344,7 +343,7 @@ fn run(
             return ExitCode::from(EXIT_USAGE);
         }
     }
-    let real_io = match resolve_io(options.io.as_deref(), &loaded) {
+    let real_io = match resolve_io(options.io.as_ref(), &loaded) {
         Ok(r) => r,
         Err(e) => {
             warn!("error: {e}");

@@ -125,14 +125,22 @@ impl Shared {
 pub struct Exchange<D: Device + Send + 'static> {
     shared: Arc<Shared>,
     worker: Option<JoinHandle<Supervisor<D>>>,
-    device: String,
     /// The inputs the device drives.
     driven: Vec<SlotId>,
     /// The outputs the device is sent.
     outputs: Vec<SlotId>,
     safe_outputs: Vec<(SlotId, f64)>,
-    max_age_ns: u64,
     period_ns: u64,
+    staleness: Staleness,
+}
+
+/// The update's judgement of the input image's age.
+#[derive(Debug)]
+struct Staleness {
+    /// The device, for the fault.
+    device: String,
+    /// The oldest image accepted, ns.
+    max_age_ns: u64,
     /// The update reported the inputs stale and holds the safe state.
     stale: bool,
 }
@@ -140,8 +148,8 @@ pub struct Exchange<D: Device + Send + 'static> {
 impl<D: Device + Send + 'static> std::fmt::Debug for Exchange<D> {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         f.debug_struct("Exchange")
-            .field("device", &self.device)
-            .field("stale", &self.stale)
+            .field("device", &self.staleness.device)
+            .field("stale", &self.staleness.stale)
             .finish()
     }
 }
@@ -190,13 +198,15 @@ impl<D: Device + Send + 'static> Exchange<D> {
         let exchange = Exchange {
             shared,
             worker: Some(worker),
-            device,
             driven,
             outputs,
             safe_outputs,
-            max_age_ns: options.max_age_ns,
             period_ns: options.period_ns,
-            stale: false,
+            staleness: Staleness {
+                device,
+                max_age_ns: options.max_age_ns,
+                stale: false,
+            },
         };
         // The first image (or the fault that prevented it), bounded by the staleness limit.
         let deadline = exchange.shared.now_ns().saturating_add(options.max_age_ns);
@@ -220,15 +230,30 @@ impl<D: Device + Send + 'static> Exchange<D> {
         self.shared.stop.store(true, Ordering::SeqCst);
         self.worker.take()?.join().ok()
     }
+}
 
+impl Staleness {
     /// The staleness of the image the update took: a stale fault when it passes the limit,
-    /// a return when a fresh image arrives.
-    fn judge(&mut self, now_ns: u64, image: &mut Image, events: &mut Vec<LinkEvent>) {
+    /// a return when a fresh image arrives. While stale, the machine is already in its safe
+    /// state: a failure the exchange meets then is said, not a second fault.
+    fn judge(
+        &mut self,
+        now_ns: u64,
+        image: &mut Image,
+        events: &mut [LinkEvent],
+    ) -> Option<LinkEvent> {
+        if self.stale {
+            for e in events.iter_mut() {
+                if let LinkEvent::Fault(f) = e {
+                    *e = LinkEvent::Warning(format!("while the inputs were stale: {f}"));
+                }
+            }
+        }
         if !image.link_up {
             // The exchange saw the link fail: its own fault (already among the events) holds.
             self.stale = false;
             image.safe = false;
-            return;
+            return None;
         }
         // No image yet: as old as the link.
         let age = image
@@ -238,16 +263,18 @@ impl<D: Device + Send + 'static> Exchange<D> {
         if !self.stale && age > self.max_age_ns {
             self.stale = true;
             image.safe = true;
-            events.push(LinkEvent::Fault(IoFault::Stale {
+            Some(LinkEvent::Fault(IoFault::Stale {
                 device: self.device.clone(),
                 // Rounded up: an image 30.4 ms old against a 30 ms limit says 31.
                 age_ms: age.div_ceil(1_000_000),
                 max_age_ms: self.max_age_ns / 1_000_000,
-            }));
+            }))
         } else if self.stale && age <= self.max_age_ns {
             self.stale = false;
             image.safe = false;
-            events.push(LinkEvent::Reconnected { attempts: 0 });
+            Some(LinkEvent::Reconnected { attempts: 0 })
+        } else {
+            None
         }
     }
 }
@@ -332,7 +359,7 @@ fn run<D: Device>(
 
 impl<D: Device + Send + 'static> IoBackend for Exchange<D> {
     fn device(&self) -> String {
-        self.device.clone()
+        self.staleness.device.clone()
     }
 
     fn real_time(&self) -> bool {
@@ -350,22 +377,8 @@ impl<D: Device + Send + 'static> IoBackend for Exchange<D> {
         // The world still gives the master axis and the inputs the device does not drive.
         world.advance(t, values, activity);
         let now = self.shared.now_ns();
-        let shared = self.shared.clone();
-        let mut image = shared.image();
+        let mut image = self.shared.image();
         let mut events = std::mem::take(&mut image.events);
-        if self.stale {
-            // The machine is already in its safe state: a failure the exchange meets now is
-            // said, not a second fault.
-            events = events
-                .into_iter()
-                .map(|e| match e {
-                    LinkEvent::Fault(f) => {
-                        LinkEvent::Warning(format!("while the inputs were stale: {f}"))
-                    }
-                    other => other,
-                })
-                .collect();
-        }
         if image.read_at_ns.is_some() {
             for (&slot, &v) in self.driven.iter().zip(&image.inputs) {
                 if let Some(x) = values.get_mut(slot as usize) {
@@ -373,7 +386,8 @@ impl<D: Device + Send + 'static> IoBackend for Exchange<D> {
                 }
             }
         }
-        self.judge(now, &mut image, &mut events);
+        let judged = self.staleness.judge(now, &mut image, &mut events);
+        events.extend(judged);
         events
     }
 
@@ -403,7 +417,7 @@ impl<D: Device + Send + 'static> IoBackend for Exchange<D> {
                 result
             }
             None => Err(IoFault::Disconnected {
-                device: self.device.clone(),
+                device: self.staleness.device.clone(),
                 cause: "the exchange thread stopped unexpectedly".into(),
             }),
         }
