@@ -582,10 +582,14 @@ fn the_checkweigher_as_it_is_rides_through_a_stall_busy_answers_and_a_restart() 
             .any(|c| c.ends_with("answered exception 6 (server device busy)")),
         "{causes:?}"
     );
+    // The kill: the coupler's socket closes, or (on a loaded machine, the request sent as it
+    // died) the request is left unanswered; either is said in words.
     assert!(
-        causes
-            .iter()
-            .any(|c| c.contains("the coupler closed the connection")),
+        causes.len() >= 3
+            && causes.iter().any(|c| {
+                c.contains("the coupler closed the connection")
+                    || c.starts_with("not connected (") && c.ends_with(": no answer within 50 ms)")
+            }),
         "{causes:?}"
     );
     assert!(causes.iter().all(|c| !c.contains("os error")), "{causes:?}");
