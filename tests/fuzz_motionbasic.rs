@@ -29,7 +29,7 @@
 use fuzz::{
     block, for_block, has_errors, if_block, indent, layout, long_line, many_lines, many_openers,
     mutated, mutation, nested_blocks, number, op_chain, pick, pick_any, random_bytes, random_chars,
-    random_text, regex, render, sp, token_soup, Stats,
+    random_text, recursive, regex, render, sp, token_soup, Stats,
 };
 use pacer::check::{check, CheckEnv, Variables};
 use pacer::compile::{compile, Layout};
@@ -554,7 +554,7 @@ fn axis_expr() -> BoxedStrategy<String> {
         2 => pick(AXIS_LITERALS),
         1 => (1u32..=16).prop_map(|n| format!("{{{n}}}")),
     ];
-    leaf.prop_recursive(3, 8, 3, |inner| {
+    recursive(leaf.boxed(), 3, 8, 3, |inner| {
         prop_oneof![
             2 => prop::collection::vec(inner.clone(), 1..4)
                 .prop_map(|v| format!("{{{}}}", v.join(", "))),
@@ -598,7 +598,7 @@ fn num_expr() -> BoxedStrategy<String> {
     // Built once: proptest calls the closure below for every value it generates.
     let (space, num_ops, cmp_ops, bool_ops) = (sp(), pick(NUM_OPS), pick(CMP_OPS), pick(BOOL_OPS));
     let (number, func1, func2) = (finite_number(), pick(FUNC1), pick(FUNC2));
-    leaf.prop_recursive(6, 24, 3, move |inner| {
+    recursive(leaf.boxed(), 6, 24, 3, move |inner| {
         prop_oneof![
             5 => (inner.clone(), space.clone(), num_ops.clone(), space.clone(), inner.clone()).prop_map(
                 |(a, s1, op, s2, b)| {
@@ -637,7 +637,7 @@ fn str_expr() -> BoxedStrategy<String> {
         1 => regex("\"[ -!#-~]{0,12}\""),
         1 => (pick(STR_ARRAYS), index_expr()).prop_map(|(a, i)| format!("{a}({i})")),
     ];
-    leaf.prop_recursive(3, 8, 2, |inner| {
+    recursive(leaf.boxed(), 3, 8, 2, |inner| {
         prop_oneof![
             2 => (inner.clone(), inner.clone()).prop_map(|(a, b)| format!("{a} + {b}")),
             1 => (pick(&["LEFT$", "RIGHT$"]), inner.clone(), index_expr())
@@ -741,7 +741,7 @@ fn wild_expr() -> BoxedStrategy<String> {
     let (space, ops) = (sp(), pick(ALL_OPS));
     let unary = pick(&["-", "+", "NOT ", "- -", "NOT NOT ", "^-"]);
     let funcs = pick_any(&[FUNC1, FUNC2, CTL_READ, NUM_VARS, INVALID_NAMES]);
-    leaf.prop_recursive(8, 96, 4, move |inner| {
+    recursive(leaf.boxed(), 8, 96, 4, move |inner| {
         prop_oneof![
             5 => (inner.clone(), space.clone(), ops.clone(), space.clone(), inner.clone()).prop_map(
                 |(a, s1, op, s2, b)| {
@@ -952,7 +952,7 @@ fn stmt_tree(v: Vocab) -> BoxedStrategy<Vec<String>> {
     let leaf = line_stmt(&v).prop_map(|l| vec![l]);
     // Built once: proptest calls the closure below for every value it generates.
     let simple = simple_stmt(&v);
-    leaf.prop_recursive(5, 24, 4, move |inner| {
+    recursive(leaf.boxed(), 5, 24, 4, move |inner| {
         let body = prop::collection::vec(inner, 0..5).prop_map(|b| b.concat());
         prop_oneof![
             3 => (v.cond.clone(), body.clone(), prop::option::of(body.clone()), 0u8..6).prop_map(

@@ -20,7 +20,7 @@
 use fuzz::{
     block, for_block, has_errors, if_block, layout, long_line, many_lines, many_openers, mutated,
     mutation, nested_blocks, number, op_chain, pick, pick_any, random_bytes, random_chars,
-    random_text, regex, render, sp, token_soup, Stats,
+    random_text, recursive, regex, render, sp, token_soup, Stats,
 };
 use pacer::check::CheckEnv;
 use pacer::compile::{compile, Layout};
@@ -634,7 +634,7 @@ fn num_expr(with_vars: bool) -> BoxedStrategy<String> {
         pick_any(&[NUM_RW, NUM_RO])
     };
     let leaf = prop_oneof![2 => number(NUMBERS), 2 => names];
-    leaf.prop_recursive(6, 24, 3, |inner| {
+    recursive(leaf.boxed(), 6, 24, 3, |inner| {
         prop_oneof![
             4 => (inner.clone(), sp(), pick(NUM_OPS), sp(), inner.clone()).prop_map(
                 |(a, s1, op, s2, b)| {
@@ -662,7 +662,7 @@ fn bool_expr(with_vars: bool) -> BoxedStrategy<String> {
         2 => (pick_any(&[BOOL_RW, BOOL_RO]), pick(BOOL_WORDS))
             .prop_map(|(n, v)| format!("{n}={v}")),
     ];
-    leaf.prop_recursive(5, 16, 3, |inner| {
+    recursive(leaf.boxed(), 5, 16, 3, |inner| {
         prop_oneof![
             4 => (inner.clone(), pick(BOOL_OPS), inner.clone())
                 .prop_map(|(a, op, b)| format!("{a} {op} {b}")),
@@ -681,7 +681,7 @@ fn wild_expr() -> BoxedStrategy<String> {
         4 => any_name(),
         1 => pick(&["Last", "Then", "To", "Step", "If", "", "(", ")", ",", "-", "NOT"]),
     ];
-    leaf.prop_recursive(8, 96, 4, |inner| {
+    recursive(leaf.boxed(), 8, 96, 4, |inner| {
         prop_oneof![
             5 => (inner.clone(), sp(), pick(ALL_OPS), sp(), inner.clone()).prop_map(
                 |(a, s1, op, s2, b)| {
@@ -710,7 +710,7 @@ struct Vocab {
 
 fn stmt_tree(v: Vocab) -> BoxedStrategy<Vec<String>> {
     let leaf = v.leaf.clone().prop_map(|l| vec![l]);
-    leaf.prop_recursive(5, 24, 4, move |inner| {
+    recursive(leaf.boxed(), 5, 24, 4, move |inner| {
         let body = prop::collection::vec(inner, 0..5).prop_map(|b| b.concat());
         prop_oneof![
             3 => (v.cond.clone(), body.clone(), prop::option::of(body.clone()), 0u8..8).prop_map(

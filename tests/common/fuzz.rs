@@ -496,6 +496,38 @@ pub fn regex(re: &str) -> BoxedStrategy<String> {
         .boxed()
 }
 
+/// `leaf.prop_recursive(depth, desired_size, expected_branch_size, recurse)`, its tower of
+/// strategies built once. proptest's `Recursive` calls `recurse` once per level for every value
+/// it generates, so the grammar generators spent most of their time allocating and dropping
+/// strategies (a MotionBASIC program some 30 a second). The tower depends on nothing but the
+/// four arguments, so it is built here as proptest builds it — the same weights, clamped at 0.9
+/// — and the same seed gives the same inputs.
+pub fn recursive<T, R>(
+    leaf: BoxedStrategy<T>,
+    depth: u32,
+    desired_size: u32,
+    expected_branch_size: u32,
+    recurse: impl Fn(BoxedStrategy<T>) -> R,
+) -> BoxedStrategy<T>
+where
+    T: std::fmt::Debug + 'static,
+    R: Strategy<Value = T> + 'static,
+{
+    let mut probabilities = Vec::new();
+    let mut k2 = u64::from(expected_branch_size) * 2;
+    for _ in 0..depth {
+        probabilities.push(f64::from(desired_size) / k2 as f64);
+        k2 = k2.saturating_mul(u64::from(expected_branch_size) * 2);
+    }
+    let mut strat = leaf;
+    while let Some(p) = probabilities.pop() {
+        let branch = recurse(strat.clone()).boxed();
+        let (weight_branch, weight_leaf) = proptest::strategy::float_to_weight(p.min(0.9));
+        strat = prop_oneof![weight_leaf => strat, weight_branch => branch].boxed();
+    }
+    strat
+}
+
 /// Number literals: from `pool`, integers, the text of any finite float, long digit strings.
 pub fn number(pool: &'static [&'static str]) -> BoxedStrategy<String> {
     prop_oneof![
