@@ -42,6 +42,9 @@ struct Objects {
     homes: Vec<HomeObject>,
     jogs: Vec<JogSlots>,
     plss: Vec<PlsObject>,
+    /// A timer may be running: set when one is initiated, cleared by the update that finds
+    /// none running (most updates of most machines run no timer).
+    timers_running: bool,
 }
 
 /// The slots of the drive-wide members.
@@ -123,6 +126,7 @@ impl Drive {
                 timers: (0..count(Kind::Timer))
                     .map(|i| Timer::new(registry, i))
                     .collect(),
+                timers_running: false,
                 indexes: (0..count(Kind::Index))
                     .map(|i| {
                         let config = setup.indexes.get(i as usize).copied().unwrap_or_default();
@@ -483,6 +487,10 @@ impl Device for Drive {
         }
         let o = &mut self.objects;
         for (q, source) in o.queues.iter_mut().zip(&o.queue_sources) {
+            // An empty queue has nothing to compare (most of a machine's queues are unused).
+            if q.is_empty() {
+                continue;
+            }
             let position = match source {
                 QueueSource::Master => now.master,
                 QueueSource::Feedback => feedback,
@@ -491,8 +499,11 @@ impl Device for Drive {
             q.compare(position, v, now.trace, now.tick);
         }
         v[self.slots.axis.free_run as usize] = (now.time_ns / 1000) as f64;
-        for t in &mut self.objects.timers {
-            t.update(now.time_ns, now.master, v);
+        if o.timers_running {
+            for t in &mut o.timers {
+                t.update(now.time_ns, now.master, v);
+            }
+            o.timers_running = o.timers.iter().any(Timer::running);
         }
     }
 
@@ -587,7 +598,10 @@ impl Device for Drive {
             Hook::QueueRemove => o.queues[i].remove(v),
             Hook::QueueClear => o.queues[i].clear(v),
             Hook::CaptureClear => o.captures[i].clear(v),
-            Hook::TimerInitiate => o.timers[i].initiate(now.time_ns, now.master, v),
+            Hook::TimerInitiate => {
+                o.timers[i].initiate(now.time_ns, now.master, v);
+                o.timers_running = true;
+            }
             Hook::TimerStop => o.timers[i].stop(v),
             Hook::ProfileLimitedReset => {
                 if let Some(ix) = o.indexes.get(i) {

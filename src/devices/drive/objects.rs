@@ -200,8 +200,10 @@ impl PlsObject {
     /// On while the position is in [On, Off) (with rollover, On > Off means outside [Off, On)),
     /// and the source moves in the PLS's direction.
     pub fn evaluate(&self, position: f64, velocity: f64, v: &mut [f64]) {
-        // Most PLSs of a machine are off: nothing to compute (rem_euclid is not cheap).
-        if v[self.s.enable as usize] == 0.0 {
+        // Most PLSs of a machine are off or empty: nothing to compute (rem_euclid is not cheap).
+        let (on, off) = (v[self.s.on as usize], v[self.s.off as usize]);
+        // Enabled is their default, but a window never set (On = Off) holds no position.
+        if v[self.s.enable as usize] == 0.0 || on == off {
             v[self.s.status as usize] = 0.0;
             return;
         }
@@ -210,7 +212,6 @@ impl PlsObject {
         } else {
             position
         };
-        let (on, off) = (v[self.s.on as usize], v[self.s.off as usize]);
         let inside = if on <= off {
             on <= p && p < off
         } else {

@@ -79,6 +79,12 @@ impl Queue {
         self.refresh(v);
     }
 
+    /// Whether it holds no entry.
+    #[inline]
+    pub fn is_empty(&self) -> bool {
+        self.entries.is_empty()
+    }
+
     /// QueueExit turns on when the compare is enabled, the queue holds an entry, and the source
     /// is at or past the oldest entry's exit position; it stays on until QueueRemove.
     pub fn compare(&mut self, source: f64, v: &mut [f64], trace: &mut Trace, tick: u64) {

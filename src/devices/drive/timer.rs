@@ -51,6 +51,11 @@ impl Timer {
         v[self.s.output as usize] = 0.0;
     }
 
+    /// Whether it is timing (initiated and not yet at its preset or stopped).
+    pub fn running(&self) -> bool {
+        self.started_ns.is_some()
+    }
+
     /// Advance to `now_ns` and master position `master`.
     pub fn update(&mut self, now_ns: u64, master: f64, v: &mut [f64]) {
         let Some(start) = self.started_ns else { return };
