@@ -225,3 +225,37 @@ fn stepped_preparation_gives_the_same_errors_and_early_misses() {
     assert!(plan.arrival_x.is_some_and(|x| x > 100.0), "{plan:?}");
     assert_eq!(stepped(&planner, &req, &params, &belts, 13).0, whole);
 }
+
+/// A job stepped within a budget shared with other work (`PlanJob::step_within`, what a caller
+/// spreading the preparation over updates uses): it gives the same plan, a spent budget moves
+/// it no further, and what the last step did not use is left for the caller.
+#[test]
+fn a_shared_budget_gives_the_same_plan_and_keeps_what_is_left() {
+    let planner = planner([None; AXES]);
+    let belts = belts();
+    let params = params(false);
+    let budget = 300;
+    for req in requests(&belts, 700.0) {
+        let whole = planner.plan(&req, &params, &belts);
+        let mut job = PlanJob::new(&req, &params, &belts);
+        // Nothing left: no work done, no result, and the job still gives the same plan later.
+        let mut none = 0;
+        assert!(job.step_within(&planner, &belts, &mut none).is_none());
+        let mut steps = 0u64;
+        let (done, left) = loop {
+            steps += 1;
+            assert!(steps < 1_000_000, "the job did not end");
+            let mut left = budget;
+            if let Some(done) = job.step_within(&planner, &belts, &mut left) {
+                break (done, left);
+            }
+            // A step that gives nothing has used its whole budget.
+            assert_eq!(left, 0, "step {steps}");
+        };
+        assert_eq!(done, whole, "{req:?}");
+        assert!(left < budget, "the last step did some work");
+        // The same plan as the job stepped with the same budget each time (`step`).
+        let (r, n) = stepped(&planner, &req, &params, &belts, budget);
+        assert_eq!((r, n), (whole, steps));
+    }
+}

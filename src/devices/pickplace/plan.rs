@@ -289,6 +289,18 @@ impl PlanJob {
         budget: u64,
     ) -> Option<Result<Planned, PlanError>> {
         let mut left = budget;
+        self.step_within(planner, belts, &mut left)
+    }
+
+    /// [`PlanJob::step`] with the units still `left` in a budget shared with other work: what
+    /// the step did not use stays in it (a step may overrun by one piece of work, less than
+    /// [`cost::ROUND`]; `left` is then 0).
+    pub fn step_within(
+        &mut self,
+        planner: &Planner,
+        belts: &[Belt],
+        left: &mut u64,
+    ) -> Option<Result<Planned, PlanError>> {
         loop {
             let stage = std::mem::replace(&mut self.stage, Stage::Ended);
             match stage {
@@ -298,20 +310,15 @@ impl PlanJob {
                     )))
                 }
                 Stage::Shape(mut sh) => {
-                    let (traj, arrival_x) = match planner.shape_step(
-                        &self.req,
-                        &self.params,
-                        &mut sh,
-                        belts,
-                        &mut left,
-                    ) {
-                        Err(e) => return Some(Err(e)),
-                        Ok(None) => {
-                            self.stage = Stage::Shape(sh);
-                            return None;
-                        }
-                        Ok(Some(done)) => done,
-                    };
+                    let (traj, arrival_x) =
+                        match planner.shape_step(&self.req, &self.params, &mut sh, belts, left) {
+                            Err(e) => return Some(Err(e)),
+                            Ok(None) => {
+                                self.stage = Stage::Shape(sh);
+                                return None;
+                            }
+                            Ok(Some(done)) => done,
+                        };
                     // The check runs through every update of the move: a move longer than
                     // this (a path of a million kilometres) is refused rather than checked
                     // for hours.
@@ -325,7 +332,7 @@ impl PlanJob {
                     self.stage = Stage::Check(Box::new(run));
                 }
                 Stage::Check(mut run) => {
-                    let used = match run.step(planner, &mut left) {
+                    let used = match run.step(planner, left) {
                         None => {
                             self.stage = Stage::Check(run);
                             return None;
