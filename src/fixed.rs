@@ -36,20 +36,36 @@ pub fn round_to(v: f64, decimals: u8) -> f64 {
 /// does not fit (or is not a number).
 #[inline(always)]
 pub fn to_fixed(x: f64, decimals: u8) -> Option<f64> {
-    if decimals == 0 && (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
-        // Whole numbers in range are stored as they are (the common case for counters).
-        // SAFETY: x is within the i32 range, and not NaN (the range test fails for NaN).
-        let i: i32 = unsafe { x.to_int_unchecked() };
-        if f64::from(i) == x {
-            // x itself (-0 made 0): a value computed from the conversions would wait for them.
-            return Some(x + 0.0);
-        }
+    // Whole numbers within 32 bits are stored as they are (the common case for counters): a
+    // round trip through `trunc_i32` gives back exactly those.
+    if decimals == 0 && f64::from(trunc_i32(x)) == x {
+        // x itself (-0 made 0): a value computed from the conversions would wait for them.
+        return Some(x + 0.0);
     }
     let scale = POW10[decimals.min(9) as usize];
     let r = round_scaled(x * scale);
     // NaN fails this test too.
     let fits = r >= f64::from(i32::MIN) && r <= f64::from(i32::MAX);
     fits.then(|| r / scale)
+}
+
+/// `x` truncated to an `i32`, any `i32` when it is out of range or NaN: callers keep the result
+/// only when it converts back to `x`, so only a whole `x` within 32 bits is used. On x86-64 this
+/// is the bare conversion instruction (whose out-of-range answer, `i32::MIN`, converts back to
+/// `x` only when `x` is exactly that); Rust's `as` adds a clamp and a NaN test the round trip
+/// makes unnecessary.
+#[inline(always)]
+pub fn trunc_i32(x: f64) -> i32 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_cvttsd_si32, _mm_set_sd};
+        // SAFETY: SSE2 is part of the x86-64 baseline, so these instructions always exist.
+        unsafe { _mm_cvttsd_si32(_mm_set_sd(x)) }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        x as i32
+    }
 }
 
 /// The range of a 32-bit fixed-point slot with `decimals` places, for messages.

@@ -112,7 +112,8 @@ pub enum Op {
     SubLong { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// `mul t <- a * b` then `store.l dst <- t`.
     MulLong { t: Reg, dst: Reg, a: Reg, b: Reg },
-    /// `imod`/`idiv`/`band`/`bor`/`bxor` (`op`) `t <- a op b` then `store.l dst <- t`.
+    /// `idiv t <- a \ b` (`op`: [`BinaryOp::IntDiv`]) then `store.l dst <- t` (`MOD` and the
+    /// bitwise operators have superinstructions of their own: [`Op::ModLong`] …).
     IntLong {
         op: BinaryOp,
         t: Reg,
@@ -120,6 +121,40 @@ pub enum Op {
         a: Reg,
         b: Reg,
     },
+    /// `imod t <- a MOD b` then `store.l dst <- t`: whole operands within 32 bits take an
+    /// integer remainder, which needs no rounding and fits a long.
+    ModLong { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `band t <- a AND b` then `store.l dst <- t`: the integer result is stored after one
+    /// integer range test.
+    AndLong { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `bor t <- a OR b` then `store.l dst <- t`.
+    OrLong { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `bxor t <- a XOR b` then `store.l dst <- t`.
+    XorLong { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `mul t <- a * b` then `add t <- t + c` (no fused multiply-add: the product is rounded
+    /// first, as the two instructions round it).
+    MulAdd { t: Reg, a: Reg, b: Reg, c: Reg },
+    /// `jump` to the `for.next` at `at`, and run it there (the two count as two; a fault of the
+    /// `for.next` is reported at `at`). Made by [`fuse`] from a `Jump` whose target is a
+    /// `ForNext` (its fields copied here); `at` keeps that `ForNext` for a jump to it.
+    JumpNext {
+        var: Reg,
+        limit: Reg,
+        body: u32,
+        at: u32,
+        decimals: u8,
+    },
+    // Specialisations of [`Op::ArithFixed`] into a fixed-point slot without decimals (one
+    // instruction each, made by [`fuse`]): an integer operator's integer result is stored
+    // after one integer range test instead of the fixed-point rounding.
+    /// `dst = a MOD b` (PowerTools) into a whole fixed-point slot.
+    ModWhole { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a AND b` (bitwise) into a whole fixed-point slot.
+    AndWhole { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a OR b` (bitwise) into a whole fixed-point slot.
+    OrWhole { dst: Reg, a: Reg, b: Reg },
+    /// `dst = a XOR b` (bitwise) into a whole fixed-point slot.
+    XorWhole { dst: Reg, a: Reg, b: Reg },
     /// `add dst <- a + b` then `chk.long dst`.
     AddCheck { dst: Reg, a: Reg, b: Reg },
     /// `sub dst <- a - b` then `chk.long dst`.
@@ -377,85 +412,57 @@ pub struct DataConst {
 pub use crate::check::text::TextFunc;
 
 /// Fuse adjacent pairs of instructions into superinstructions (see [`Op::AddLong`]). Only a pair
-/// joined by a temporary in `temps` is fused.
+/// joined by a temporary in `temps` is fused. Before that, single instructions are specialised
+/// in place: an integer operator into a whole fixed-point slot ([`Op::ModWhole`] …), a jump to a
+/// `for.next` ([`Op::JumpNext`]).
 pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
+    // Single instructions first: each rewrite keeps the instruction's place and count.
+    for i in 0..ops.len() {
+        let cur = ops[i];
+        ops[i] = match cur {
+            Op::ArithFixed {
+                op,
+                dst,
+                a,
+                b,
+                decimals: 0,
+            } => match op {
+                BinaryOp::Mod => Op::ModWhole { dst, a, b },
+                BinaryOp::BitAnd => Op::AndWhole { dst, a, b },
+                BinaryOp::BitOr => Op::OrWhole { dst, a, b },
+                BinaryOp::BitXor => Op::XorWhole { dst, a, b },
+                _ => cur,
+            },
+            Op::Jump { target } => match ops.get(target as usize) {
+                Some(&Op::ForNext {
+                    var,
+                    limit,
+                    body,
+                    decimals,
+                }) => Op::JumpNext {
+                    var,
+                    limit,
+                    body,
+                    at: target,
+                    decimals,
+                },
+                _ => cur,
+            },
+            _ => cur,
+        };
+    }
     let mut i = 0;
     while i + 1 < ops.len() {
-        let fused = match (ops[i], ops[i + 1]) {
-            (Op::Add { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
-                Some(Op::AddLong { t, dst, a, b })
+        let mut fused = pair(ops[i], ops[i + 1]);
+        // A multiply-add gives way to a fusion of the add with what follows it.
+        if let Some(Op::MulAdd { .. }) = fused {
+            if ops
+                .get(i + 2)
+                .is_some_and(|&next| pair(ops[i + 1], next).is_some())
+            {
+                fused = None;
             }
-            (Op::Sub { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
-                Some(Op::SubLong { t, dst, a, b })
-            }
-            (Op::Mul { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
-                Some(Op::MulLong { t, dst, a, b })
-            }
-            (Op::IMod { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
-                Some(Op::IntLong {
-                    op: BinaryOp::BasicMod,
-                    t,
-                    dst,
-                    a,
-                    b,
-                })
-            }
-            (Op::IDiv { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
-                Some(Op::IntLong {
-                    op: BinaryOp::IntDiv,
-                    t,
-                    dst,
-                    a,
-                    b,
-                })
-            }
-            (Op::BitAnd { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
-                Some(Op::IntLong {
-                    op: BinaryOp::BitAnd,
-                    t,
-                    dst,
-                    a,
-                    b,
-                })
-            }
-            (Op::BitOr { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
-                Some(Op::IntLong {
-                    op: BinaryOp::BitOr,
-                    t,
-                    dst,
-                    a,
-                    b,
-                })
-            }
-            (Op::BitXor { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
-                Some(Op::IntLong {
-                    op: BinaryOp::BitXor,
-                    t,
-                    dst,
-                    a,
-                    b,
-                })
-            }
-            (Op::Add { dst, a, b }, Op::CheckLong { r }) if r == dst => {
-                Some(Op::AddCheck { dst, a, b })
-            }
-            (Op::Sub { dst, a, b }, Op::CheckLong { r }) if r == dst => {
-                Some(Op::SubCheck { dst, a, b })
-            }
-            (Op::Mul { dst, a, b }, Op::CheckLong { r }) if r == dst => {
-                Some(Op::MulCheck { dst, a, b })
-            }
-            (Op::Add { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
-                Some(Op::AddReal { t, dst, a, b })
-            }
-            (Op::Sub { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
-                Some(Op::SubReal { t, dst, a, b })
-            }
-            (Op::Mul { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
-                Some(Op::MulReal { t, dst, a, b })
-            }
-            _ => None,
-        };
+        }
         // The joining register must be a temporary: a pair through a variable is left alone
         // (the first half's write would be traced).
         let joined = match fused {
@@ -464,6 +471,11 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
                 | Op::SubLong { t, .. }
                 | Op::MulLong { t, .. }
                 | Op::IntLong { t, .. }
+                | Op::ModLong { t, .. }
+                | Op::AndLong { t, .. }
+                | Op::OrLong { t, .. }
+                | Op::XorLong { t, .. }
+                | Op::MulAdd { t, .. }
                 | Op::AddReal { t, .. }
                 | Op::SubReal { t, .. }
                 | Op::MulReal { t, .. }
@@ -479,6 +491,62 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
         } else {
             i += 1;
         }
+    }
+}
+
+/// The superinstruction doing the work of `first` and then `second`, if there is one.
+fn pair(first: Op, second: Op) -> Option<Op> {
+    match (first, second) {
+        (Op::Add { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+            Some(Op::AddLong { t, dst, a, b })
+        }
+        (Op::Sub { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+            Some(Op::SubLong { t, dst, a, b })
+        }
+        (Op::Mul { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+            Some(Op::MulLong { t, dst, a, b })
+        }
+        (Op::IMod { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+            Some(Op::ModLong { t, dst, a, b })
+        }
+        (Op::IDiv { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => Some(Op::IntLong {
+            op: BinaryOp::IntDiv,
+            t,
+            dst,
+            a,
+            b,
+        }),
+        (Op::BitAnd { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+            Some(Op::AndLong { t, dst, a, b })
+        }
+        (Op::BitOr { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+            Some(Op::OrLong { t, dst, a, b })
+        }
+        (Op::BitXor { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
+            Some(Op::XorLong { t, dst, a, b })
+        }
+        (Op::Mul { dst: t, a, b }, Op::Add { dst, a: x, b: c }) if dst == t && x == t => {
+            Some(Op::MulAdd { t, a, b, c })
+        }
+        (Op::Add { dst, a, b }, Op::CheckLong { r }) if r == dst => {
+            Some(Op::AddCheck { dst, a, b })
+        }
+        (Op::Sub { dst, a, b }, Op::CheckLong { r }) if r == dst => {
+            Some(Op::SubCheck { dst, a, b })
+        }
+        (Op::Mul { dst, a, b }, Op::CheckLong { r }) if r == dst => {
+            Some(Op::MulCheck { dst, a, b })
+        }
+        (Op::Add { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
+            Some(Op::AddReal { t, dst, a, b })
+        }
+        (Op::Sub { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
+            Some(Op::SubReal { t, dst, a, b })
+        }
+        (Op::Mul { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
+            Some(Op::MulReal { t, dst, a, b })
+        }
+        _ => None,
     }
 }
 
@@ -501,6 +569,9 @@ impl Op {
             | Op::Gosub { target } => Some(target),
             Op::ForCheck { exit, .. } => Some(exit),
             Op::ForNext { body, .. } => Some(body),
+            // Both ways on: the loop's body, or past the `for.next` at `at` (never the last
+            // instruction, which is `End`); the larger is checked inside the chunk.
+            Op::JumpNext { body, at, .. } => Some(body.max(at.saturating_add(1))),
             Op::WaitUntil { retry, .. } => Some(retry),
             _ => None,
         }
@@ -529,6 +600,10 @@ impl Op {
             | Op::BitAnd { dst, a, b }
             | Op::BitOr { dst, a, b }
             | Op::BitXor { dst, a, b }
+            | Op::ModWhole { dst, a, b }
+            | Op::AndWhole { dst, a, b }
+            | Op::OrWhole { dst, a, b }
+            | Op::XorWhole { dst, a, b }
             | Op::AddCheck { dst, a, b }
             | Op::SubCheck { dst, a, b }
             | Op::MulCheck { dst, a, b }
@@ -543,6 +618,11 @@ impl Op {
             | Op::SubLong { t, dst, a, b }
             | Op::MulLong { t, dst, a, b }
             | Op::IntLong { t, dst, a, b, .. }
+            | Op::ModLong { t, dst, a, b }
+            | Op::AndLong { t, dst, a, b }
+            | Op::OrLong { t, dst, a, b }
+            | Op::XorLong { t, dst, a, b }
+            | Op::MulAdd { t, c: dst, a, b }
             | Op::AddReal { t, dst, a, b }
             | Op::SubReal { t, dst, a, b }
             | Op::MulReal { t, dst, a, b } => t.max(dst).max(a).max(b),
@@ -589,11 +669,114 @@ impl Op {
                 len,
                 ..
             } => off.max(src).max(base + len.saturating_sub(1)),
-            Op::ForCheck { var, limit, .. } | Op::ForNext { var, limit, .. } => {
-                var.max(limit.saturating_add(1))
-            }
+            Op::ForCheck { var, limit, .. }
+            | Op::ForNext { var, limit, .. }
+            | Op::JumpNext { var, limit, .. } => var.max(limit.saturating_add(1)),
             _ => return None,
         };
         Some(max)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fuse_specialises_in_place_and_keeps_every_instruction() {
+        let temps = 100..110;
+        let ops = vec![
+            // @0: a whole PowerTools MOD; @1: one with decimals stays general.
+            Op::ArithFixed {
+                op: BinaryOp::Mod,
+                dst: 1,
+                a: 2,
+                b: 3,
+                decimals: 0,
+            },
+            Op::ArithFixed {
+                op: BinaryOp::BitAnd,
+                dst: 1,
+                a: 2,
+                b: 3,
+                decimals: 2,
+            },
+            // @2 + @3: a multiply-add through a temporary.
+            Op::Mul {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::Add {
+                dst: 100,
+                a: 100,
+                b: 3,
+            },
+            // @4 + @5 + @6: the add's long store wins over the multiply-add.
+            Op::Mul {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::Add {
+                dst: 100,
+                a: 100,
+                b: 3,
+            },
+            Op::StoreLong { dst: 4, src: 100 },
+            // @7: a jump to the `for.next` at @8.
+            Op::Jump { target: 8 },
+            Op::ForNext {
+                var: 5,
+                limit: 6,
+                body: 0,
+                decimals: 0,
+            },
+            Op::End,
+        ];
+        let mut fused = ops.clone();
+        fuse(&mut fused, temps);
+        assert_eq!(fused.len(), ops.len());
+        assert_eq!(fused[0], Op::ModWhole { dst: 1, a: 2, b: 3 });
+        assert_eq!(fused[1], ops[1]);
+        assert_eq!(
+            fused[2],
+            Op::MulAdd {
+                t: 100,
+                a: 1,
+                b: 2,
+                c: 3
+            }
+        );
+        assert_eq!(fused[3], ops[3]);
+        assert_eq!(fused[4], ops[4]);
+        assert_eq!(
+            fused[5],
+            Op::AddLong {
+                t: 100,
+                dst: 4,
+                a: 100,
+                b: 3
+            }
+        );
+        assert_eq!(
+            fused[7],
+            Op::JumpNext {
+                var: 5,
+                limit: 6,
+                body: 0,
+                at: 8,
+                decimals: 0
+            }
+        );
+        // The second halves and the `for.next` stay in place for a jump to them.
+        assert_eq!(fused[6], ops[6]);
+        assert_eq!(fused[8], ops[8]);
+        assert_eq!(fused[7].target(), Some(9));
+    }
+
+    #[test]
+    fn an_instruction_stays_small() {
+        assert!(std::mem::size_of::<Op>() <= 20);
     }
 }

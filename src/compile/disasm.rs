@@ -85,6 +85,23 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 let (name, sym) = op_names(op);
                 format!("{name:<9} {} <- {} {sym} {}", r(t), r(a), r(b))
             }
+            Op::ModLong { t, a, b, .. } => {
+                format!("imod      {} <- {} MOD {}", r(t), r(a), r(b))
+            }
+            Op::AndLong { t, a, b, .. } => {
+                format!("band      {} <- {} AND {}", r(t), r(a), r(b))
+            }
+            Op::OrLong { t, a, b, .. } => format!("bor       {} <- {} OR {}", r(t), r(a), r(b)),
+            Op::XorLong { t, a, b, .. } => {
+                format!("bxor      {} <- {} XOR {}", r(t), r(a), r(b))
+            }
+            Op::MulAdd { t, a, b, .. } => format!("mul       {} <- {} * {}", r(t), r(a), r(b)),
+            Op::JumpNext { at, .. } => format!("jump      @{at}"),
+            // Specialisations of `ArithFixed` (one instruction each), listed as it is.
+            Op::ModWhole { dst, a, b } => fused("mod", 0, r(dst), r(a), "MOD", r(b)),
+            Op::AndWhole { dst, a, b } => fused("band", 0, r(dst), r(a), "AND", r(b)),
+            Op::OrWhole { dst, a, b } => fused("bor", 0, r(dst), r(a), "OR", r(b)),
+            Op::XorWhole { dst, a, b } => fused("bxor", 0, r(dst), r(a), "XOR", r(b)),
             Op::AddCheck { dst, a, b } => format!("add       {} <- {} + {}", r(dst), r(a), r(b)),
             Op::SubCheck { dst, a, b } => format!("sub       {} <- {} - {}", r(dst), r(a), r(b)),
             Op::MulCheck { dst, a, b } => format!("mul       {} <- {} * {}", r(dst), r(a), r(b)),

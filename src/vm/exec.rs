@@ -128,6 +128,9 @@ pub fn run<'a>(
         }};
     }
     let trace_on = ctx.now.trace.enabled();
+    // A write to a slot below this is traced: the registry's slots when tracing, none when not
+    // (one comparison per store instead of two tests).
+    let trace_below: u32 = if trace_on { ctx.slot_count } else { 0 };
     let mut n: u64 = *executed;
     macro_rules! fault {
         ($($arg:tt)*) => {{
@@ -144,7 +147,7 @@ pub fn run<'a>(
                 return cold_overflow(ctx, dst, x, decimals, $here, executed, n);
             };
             wr!(dst as usize, val);
-            if trace_on && dst < ctx.slot_count {
+            if dst < trace_below {
                 traced_write(ctx, dst, val);
             }
         }};
@@ -173,7 +176,7 @@ pub fn run<'a>(
                 }
             };
             wr!(dst as usize, val);
-            if trace_on && dst < ctx.slot_count {
+            if dst < trace_below {
                 traced_write(ctx, dst, val);
             }
         }};
@@ -197,7 +200,7 @@ pub fn run<'a>(
             match int16(x) {
                 Some(val) => {
                     wr!(dst as usize, val);
-                    if trace_on && dst < ctx.slot_count {
+                    if dst < trace_below {
                         traced_write(ctx, dst, val);
                     }
                 }
@@ -205,6 +208,73 @@ pub fn run<'a>(
                     pc = $here;
                     let name = name_of(ctx, dst);
                     fault!("Overflow: {x} does not fit {name} (an integer: -32768 to 32767)");
+                }
+            }
+        }};
+    }
+    // Store the whole number `$val` (within 32 bits, not -0) into the slot `$dst` as it is:
+    // what a fixed-point or long store of it stores, without the rounding.
+    macro_rules! store_whole {
+        ($dst:expr, $val:expr) => {{
+            let (dst, val): (u32, f64) = ($dst, $val);
+            wr!(dst as usize, val);
+            if dst < trace_below {
+                traced_write(ctx, dst, val);
+            }
+        }};
+    }
+    // The integer result `$r` of a bitwise operator into the temporary `$t` (as a real) and
+    // then stored into the long `$dst` by the instruction after `$here`: as `store.l` stores
+    // it, with one integer range test.
+    macro_rules! long_of_int {
+        ($t:expr, $dst:expr, $r:expr, $here:expr) => {{
+            let r: i64 = $r;
+            wr!($t as usize, r as f64);
+            match i32::try_from(r) {
+                Ok(r) => store_whole!($dst, f64::from(r)),
+                Err(_) => store_long!($dst, r as f64, $here + 1),
+            }
+        }};
+    }
+    // The integer result `$r` of a bitwise operator into the whole fixed-point slot `$dst`, as
+    // `store_fixed!` stores it, with one integer range test.
+    macro_rules! whole_of_int {
+        ($dst:expr, $r:expr, $here:expr) => {{
+            let r: i64 = $r;
+            match i32::try_from(r) {
+                Ok(r) => store_whole!($dst, f64::from(r)),
+                Err(_) => store_fixed!($dst, r as f64, 0, $here),
+            }
+        }};
+    }
+    // The end of a `For` body at instruction `$here` (see `Op::ForNext`).
+    macro_rules! for_next {
+        ($var:expr, $limit:expr, $body:expr, $decimals:expr, $here:expr) => {{
+            let (var, limit, body, decimals) = ($var, $limit, $body, $decimals);
+            let s = rd!(limit as usize + 1);
+            let x = rd!(var as usize) + s;
+            let val = if decimals == REAL_STORE {
+                Some(x).filter(|x| x.is_finite())
+            } else if decimals == INT_STORE {
+                int16(x)
+            } else {
+                fixed(x, decimals)
+            };
+            let Some(val) = val else {
+                pc = $here;
+                let message = overflow_message(ctx, var, x, decimals);
+                fault!("{message}");
+            };
+            wr!(var as usize, val);
+            if var < trace_below {
+                traced_write(ctx, var, val);
+            }
+            let l = rd!(limit as usize);
+            if (s > 0.0 && val <= l) || (s < 0.0 && val >= l) {
+                pc = body;
+                if n >= budget {
+                    *executed = n;
+                    return Exit::Yield(pc);
                 }
             }
         }};
@@ -219,7 +289,7 @@ pub fn run<'a>(
                 fault!("{name} cannot take {x}: the result is not a finite number");
             }
             wr!(dst as usize, x);
-            if trace_on && dst < ctx.slot_count {
+            if dst < trace_below {
                 traced_write(ctx, dst, x);
             }
         }};
@@ -329,6 +399,125 @@ pub fn run<'a>(
                             pc = here;
                             fault!("{message}");
                         }
+                    }
+                }
+                Op::ModLong { t, dst, a, b } => {
+                    n += 1;
+                    let (x, y) = (rd!(a as usize), rd!(b as usize));
+                    let (i, j) = (trunc_i32(x), trunc_i32(y));
+                    if f64::from(i) == x && f64::from(j) == y && j != 0 {
+                        // As `basic_mod`: the remainder has the sign of x, a zero one included
+                        // (the temporary's); the long stores it with a zero made 0.
+                        let r = f64::from(i.wrapping_rem(j));
+                        wr!(t as usize, r.copysign(x));
+                        store_whole!(dst, r);
+                    } else {
+                        match basic_integer(BinaryOp::BasicMod, x, y) {
+                            Ok(x) => {
+                                wr!(t as usize, x);
+                                store_long!(dst, x, here + 1);
+                            }
+                            Err(message) => {
+                                n -= 1;
+                                pc = here;
+                                fault!("{message}");
+                            }
+                        }
+                    }
+                    pc = here + 2;
+                }
+                Op::AndLong { t, dst, a, b } => {
+                    n += 1;
+                    let (x, y) = (rd!(a as usize), rd!(b as usize));
+                    let (i, j) = (trunc_i32(x), trunc_i32(y));
+                    if f64::from(i) == x && f64::from(j) == y {
+                        // Two 32-bit integers give one.
+                        let r = f64::from(i & j);
+                        wr!(t as usize, r);
+                        store_whole!(dst, r);
+                    } else {
+                        long_of_int!(t, dst, int(x) & int(y), here);
+                    }
+                    pc = here + 2;
+                }
+                Op::OrLong { t, dst, a, b } => {
+                    n += 1;
+                    let (x, y) = (rd!(a as usize), rd!(b as usize));
+                    let (i, j) = (trunc_i32(x), trunc_i32(y));
+                    if f64::from(i) == x && f64::from(j) == y {
+                        // Two 32-bit integers give one.
+                        let r = f64::from(i | j);
+                        wr!(t as usize, r);
+                        store_whole!(dst, r);
+                    } else {
+                        long_of_int!(t, dst, int(x) | int(y), here);
+                    }
+                    pc = here + 2;
+                }
+                Op::XorLong { t, dst, a, b } => {
+                    n += 1;
+                    let (x, y) = (rd!(a as usize), rd!(b as usize));
+                    let (i, j) = (trunc_i32(x), trunc_i32(y));
+                    if f64::from(i) == x && f64::from(j) == y {
+                        // Two 32-bit integers give one.
+                        let r = f64::from(i ^ j);
+                        wr!(t as usize, r);
+                        store_whole!(dst, r);
+                    } else {
+                        long_of_int!(t, dst, int(x) ^ int(y), here);
+                    }
+                    pc = here + 2;
+                }
+                Op::MulAdd { t, a, b, c } => {
+                    n += 1;
+                    wr!(t as usize, rd!(a as usize) * rd!(b as usize));
+                    wr!(t as usize, rd!(t as usize) + rd!(c as usize));
+                    pc = here + 2;
+                }
+                Op::ModWhole { dst, a, b } => {
+                    let (x, y) = (rd!(a as usize), rd!(b as usize));
+                    let (i, j) = (trunc_i32(x), trunc_i32(y));
+                    if f64::from(i) == x && f64::from(j) == y && j != 0 {
+                        // As `int_rem`, whose remainder a whole fixed-point slot keeps as it is.
+                        store_whole!(dst, f64::from(i.wrapping_rem(j)));
+                    } else {
+                        match binary(BinaryOp::Mod, x, y) {
+                            Ok(x) => store_fixed!(dst, x, 0, here),
+                            Err(message) => {
+                                pc = here;
+                                fault!("{message}");
+                            }
+                        }
+                    }
+                }
+                Op::AndWhole { dst, a, b } => {
+                    let (x, y) = (rd!(a as usize), rd!(b as usize));
+                    let (i, j) = (trunc_i32(x), trunc_i32(y));
+                    if f64::from(i) == x && f64::from(j) == y {
+                        // Two 32-bit integers give one.
+                        store_whole!(dst, f64::from(i & j));
+                    } else {
+                        whole_of_int!(dst, int(x) & int(y), here);
+                    }
+                }
+                Op::OrWhole { dst, a, b } => {
+                    let (x, y) = (rd!(a as usize), rd!(b as usize));
+                    let (i, j) = (trunc_i32(x), trunc_i32(y));
+                    if f64::from(i) == x && f64::from(j) == y {
+                        // Two 32-bit integers give one.
+                        store_whole!(dst, f64::from(i | j));
+                    } else {
+                        whole_of_int!(dst, int(x) | int(y), here);
+                    }
+                }
+                Op::XorWhole { dst, a, b } => {
+                    let (x, y) = (rd!(a as usize), rd!(b as usize));
+                    let (i, j) = (trunc_i32(x), trunc_i32(y));
+                    if f64::from(i) == x && f64::from(j) == y {
+                        // Two 32-bit integers give one.
+                        store_whole!(dst, f64::from(i ^ j));
+                    } else {
+                        whole_of_int!(dst, int(x) ^ int(y), here);
                     }
                 }
                 Op::AddCheck { dst, a, b } => {
@@ -442,7 +631,7 @@ pub fn run<'a>(
                 Op::StoreBit { dst, src } => {
                     let x = f64::from(rd!(src as usize) != 0.0);
                     wr!(dst as usize, x);
-                    if trace_on && dst < ctx.slot_count {
+                    if dst < trace_below {
                         traced_write(ctx, dst, x);
                     }
                 }
@@ -591,33 +780,18 @@ pub fn run<'a>(
                     limit,
                     body,
                     decimals,
+                } => for_next!(var, limit, body, decimals, here),
+                Op::JumpNext {
+                    var,
+                    limit,
+                    body,
+                    at,
+                    decimals,
                 } => {
-                    let s = rd!(limit as usize + 1);
-                    let x = rd!(var as usize) + s;
-                    let val = if decimals == REAL_STORE {
-                        Some(x).filter(|x| x.is_finite())
-                    } else if decimals == INT_STORE {
-                        int16(x)
-                    } else {
-                        fixed(x, decimals)
-                    };
-                    let Some(val) = val else {
-                        pc = here;
-                        let message = overflow_message(ctx, var, x, decimals);
-                        fault!("{message}");
-                    };
-                    wr!(var as usize, val);
-                    if trace_on && var < ctx.slot_count {
-                        traced_write(ctx, var, val);
-                    }
-                    let l = rd!(limit as usize);
-                    if (s > 0.0 && val <= l) || (s < 0.0 && val >= l) {
-                        pc = body;
-                        if n >= budget {
-                            *executed = n;
-                            return Exit::Yield(pc);
-                        }
-                    }
+                    // The jump, then the `for.next` at `at`.
+                    n += 1;
+                    pc = at + 1;
+                    for_next!(var, limit, body, decimals, at);
                 }
                 Op::WaitUntil { cond, retry } => {
                     let value = rd!(cond as usize) != 0.0;
@@ -1367,25 +1541,6 @@ fn basic_integer(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
     Ok(q)
 }
 
-/// `x` truncated to an `i32`, any `i32` when it is out of range or NaN: callers keep the result
-/// only when it converts back to `x`, so only a whole `x` within 32 bits is used. On x86-64 this
-/// is the bare conversion instruction (whose out-of-range answer, `i32::MIN`, converts back to
-/// `x` only when `x` is exactly that); Rust's `as` adds a clamp and a NaN test the round trip
-/// makes unnecessary.
-#[inline(always)]
-fn trunc_i32(x: f64) -> i32 {
-    #[cfg(target_arch = "x86_64")]
-    {
-        use std::arch::x86_64::{_mm_cvttsd_si32, _mm_set_sd};
-        // SAFETY: SSE2 is part of the x86-64 baseline, so these instructions always exist.
-        unsafe { _mm_cvttsd_si32(_mm_set_sd(x)) }
-    }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        x as i32
-    }
-}
-
 /// MotionBASIC `MOD`. Whole operands within 32 bits (every long is one) take the integer
 /// remainder: exactly what rounding them and `fmod` give, sign of a zero included, without
 /// libm. Anything else goes the general way ([`basic_integer`]).
@@ -1530,6 +1685,7 @@ fn axis_write(
 }
 
 use crate::fixed::to_fixed as fixed;
+use crate::fixed::trunc_i32;
 
 #[cold]
 #[inline(never)]
