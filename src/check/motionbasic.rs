@@ -203,7 +203,13 @@ impl Array {
 /// these bounds: `A(3)`, `B$(1,2)`.
 pub fn element_name(written: &str, bounds: &[u32], mut index: usize) -> String {
     if bounds.len() == 1 {
-        return format!("{written}({index})");
+        // One per element of every array when a machine loads: without the formatting machinery.
+        let mut name = String::with_capacity(written.len() + 7);
+        name.push_str(written);
+        name.push('(');
+        crate::vm::print::push_digits(index as u64, &mut name);
+        name.push(')');
+        return name;
     }
     let mut subs = vec![0usize; bounds.len()];
     for (k, &b) in bounds.iter().enumerate().rev() {

@@ -273,7 +273,13 @@ fn illegal(what: &str) -> String {
 }
 
 /// A count or position rounded as Microsoft BASIC rounds it (halves to even), within `lo..=hi`.
-fn whole(x: f64, lo: i64, hi: i64, what: &str, name: &str) -> Result<i64, String> {
+fn whole(x: f64, lo: i64, hi: i64, what: &str, func: TextFunc) -> Result<i64, String> {
+    // Already whole and within (the common case): no rounding.
+    let i = x as i64;
+    if i as f64 == x && (lo..=hi).contains(&i) {
+        return Ok(i);
+    }
+    let name = func.name();
     let r = x.round_ties_even();
     if !r.is_finite() || r < lo as f64 || r > hi as f64 {
         return Err(illegal(&format!(
@@ -307,7 +313,6 @@ fn count(s: &str) -> usize {
 /// returned; a number result is returned. Err: an "Illegal function call" or "String too long".
 pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Option<f64>, String> {
     out.clear();
-    let name = func.name();
     let arg = |i: usize| args.get(i).copied().unwrap_or(Value::Num(0.0));
     let len = |v: Value<'_>| count(v.text());
     match func {
@@ -322,7 +327,7 @@ pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Opt
         TextFunc::Instr => {
             let (start, hay, needle) = if args.len() == 3 {
                 (
-                    whole(arg(0).num(), 1, 255, "a start", name)?,
+                    whole(arg(0).num(), 1, 255, "a start", func)?,
                     arg(1),
                     arg(2),
                 )
@@ -339,11 +344,12 @@ pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Opt
             }
             if hay.is_ascii() {
                 // Byte positions are character positions: a substring search, no copies.
-                return Ok(Some(
-                    hay[from..]
-                        .find(needle)
-                        .map_or(0.0, |i| (from + i + 1) as f64),
-                ));
+                let at = if let [byte] = needle.as_bytes() {
+                    hay.as_bytes()[from..].iter().position(|b| b == byte)
+                } else {
+                    hay[from..].find(needle)
+                };
+                return Ok(Some(at.map_or(0.0, |i| (from + i + 1) as f64)));
             }
             let hay_chars: Vec<char> = hay.chars().collect();
             let needle_chars: Vec<char> = needle.chars().collect();
@@ -353,41 +359,41 @@ pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Opt
             return Ok(Some(found));
         }
         TextFunc::Left => {
-            let n = whole(arg(1).num(), 0, 255, "a count", name)?;
+            let n = whole(arg(1).num(), 0, 255, "a count", func)?;
             chars(arg(0).text(), 0, n as usize, out);
         }
         TextFunc::Right => {
-            let n = whole(arg(1).num(), 0, 255, "a count", name)? as usize;
+            let n = whole(arg(1).num(), 0, 255, "a count", func)? as usize;
             let l = len(arg(0));
             chars(arg(0).text(), l.saturating_sub(n), n, out);
         }
         TextFunc::Mid => {
-            let start = whole(arg(1).num(), 1, 255, "a start", name)? as usize;
+            let start = whole(arg(1).num(), 1, 255, "a start", func)? as usize;
             let n = if args.len() > 2 {
-                whole(arg(2).num(), 0, 255, "a count", name)? as usize
+                whole(arg(2).num(), 0, 255, "a count", func)? as usize
             } else {
                 MAX_LEN
             };
             chars(arg(0).text(), start - 1, n, out);
         }
         TextFunc::Str(how) => {
-            let text = crate::vm::print::number(arg(0).num(), how);
-            out.push_str(text.trim_end_matches(' '));
+            crate::vm::print::push_number(arg(0).num(), how, out);
+            out.truncate(out.trim_end_matches(' ').len());
         }
         TextFunc::Chr => {
-            let code = whole(arg(0).num(), 0, 255, "a code", name)?;
+            let code = whole(arg(0).num(), 0, 255, "a code", func)?;
             // Codes 128–255 are Latin-1 here (what pacer reads Windows-1252 programs as is
             // the same for letters such as `°` and `µ`).
             out.push(char::from(code as u8));
         }
         TextFunc::Space => {
-            let n = whole(arg(0).num(), 0, 255, "a count", name)?;
+            let n = whole(arg(0).num(), 0, 255, "a count", func)?;
             out.extend(std::iter::repeat_n(' ', n as usize));
         }
         TextFunc::Repeat => {
-            let n = whole(arg(0).num(), 0, 255, "a count", name)?;
+            let n = whole(arg(0).num(), 0, 255, "a count", func)?;
             let c = match arg(1) {
-                Value::Num(x) => char::from(whole(x, 0, 255, "a code", name)? as u8),
+                Value::Num(x) => char::from(whole(x, 0, 255, "a code", func)? as u8),
                 Value::Text(s) => s
                     .chars()
                     .next()
@@ -408,7 +414,8 @@ pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Opt
                 (x as i64 as u64) & 0xFFFF_FFFF
             } else {
                 return Err(format!(
-                    "Overflow: {name} takes an integer of 32 bits, not {x}"
+                    "Overflow: {} takes an integer of 32 bits, not {x}",
+                    func.name()
                 ));
             };
             let text = if func == TextFunc::Hex {

@@ -1136,8 +1136,10 @@ fn subscript(x: f64, len: u32) -> Option<u32> {
 
 /// A string handle in a register, as an index of the string table.
 fn handle(x: f64, strings: &[String]) -> Result<usize, String> {
-    if x >= 0.0 && x.fract() == 0.0 && (x as usize) < strings.len() {
-        Ok(x as usize)
+    // A whole number converts back to itself (no `fract`, a library call on x86-64).
+    let i = x as usize;
+    if i as f64 == x && i < strings.len() {
+        Ok(i)
     } else {
         Err(format!("internal error: {x} is not a string"))
     }

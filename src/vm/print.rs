@@ -10,13 +10,51 @@ pub const ZONE: usize = 14;
 
 /// A number as `PRINT` writes it: `" 5 "`, `"-2.5 "`, `" .5 "`, `" 1E+07 "`.
 pub fn number(x: f64, how: PrintHow) -> String {
+    let mut text = String::new();
+    push_number(x, how, &mut text);
+    text
+}
+
+/// [`number`] written at the end of `out`.
+pub fn push_number(x: f64, how: PrintHow, out: &mut String) {
+    let a = x.abs();
+    // A whole number that every form writes as its plain digits (the common case): the digits,
+    // without the formatting machinery. A SINGLE has 7 digits; the others are exact below 2^53.
+    let plain = if how == PrintHow::Single {
+        1.0e7
+    } else {
+        9.0e15
+    };
+    if a < plain && a as u64 as f64 == a {
+        out.push(if x < 0.0 { '-' } else { ' ' });
+        push_digits(a as u64, out);
+        out.push(' ');
+        return;
+    }
     let sign = if x < 0.0 { "-" } else { " " };
     let body = match how {
-        PrintHow::Integer | PrintHow::Text => format!("{}", x.abs().round()),
-        PrintHow::Single => magnitude(x.abs(), 7, 'E'),
-        PrintHow::Double => magnitude(x.abs(), 16, 'D'),
+        PrintHow::Integer | PrintHow::Text => format!("{}", a.round()),
+        PrintHow::Single => magnitude(a, 7, 'E'),
+        PrintHow::Double => magnitude(a, 16, 'D'),
     };
-    format!("{sign}{body} ")
+    out.push_str(sign);
+    out.push_str(&body);
+    out.push(' ');
+}
+
+/// The decimal digits of `n` at the end of `out`.
+pub fn push_digits(mut n: u64, out: &mut String) {
+    let mut digits = [0u8; 20];
+    let mut at = digits.len();
+    loop {
+        at -= 1;
+        digits[at] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    out.extend(digits[at..].iter().map(|&d| char::from(d)));
 }
 
 /// A non-negative `x` to `digits` significant digits: plain (no leading zero, no trailing
