@@ -142,15 +142,19 @@ macro_rules! global_slot {
 /// A struct of the slots a device uses on one instance of a catalog type, each field bound to
 /// a member by name and checked when pacer is compiled.
 ///
-/// ```ignore
-/// bind_slots! {
+/// ```
+/// use pacer::registry::catalog::INDEX_TYPE;
+/// pacer::bind_slots! {
 ///     /// The slots of one index.
 ///     pub struct IndexSlots for INDEX_TYPE {
 ///         distance: "Distance",
 ///         velocity: "Velocity",
 ///     }
 /// }
+/// let machine = pacer::config::machine::MachineFile::default();
+/// let (registry, _) = pacer::config::registry(&machine, &[0], &[]);
 /// let ix = IndexSlots::of(&registry, 0);
+/// assert_ne!(ix.distance, ix.velocity);
 /// ```
 #[macro_export]
 macro_rules! bind_slots {
