@@ -236,6 +236,23 @@ pub fn run<'a>(
             }
         }};
     }
+    // `band`/`bor`/`bxor` (`$op`) into `$t`, then `store.l $dst`: two whole 32-bit operands give
+    // a 32-bit result stored as it is; anything else is rounded first, as the two instructions do.
+    macro_rules! bitwise_long {
+        ($t:expr, $dst:expr, $a:expr, $b:expr, $op:tt, $here:expr) => {{
+            n += 1;
+            let (x, y) = (rd!($a as usize), rd!($b as usize));
+            let (i, j) = (trunc_i32(x), trunc_i32(y));
+            if f64::from(i) == x && f64::from(j) == y {
+                let r = f64::from(i $op j);
+                wr!($t as usize, r);
+                store_whole!($dst, r);
+            } else {
+                long_of_int!($t, $dst, int(x) $op int(y), $here);
+            }
+            pc = $here + 2;
+        }};
+    }
     // The integer result `$r` of a bitwise operator into the whole fixed-point slot `$dst`, as
     // `store_fixed!` stores it, with one integer range test.
     macro_rules! whole_of_int {
@@ -426,48 +443,9 @@ pub fn run<'a>(
                     }
                     pc = here + 2;
                 }
-                Op::AndLong { t, dst, a, b } => {
-                    n += 1;
-                    let (x, y) = (rd!(a as usize), rd!(b as usize));
-                    let (i, j) = (trunc_i32(x), trunc_i32(y));
-                    if f64::from(i) == x && f64::from(j) == y {
-                        // Two 32-bit integers give one.
-                        let r = f64::from(i & j);
-                        wr!(t as usize, r);
-                        store_whole!(dst, r);
-                    } else {
-                        long_of_int!(t, dst, int(x) & int(y), here);
-                    }
-                    pc = here + 2;
-                }
-                Op::OrLong { t, dst, a, b } => {
-                    n += 1;
-                    let (x, y) = (rd!(a as usize), rd!(b as usize));
-                    let (i, j) = (trunc_i32(x), trunc_i32(y));
-                    if f64::from(i) == x && f64::from(j) == y {
-                        // Two 32-bit integers give one.
-                        let r = f64::from(i | j);
-                        wr!(t as usize, r);
-                        store_whole!(dst, r);
-                    } else {
-                        long_of_int!(t, dst, int(x) | int(y), here);
-                    }
-                    pc = here + 2;
-                }
-                Op::XorLong { t, dst, a, b } => {
-                    n += 1;
-                    let (x, y) = (rd!(a as usize), rd!(b as usize));
-                    let (i, j) = (trunc_i32(x), trunc_i32(y));
-                    if f64::from(i) == x && f64::from(j) == y {
-                        // Two 32-bit integers give one.
-                        let r = f64::from(i ^ j);
-                        wr!(t as usize, r);
-                        store_whole!(dst, r);
-                    } else {
-                        long_of_int!(t, dst, int(x) ^ int(y), here);
-                    }
-                    pc = here + 2;
-                }
+                Op::AndLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, &, here),
+                Op::OrLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, |, here),
+                Op::XorLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, ^, here),
                 Op::MulAdd { t, a, b, c } => {
                     n += 1;
                     wr!(t as usize, rd!(a as usize) * rd!(b as usize));
