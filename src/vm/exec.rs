@@ -236,6 +236,19 @@ pub fn run<'a>(
             }
         }};
     }
+    // `band`/`bor`/`bxor` (`$op`) straight into the whole fixed-point slot `$dst`: two whole
+    // 32-bit operands give a 32-bit result stored as it is; anything else is rounded first.
+    macro_rules! bitwise_whole {
+        ($dst:expr, $a:expr, $b:expr, $op:tt, $here:expr) => {{
+            let (x, y) = (rd!($a as usize), rd!($b as usize));
+            let (i, j) = (trunc_i32(x), trunc_i32(y));
+            if f64::from(i) == x && f64::from(j) == y {
+                store_whole!($dst, f64::from(i $op j));
+            } else {
+                whole_of_int!($dst, int(x) $op int(y), $here);
+            }
+        }};
+    }
     // `band`/`bor`/`bxor` (`$op`) into `$t`, then `store.l $dst`: two whole 32-bit operands give
     // a 32-bit result stored as it is; anything else is rounded first, as the two instructions do.
     macro_rules! bitwise_long {
@@ -468,36 +481,9 @@ pub fn run<'a>(
                         }
                     }
                 }
-                Op::AndWhole { dst, a, b } => {
-                    let (x, y) = (rd!(a as usize), rd!(b as usize));
-                    let (i, j) = (trunc_i32(x), trunc_i32(y));
-                    if f64::from(i) == x && f64::from(j) == y {
-                        // Two 32-bit integers give one.
-                        store_whole!(dst, f64::from(i & j));
-                    } else {
-                        whole_of_int!(dst, int(x) & int(y), here);
-                    }
-                }
-                Op::OrWhole { dst, a, b } => {
-                    let (x, y) = (rd!(a as usize), rd!(b as usize));
-                    let (i, j) = (trunc_i32(x), trunc_i32(y));
-                    if f64::from(i) == x && f64::from(j) == y {
-                        // Two 32-bit integers give one.
-                        store_whole!(dst, f64::from(i | j));
-                    } else {
-                        whole_of_int!(dst, int(x) | int(y), here);
-                    }
-                }
-                Op::XorWhole { dst, a, b } => {
-                    let (x, y) = (rd!(a as usize), rd!(b as usize));
-                    let (i, j) = (trunc_i32(x), trunc_i32(y));
-                    if f64::from(i) == x && f64::from(j) == y {
-                        // Two 32-bit integers give one.
-                        store_whole!(dst, f64::from(i ^ j));
-                    } else {
-                        whole_of_int!(dst, int(x) ^ int(y), here);
-                    }
-                }
+                Op::AndWhole { dst, a, b } => bitwise_whole!(dst, a, b, &, here),
+                Op::OrWhole { dst, a, b } => bitwise_whole!(dst, a, b, |, here),
+                Op::XorWhole { dst, a, b } => bitwise_whole!(dst, a, b, ^, here),
                 Op::AddCheck { dst, a, b } => {
                     n += 1;
                     check_long!(dst, rd!(a as usize) + rd!(b as usize), here + 1);
