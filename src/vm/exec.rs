@@ -1195,7 +1195,7 @@ fn ext(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(
             argc,
             texts,
         } => {
-            let mut values = [Arg::Num(0.0); 3];
+            let mut values = [Arg::Num(0.0); 4];
             for (i, value) in values.iter_mut().enumerate().take(usize::from(argc)) {
                 let x = v[args as usize + i];
                 *value = if texts & (1 << i) != 0 {
