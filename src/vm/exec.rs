@@ -1708,7 +1708,7 @@ fn name_of(ctx: &Ctx<'_, '_>, slot: u32) -> String {
 #[inline(never)]
 fn traced_write(ctx: &mut Ctx<'_, '_>, slot: u32, value: f64) {
     let info = &ctx.registry.slots[slot as usize];
-    if info.member.continuous {
+    if info.member.continuous || info.member.derived {
         return;
     }
     // A write that leaves the value as last traced is no change (unless every write is
