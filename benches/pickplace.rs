@@ -20,7 +20,16 @@ const PER_BELT: usize = 30;
 const DT: f64 = 0.001;
 const SPEED: f64 = 250.0;
 const WARMUP: u64 = 2_000;
+/// Cycles timed, unless `PACER_PP_CYCLES` sets another number (fewer, to run the bench under
+/// callgrind and compare instruction counts).
 const CYCLES: u64 = 1_000_000;
+
+fn cycles() -> u64 {
+    std::env::var("PACER_PP_CYCLES")
+        .ok()
+        .and_then(|s| s.parse().ok())
+        .unwrap_or(CYCLES)
+}
 
 /// The thread's CPU time, s.
 fn thread_cpu() -> f64 {
@@ -130,6 +139,7 @@ fn stats(v: &mut [f64]) -> [f64; 5] {
 }
 
 fn main() {
+    let cycles = cycles();
     let (setup, params, belt_params) = setup();
     let mut m = Module::new(&setup, DT);
     let mut events: Vec<Event> = Vec::with_capacity(64);
@@ -139,13 +149,13 @@ fn main() {
         ..Inputs::default()
     };
     let mut ids = [0u32; BELTS];
-    let mut kinds: Vec<Kind> = Vec::with_capacity(CYCLES as usize);
-    let mut wall: Vec<f64> = Vec::with_capacity(CYCLES as usize);
-    let mut cpu: Vec<f64> = Vec::with_capacity(CYCLES as usize);
+    let mut kinds: Vec<Kind> = Vec::with_capacity(cycles as usize);
+    let mut wall: Vec<f64> = Vec::with_capacity(cycles as usize);
+    let mut cpu: Vec<f64> = Vec::with_capacity(cycles as usize);
     let mut tracked_min = usize::MAX;
     let mut planned = 0u64;
     let mut belts = vec![(0.0, SPEED); BELTS];
-    for k in 0..WARMUP + CYCLES {
+    for k in 0..WARMUP + cycles {
         let t = k as f64 * DT;
         let travel = SPEED * t;
         for b in belts.iter_mut() {
@@ -206,7 +216,7 @@ fn main() {
     }
     println!(
         "pick & place module, {BELTS} belts x {PER_BELT} workpieces (at least {tracked_min} \
-         tracked), {CYCLES} cycles timed once each, {planned} paths prepared:"
+         tracked), {cycles} cycles timed once each, {planned} paths prepared:"
     );
     for (kind, name) in KINDS {
         for (clock, v) in [("wall", &wall), ("cpu", &cpu)] {
