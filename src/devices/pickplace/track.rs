@@ -103,6 +103,19 @@ impl Belt {
         self.frame.x_axis()
     }
 
+    /// The oldest workpiece, other than `skip`, whose X on the belt is beyond `limit` once the
+    /// belt has carried it `carry` further: its id. The module asks this of every belt at every
+    /// cycle, so the loop over the workpieces holds nothing else (travel and carry are given,
+    /// not reloaded and recomputed for each workpiece).
+    pub fn first_beyond(&self, skip: Option<u32>, carry: f64, limit: f64) -> Option<u32> {
+        let travel = self.travel;
+        self.pieces
+            .iter()
+            .filter(|w| Some(w.id) != skip)
+            .find(|w| w.belt_x(travel).is_some_and(|x| x + carry > limit))
+            .map(|w| w.id)
+    }
+
     /// Remove the workpiece with `id`, if tracked.
     pub fn remove(&mut self, id: u32) -> Option<Workpiece> {
         let i = self.pieces.iter().position(|w| w.id == id)?;
