@@ -424,6 +424,7 @@ const TOKENS: &[&str] = &[
     "RANDOMIZE",
     "DEFINT",
     "LEFT$(",
+    "MID$(A$, 2) = ",
     "RND",
     "REM",
     "REM ",
@@ -671,7 +672,7 @@ fn index_expr() -> BoxedStrategy<String> {
 }
 
 /// The Microsoft BASIC data and storage statements: DIM, element stores, DATA, READ,
-/// RESTORE, SWAP, LET, RANDOMIZE, DEFINT and its kin.
+/// RESTORE, SWAP, LET, the MID$ statement, RANDOMIZE, DEFINT and its kin.
 fn storage_stmt() -> BoxedStrategy<String> {
     let dims = prop::collection::vec(index_expr(), 1..3).prop_map(|v| v.join(", "));
     prop_oneof![
@@ -700,6 +701,20 @@ fn storage_stmt() -> BoxedStrategy<String> {
         1 => (pick_any(&[NUM_VARS, STR_VARS]), pick_any(&[NUM_VARS, STR_VARS]))
             .prop_map(|(a, b)| format!("SWAP {a}, {b}")),
         1 => (pick(NUM_VARS), num_expr()).prop_map(|(t, e)| format!("LET {t} = {e}")),
+        1 => (
+            prop_oneof![
+                3 => pick(STR_VARS),
+                2 => (pick(STR_ARRAYS), index_expr()).prop_map(|(a, i)| format!("{a}({i})")),
+                1 => pick(NUM_VARS),
+            ],
+            index_expr(),
+            prop::option::of(index_expr()),
+            str_expr(),
+        )
+            .prop_map(|(t, n, m, e)| match m {
+                Some(m) => format!("MID$({t}, {n}, {m}) = {e}"),
+                None => format!("MID$({t}, {n}) = {e}"),
+            }),
         1 => (
             pick(&["\"##.##\"", "\"+#,###.#^^^^ & \\  \\ !\"", "\"**$##.##-\"", "\"_!x\"", "F$", "\"\""]),
             prop::collection::vec(prop_oneof![2 => num_expr(), 1 => str_expr()], 0..4),

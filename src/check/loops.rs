@@ -153,6 +153,7 @@ fn writes(stmts: &[Stmt], out: &mut Touched) {
             place_slot(a, out);
             place_slot(b, out);
         }
+        StmtKind::MidSet { place, .. } => place_slot(place, out),
         // RANDOMIZE changes what RND gives.
         StmtKind::Randomize(_) => out.slots.push(RANDOM),
         _ => {}

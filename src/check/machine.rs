@@ -2,11 +2,13 @@
 //! a motion object started that has no motion set up anywhere (no velocity in `machine.toml`
 //! and none written by a program), an axis set naming an axis that is not a DSP axis of the
 //! machine, division by a literal zero, REGIST with a literal LGTH of 0, and a `RETURN` the
-//! program runs into without a `GOSUB`. Each would otherwise pass `pacer check` and fail at run
-//! time.
+//! program runs into without a `GOSUB`, and compound indexes (`Index.N.CompoundInitiate`) that
+//! are not followed by the index they run into, or that the drive cannot compound. Each would
+//! otherwise pass `pacer check` and fail or run wrongly at run time.
 
 use super::typed::{each_stmt, Expr, ExprKind, Op, Program, Stmt, StmtKind};
-use crate::devices::command::KernelFunc;
+use crate::devices::command::{KernelFunc, StartRef};
+use crate::devices::drive::setup::{IndexConfig, IndexType};
 use crate::diag::Problem;
 use crate::registry::{Hook, Kind, Registry, SlotId};
 use crate::span::Span;
@@ -22,6 +24,8 @@ pub struct MachineFacts<'a> {
     /// A machine file describes the machine: what it lacks is an error. Without one (loose
     /// files checked on their own) the machine is unknown and it is only a warning.
     pub described: bool,
+    /// The set-up of each index (timed, registration, synchronized), by number.
+    pub indexes: &'a [IndexConfig],
 }
 
 /// Every slot `program` writes (assignments and counters).
@@ -41,8 +45,166 @@ pub fn against_machine(program: &Program, facts: &MachineFacts<'_>) -> Vec<Probl
         problems: &mut problems,
     };
     cx.stmts(&program.body);
+    compounds(&program.body, facts, &mut problems);
     returns_without_gosub(program, &mut problems);
     problems
+}
+
+/// The compound indexes of `body` and of the blocks in it. A compound index runs on into the
+/// next index without stopping, and the program's next instruction initiates that index, so
+/// the statement after `Index.N.CompoundInitiate` must be that initiate, on the same profile,
+/// started where the compound index ends (not `Using Capture`). The FM-3 reference (p. 98):
+/// "A Timed Index can not be compounded into or out of"; a registration index's end depends on
+/// its sensor, which pacer does not compound.
+fn compounds(body: &[Stmt], facts: &MachineFacts<'_>, problems: &mut Vec<Problem>) {
+    let registry = facts.registry;
+    let compound = |s: &Stmt| match &s.kind {
+        StmtKind::Act { target, .. }
+            if target.kind == Kind::Index
+                && registry.slot_of(Kind::Index, target.instance, "CompoundInitiate")
+                    == Some(target.slot) =>
+        {
+            Some(target.instance)
+        }
+        _ => None,
+    };
+    let config = |n: u32| facts.indexes.get(n as usize).copied().unwrap_or_default();
+    // What keeps an index out of a compound chain, in a machine builder's words.
+    let refused = |n: u32, role: &str| -> Option<(String, String)> {
+        let c = config(n);
+        if c.timed {
+            Some((
+                format!("Index.{n} is a timed index: a timed index cannot be {role}"),
+                "the FM-3 reference (p. 98): \"A Timed Index can not be compounded into or out \
+                 of\"; remove `time` from its [index] section or do not compound it"
+                    .to_string(),
+            ))
+        } else if c.kind == IndexType::Registration {
+            Some((
+                format!("Index.{n} is a registration index: pacer does not let it be {role}"),
+                "its end depends on its sensor; start it with Initiate, after an index that \
+                 stops"
+                    .to_string(),
+            ))
+        } else {
+            None
+        }
+    };
+    for (i, s) in body.iter().enumerate() {
+        match &s.kind {
+            StmtKind::If {
+                then_body,
+                else_body,
+                ..
+            } => {
+                compounds(then_body, facts, problems);
+                compounds(else_body.as_deref().unwrap_or_default(), facts, problems);
+            }
+            StmtKind::While { body, .. } | StmtKind::For { body, .. } => {
+                compounds(body, facts, problems)
+            }
+            _ => {}
+        }
+        let Some(n) = compound(s) else { continue };
+        let StmtKind::Act {
+            when, profile: on, ..
+        } = &s.kind
+        else {
+            continue;
+        };
+        if when.is_some() {
+            problems.push(
+                Problem::error(
+                    "pacer::check::compound",
+                    s.span,
+                    format!("Index.{n}.CompoundInitiate cannot wait for a condition"),
+                    "assigned a condition",
+                )
+                .with_help("write it as a line of its own, followed by the next index's initiate"),
+            );
+            continue;
+        }
+        if let Some((message, help)) = refused(n, "compounded") {
+            problems.push(
+                Problem::error("pacer::check::compound", s.span, message, "cannot compound")
+                    .with_help(help),
+            );
+        }
+        // The next statement: the initiate of the index it runs into.
+        let next = body.get(i + 1).and_then(|x| match &x.kind {
+            StmtKind::Act {
+                target,
+                start,
+                profile,
+                when: None,
+            } if target.kind == Kind::Index && target.hook == Hook::MotionStart => {
+                Some((x, target.instance, *start, *profile))
+            }
+            _ => None,
+        });
+        let Some((x, m, start, profile)) = next else {
+            problems.push(
+                Problem::error(
+                    "pacer::check::compound",
+                    s.span,
+                    format!("Index.{n}.CompoundInitiate is not followed by the index it runs into"),
+                    "nothing to run into",
+                )
+                .with_help(
+                    "a compound index does not stop at its end point: it runs on into the next \
+                     index, which the next line initiates (`Index.1.Initiate`, or \
+                     `Index.1.CompoundInitiate` to go on again)",
+                ),
+            );
+            continue;
+        };
+        if let Some((message, help)) = refused(m, "compounded into") {
+            problems.push(
+                Problem::error("pacer::check::compound", x.span, message, "cannot compound")
+                    .with_help(help),
+            );
+        }
+        if profile != *on {
+            problems.push(
+                Problem::error(
+                    "pacer::check::compound",
+                    x.span,
+                    format!("Index.{m} is not on the profile of Index.{n}, which runs into it"),
+                    "another profile",
+                )
+                .with_help("initiate both on the same profile (`On Profile.N`)"),
+            );
+        }
+        if let StartRef::Capture(c) = start {
+            problems.push(
+                Problem::error(
+                    "pacer::check::compound",
+                    x.span,
+                    format!("Index.{m} cannot start Using Capture.{c}"),
+                    "it starts where the compound index ends",
+                )
+                .with_help(format!(
+                    "Index.{n} is compounded: Index.{m} starts where it ends, without stopping"
+                )),
+            );
+        }
+        if config(n).synchronized != config(m).synchronized {
+            problems.push(
+                Problem::error(
+                    "pacer::check::compound",
+                    x.span,
+                    format!(
+                        "Index.{m} and Index.{n}, which runs into it, are not both synchronized \
+                         to the master"
+                    ),
+                    "cannot compound",
+                )
+                .with_help(
+                    "compound realtime indexes into realtime ones, synchronized into synchronized",
+                ),
+            );
+        }
+    }
 }
 
 struct Walk<'a, 'b> {

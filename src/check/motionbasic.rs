@@ -262,6 +262,11 @@ pub fn option_base(e: &Expr) -> Option<u32> {
     }
 }
 
+/// `MID$(…) = …` is the MID$ statement.
+fn is_mid(text: &str) -> bool {
+    super::text::find(text).is_some_and(|d| d.func == super::text::TextFunc::Mid)
+}
+
 /// `NAME(…)` names an array element unless NAME is a function or a controller variable.
 pub fn array_call(text: &str) -> bool {
     !text.ends_with('@')
@@ -1229,6 +1234,11 @@ impl Rules for MotionBasic<'_> {
     fn other(&mut self, cx: &mut Context<'_>, s: &Stmt) -> Option<T> {
         match &s.kind {
             StmtKind::SetCall { target, .. } if array_call(&target.text) => self.storage(cx, s),
+            StmtKind::SetCall {
+                target,
+                args,
+                value,
+            } if is_mid(&target.text) => self.mid_statement(cx, target, args, value),
             StmtKind::Dim(_)
             | StmtKind::Data(_)
             | StmtKind::Read(_)
@@ -1886,6 +1896,82 @@ impl MotionBasic<'_> {
             StmtKind::DefType { .. } => Some(T::Nothing),
             _ => not_here(cx, s, Dialect::MotionBasic),
         }
+    }
+
+    /// The `MID$(v$, start[, n]) = y$` statement: `v$` a string variable or element.
+    fn mid_statement(
+        &mut self,
+        cx: &mut Context<'_>,
+        target: &Segment,
+        args: &[Expr],
+        value: &Expr,
+    ) -> Option<T> {
+        let usage = "write `MID$(A$, start) = B$` or `MID$(A$, start, count) = B$`";
+        let (first, start, count) = match args {
+            [first, start] => (first, start, None),
+            [first, start, count] => (first, start, Some(count)),
+            _ => {
+                cx.push(
+                    Problem::error(
+                        "pacer::check::mid",
+                        target.span,
+                        format!(
+                            "the MID$ statement takes 2 or 3 arguments, not {}",
+                            args.len()
+                        ),
+                        "wrong number of arguments",
+                    )
+                    .with_help(usage),
+                );
+                return None;
+            }
+        };
+        let place = match &first.kind {
+            ExprKind::Name(n) => Some(Place::Var(n.clone())),
+            ExprKind::Call(seg, subs) if array_call(&seg.text) => {
+                Some(Place::Element(seg.clone(), subs.clone(), first.span))
+            }
+            _ => None,
+        };
+        let Some(place) = place else {
+            cx.push(
+                Problem::error(
+                    "pacer::check::mid",
+                    first.span,
+                    "the MID$ statement changes a string variable or array element",
+                    "not a variable",
+                )
+                .with_help(usage),
+            );
+            return None;
+        };
+        let placed = self.place(cx, &place);
+        let start = self.want(cx, start, Ty::Num, "the start is a number");
+        let count = count.map(|c| self.want(cx, c, Ty::Num, "the count is a number"));
+        let value = self.want(cx, value, Ty::Str, "MID$ = puts a string into a string");
+        let (place, ty) = placed?;
+        if ty != Ty::Str {
+            cx.push(
+                Problem::error(
+                    "pacer::check::type",
+                    first.span,
+                    "Type mismatch: the MID$ statement changes a string",
+                    "not a string",
+                )
+                .with_help("the variable needs the `$` suffix (or a DEFSTR letter)"),
+            );
+            return None;
+        }
+        let count = match count {
+            Some(c) => Some(c?),
+            None => None,
+        };
+        Some(T::MidSet {
+            place,
+            start: start?,
+            count,
+            value: value?,
+        })
     }
 
     /// `PRINT`: numbers and strings; every item checked, each number written as its type.

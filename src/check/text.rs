@@ -44,6 +44,10 @@ pub enum TextFunc {
     Hex,
     /// `OCT$(n)`.
     Oct,
+    /// The `MID$(v$, start[, n]) = y$` statement: `v$` with its characters from `start`
+    /// replaced by those of `y$` (at most `n`, never past the end of `v$`). Its arguments are
+    /// `v$, start, y$[, n]`. Not callable by name: the checker makes it from the statement.
+    MidSet,
 }
 
 /// What an argument is.
@@ -234,6 +238,7 @@ impl TextFunc {
     pub fn name(self) -> &'static str {
         let key = match self {
             TextFunc::Str(_) => TextFunc::Str(PrintHow::Single),
+            TextFunc::MidSet => TextFunc::Mid,
             f => f,
         };
         TEXT_FUNCTIONS
@@ -375,6 +380,27 @@ pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Opt
                 MAX_LEN
             };
             chars(arg(0).text(), start - 1, n, out);
+        }
+        TextFunc::MidSet => {
+            let (target, replacement) = (arg(0), arg(2));
+            let (target, replacement) = (target.text(), replacement.text());
+            let l = count(target);
+            let start = whole(arg(1).num(), 1, 255, "a start", func)? as usize;
+            let n = if args.len() > 3 {
+                whole(arg(3).num(), 0, 255, "a count", func)? as usize
+            } else {
+                MAX_LEN
+            };
+            if start > l {
+                return Err(illegal(&format!(
+                    "MID$ = starts at character {start} of a string of {l}"
+                )));
+            }
+            // The string keeps its length: the replacement stops at its end.
+            let n = n.min(count(replacement)).min(l - start + 1);
+            chars(target, 0, start - 1, out);
+            chars(replacement, 0, n, out);
+            chars(target, start - 1 + n, MAX_LEN, out);
         }
         TextFunc::Str(how) => {
             crate::vm::print::push_number(arg(0).num(), how, out);
@@ -520,6 +546,39 @@ mod tests {
     }
 
     use Value::{Num as N, Text as T};
+
+    /// The MID$ statement: the GW-BASIC User's Guide's example (`MID$(A$, 14) = "KS"`), a
+    /// count, a replacement longer than what is left, a shorter one, and the errors.
+    #[test]
+    fn mid_statement_as_microsoft_basic() {
+        let set = |args: &[Value<'_>]| text(TextFunc::MidSet, args);
+        assert_eq!(
+            set(&[T("KANSAS CITY, MO"), N(14.0), T("KS")]).unwrap(),
+            "KANSAS CITY, KS"
+        );
+        assert_eq!(
+            set(&[T("ABCDE"), N(2.0), T("xyz"), N(1.0)]).unwrap(),
+            "AxCDE"
+        );
+        assert_eq!(set(&[T("ABCDE"), N(4.0), T("xyz")]).unwrap(), "ABCxy");
+        assert_eq!(set(&[T("ABCDE"), N(1.0), T("x")]).unwrap(), "xBCDE");
+        assert_eq!(set(&[T("ABCDE"), N(5.0), T("")]).unwrap(), "ABCDE");
+        assert_eq!(
+            set(&[T("ABCDE"), N(2.0), T("xyz"), N(0.0)]).unwrap(),
+            "ABCDE"
+        );
+        assert_eq!(set(&[T("ÀBC"), N(2.0), T("é")]).unwrap(), "ÀéC");
+        for bad in [
+            &[T("ABC"), N(0.0), T("x")][..],
+            &[T("ABC"), N(4.0), T("x")],
+            &[T(""), N(1.0), T("x")],
+            &[T("ABC"), N(1.0), T("x"), N(-1.0)],
+        ] {
+            let e = set(bad).unwrap_err();
+            assert!(e.starts_with("Illegal function call"), "{e}");
+        }
+        assert_eq!(TextFunc::MidSet.name(), "MID$");
+    }
 
     /// The GW-BASIC User's Guide's examples and edge cases of each function.
     #[test]

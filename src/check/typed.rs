@@ -350,6 +350,18 @@ pub enum StmtKind {
     Restore(Option<String>),
     /// `SWAP a, b` (same type).
     Swap(Place, Place),
+    /// `MID$(v$, start[, n]) = y$`: the characters of the string place from `start` replaced by
+    /// those of `value`, the place's subscripts evaluated once.
+    MidSet {
+        /// The string variable or element changed.
+        place: Place,
+        /// Where the replacement starts (from 1).
+        start: Expr,
+        /// At most this many characters replaced.
+        count: Option<Expr>,
+        /// The replacement.
+        value: Expr,
+    },
     /// `RANDOMIZE [seed]` (no seed: the scenario's).
     Randomize(Option<Expr>),
     /// A MotionBASIC motion statement (`GEAR`, `MOVE`).

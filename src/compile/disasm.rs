@@ -369,9 +369,15 @@ fn ext_text(op: &ExtOp, r: &dyn Fn(u32) -> String, chunk: &Chunk) -> String {
             argc,
             ..
         } => format!(
-            "text      {} <- {}({} args from {})",
+            "text      {} <- {}{}({} args from {})",
             r(*dst),
             func.name(),
+            // The statement's function, not the one of the same name.
+            if *func == crate::check::text::TextFunc::MidSet {
+                "="
+            } else {
+                ""
+            },
             argc,
             r(*args)
         ),

@@ -426,6 +426,12 @@ impl<'a> Compiler<'a> {
                 }
             }
             StmtKind::Swap(a, b) => self.swap(a, b),
+            StmtKind::MidSet {
+                place,
+                start,
+                count,
+                value,
+            } => self.mid_set(place, start, count.as_ref(), value),
             StmtKind::Randomize(seed) => {
                 let seed = seed.as_ref().map(|e| self.expr(e));
                 self.emit_ext(ExtOp::Randomize { seed });
@@ -766,35 +772,9 @@ impl<'a> Compiler<'a> {
     /// a cell of its own, since the variable's cell is about to change).
     fn swap(&mut self, a: &Place, b: &Place) {
         let text = place_is_text(a);
-        let locate = |c: &mut Self, p: &Place| match p {
-            Place::Var(r) => (r.slot, None),
-            Place::Element(el) => {
-                let off = c.offset(el);
-                // The offset must survive the other place's subscripts.
-                let keep = c.temp(c.span);
-                c.emit(Op::Move {
-                    dst: keep,
-                    src: off,
-                });
-                (el.base.slot, Some((keep, element_count(el))))
-            }
-        };
-        let (sa, oa) = locate(self, a);
-        let (sb, ob) = locate(self, b);
-        let read = |c: &mut Self, slot: Reg, off: Option<(Reg, u32)>| -> Reg {
-            let dst = c.temp(c.span);
-            match off {
-                None => c.emit(Op::Move { dst, src: slot }),
-                Some((off, len)) => c.emit(Op::LoadAt {
-                    dst,
-                    base: slot,
-                    off,
-                    len,
-                }),
-            };
-            dst
-        };
-        let va = read(self, sa, oa);
+        let (sa, oa) = self.locate(a);
+        let (sb, ob) = self.locate(b);
+        let va = self.read_located(sa, oa);
         let kept = if text {
             let cell = self.layout.cell();
             let dst = self.temp(self.span);
@@ -803,10 +783,74 @@ impl<'a> Compiler<'a> {
         } else {
             va
         };
-        let vb = read(self, sb, ob);
+        let vb = self.read_located(sb, ob);
         let (oa, ob) = (oa.map(|o| o.0), ob.map(|o| o.0));
         self.store_located(a, sa, oa, vb);
         self.store_located(b, sb, ob, kept);
+    }
+
+    /// `MID$(v$, start[, n]) = y$`: the place's subscripts evaluated once, its string read,
+    /// changed by the string function, and stored back.
+    fn mid_set(&mut self, place: &Place, start: &Expr, count: Option<&Expr>, value: &Expr) {
+        let (slot, off) = self.locate(place);
+        // The function's arguments in consecutive registers: v$, start, y$[, n].
+        let operands: Vec<&Expr> = [start, value].into_iter().chain(count).collect();
+        let args: Vec<Reg> = (0..=operands.len()).map(|_| self.temp(self.span)).collect();
+        let top = self.temp_top;
+        self.read_into(slot, off, args[0]);
+        for (e, &dst) in operands.iter().zip(&args[1..]) {
+            let src = self.expr(e);
+            self.temp_top = top;
+            self.emit(Op::Move { dst, src });
+        }
+        let dst = self.temp(self.span);
+        let cell = self.layout.cell();
+        self.emit_ext(ExtOp::Text {
+            func: crate::check::text::TextFunc::MidSet,
+            dst,
+            cell,
+            args: args[0],
+            argc: args.len() as u8,
+            texts: 0b101,
+        });
+        self.store_located(place, slot, off.map(|o| o.0), dst);
+    }
+
+    /// Where a place is: its slot, and for an element the register of its offset (kept aside,
+    /// so that it survives what is evaluated after it) and the array's length.
+    fn locate(&mut self, p: &Place) -> (Reg, Option<(Reg, u32)>) {
+        match p {
+            Place::Var(r) => (r.slot, None),
+            Place::Element(el) => {
+                let off = self.offset(el);
+                let keep = self.temp(self.span);
+                self.emit(Op::Move {
+                    dst: keep,
+                    src: off,
+                });
+                (el.base.slot, Some((keep, element_count(el))))
+            }
+        }
+    }
+
+    /// The value of a place found by [`Compiler::locate`].
+    fn read_located(&mut self, slot: Reg, off: Option<(Reg, u32)>) -> Reg {
+        let dst = self.temp(self.span);
+        self.read_into(slot, off, dst);
+        dst
+    }
+
+    /// [`Compiler::read_located`] into `dst`.
+    fn read_into(&mut self, slot: Reg, off: Option<(Reg, u32)>, dst: Reg) {
+        match off {
+            None => self.emit(Op::Move { dst, src: slot }),
+            Some((off, len)) => self.emit(Op::LoadAt {
+                dst,
+                base: slot,
+                off,
+                len,
+            }),
+        };
     }
 
     /// Store `src` into `place`, found at `slot` (+ `v[off]` for an element).

@@ -71,6 +71,23 @@ pub fn assignments(
                 .with_help("destinations are actions (Program.1.Initiate) or writable bits (DriveIO.1.Out, Capture.0.CaptureActivate)"));
             continue;
         }
+        // A compound index runs into the index its program initiates next: an assignment has
+        // no next instruction.
+        if d.kind == Kind::Index && d.name.ends_with(".CompoundInitiate") {
+            problems.push(
+                Problem::error(
+                    "pacer::machine::assignment",
+                    span_of(&a.destination),
+                    format!("{} cannot be an assignment destination", d.name),
+                    "a compound index needs a program",
+                )
+                .with_help(
+                    "a compound index runs on into the index its program initiates on the next \
+                     line; assign Index.N.Initiate, or initiate the chain from a program",
+                ),
+            );
+            continue;
+        }
         if d.hook == Hook::ProgramInitiate && !programs.contains(&d.instance) {
             problems.push(Problem::error(
                 "pacer::machine::assignment",

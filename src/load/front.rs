@@ -97,6 +97,8 @@ pub struct MachineCheck<'a> {
     pub dsp_axes: &'a [u32],
     /// A machine file was given (else the machine is the defaults).
     pub described: bool,
+    /// The set-up of each index.
+    pub indexes: &'a [crate::devices::drive::setup::IndexConfig],
 }
 
 /// Check every program against the registry; each program's problems go with its file. The
@@ -146,6 +148,7 @@ pub fn check(
         dsp_axes: machine.dsp_axes,
         written: &written,
         described: machine.described,
+        indexes: machine.indexes,
     };
     for (number, program) in checked.iter().filter(|(n, _)| clean.contains(n)) {
         let problems = crate::check::machine::against_machine(program, &facts);

@@ -135,6 +135,7 @@ pub fn load_from(
     let machine_check = front::MachineCheck {
         dsp_axes: &dsp_axes,
         described: p.machine.is_some(),
+        indexes: &desc.drive.indexes,
     };
     let checked = front::check(
         &parsed,

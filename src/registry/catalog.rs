@@ -119,6 +119,9 @@ pub struct MemberDef {
     pub continuous: bool,
     /// Value at the start of a run, unless the machine file sets another.
     pub initial: f64,
+    /// Computed from other members that are traced (`Index.ProfileLimited` from each
+    /// `Index.N.ProfileLimited`): not traced itself, so a trace says which index set it.
+    pub derived: bool,
     /// One line of documentation.
     pub doc: &'static str,
 }
@@ -192,6 +195,7 @@ const fn m(name: &'static str, ty: ValueType, access: Access, doc: &'static str)
         hook: Hook::Store,
         continuous: false,
         initial: 0.0,
+        derived: false,
         doc,
     }
 }
@@ -203,6 +207,11 @@ const fn hook(h: Hook, mut d: MemberDef) -> MemberDef {
 
 const fn continuous(mut d: MemberDef) -> MemberDef {
     d.continuous = true;
+    d
+}
+
+const fn derived(mut d: MemberDef) -> MemberDef {
+    d.derived = true;
     d
 }
 
@@ -497,6 +506,33 @@ pub const INDEX: &[MemberDef] = &[
     hook(
         Hook::ProfileLimitedReset,
         m("ResetProfileLimited", Bit, Action, "clear ProfileLimited"),
+    ),
+    hook(
+        Hook::MotionStart,
+        m(
+            "CompoundInitiate",
+            Bit,
+            Action,
+            "start the index; at its end point it runs on into the next index, initiated on the next line, without stopping",
+        ),
+    ),
+];
+/// The members of `Index` without an instance (FM-3 reference, the `Index.ProfileLimited` source).
+pub const INDEX_GLOBAL: &[MemberDef] = &[
+    derived(m(
+        "ProfileLimited",
+        Bit,
+        Read,
+        "on while any Index.N.ProfileLimited is on (a timed index could not meet its time)",
+    )),
+    hook(
+        Hook::ProfileLimitedReset,
+        m(
+            "ResetProfileLimited",
+            Bit,
+            Action,
+            "clear the ProfileLimited of every index",
+        ),
     ),
 ];
 pub const HOME: &[MemberDef] = &[
@@ -1941,7 +1977,7 @@ pub const INDEX_TYPE: TypeDef = t(
     },
     None,
     INDEX,
-    &[],
+    INDEX_GLOBAL,
     "index motion",
 );
 

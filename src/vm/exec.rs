@@ -1195,7 +1195,7 @@ fn ext(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(
             argc,
             texts,
         } => {
-            let mut values = [Arg::Num(0.0); 3];
+            let mut values = [Arg::Num(0.0); 4];
             for (i, value) in values.iter_mut().enumerate().take(usize::from(argc)) {
                 let x = v[args as usize + i];
                 *value = if texts & (1 << i) != 0 {
@@ -1717,7 +1717,7 @@ fn name_of(ctx: &Ctx<'_, '_>, slot: u32) -> String {
 #[inline(never)]
 fn traced_write(ctx: &mut Ctx<'_, '_>, slot: u32, value: f64) {
     let info = &ctx.registry.slots[slot as usize];
-    if info.member.continuous {
+    if info.member.continuous || info.member.derived {
         return;
     }
     // A write that leaves the value as last traced is no change (unless every write is

@@ -199,6 +199,7 @@ pub(crate) fn trace_changes(
         if x.to_bits() != snapshot[i].to_bits() {
             snapshot[i] = x;
             if !info.member.continuous
+                && !info.member.derived
                 && !matches!(info.member.access, Access::Action | Access::Input)
             {
                 trace.emit(

@@ -18,7 +18,7 @@ pub use marks::AxisMarks;
 
 use super::command::{Domain, StartRef};
 use super::{ActOutcome, Device, Now, Profiles, Target, When};
-use crate::registry::{Hook, Kind, Registry, SlotId};
+use crate::registry::{Hook, Kind, Registry, SlotId, GLOBAL_INSTANCE};
 use crate::trace::{self, MotionPhase};
 use crate::world::Edge;
 use capture::{Capture, Positions};
@@ -53,6 +53,8 @@ struct DriveSlots {
     axis: AxisSlots,
     gear: GearSlots,
     jog: JogGlobals,
+    /// `Index.ProfileLimited`.
+    index_limited: SlotId,
     profiles: Vec<ProfileSlots>,
     /// The kind of every slot (a motion action names its object by its slot).
     kinds: Vec<Kind>,
@@ -153,6 +155,7 @@ impl Drive {
                 axis: AxisSlots::of(registry, 0),
                 gear: GearSlots::of(registry, 0),
                 jog: JogGlobals::of(registry),
+                index_limited: objects::index_limited(registry),
                 profiles: (0..count(Kind::Profile))
                     .map(|i| ProfileSlots::of(registry, i))
                     .collect(),
@@ -349,6 +352,16 @@ impl Drive {
         v[a.velocity as usize] = self.axis.velocity();
     }
 
+    /// `Index.ProfileLimited` (no instance): on while any index's ProfileLimited is on.
+    fn profile_limited_any(&self, v: &mut [f64]) {
+        let any = self
+            .objects
+            .indexes
+            .iter()
+            .any(|ix| v[ix.s.profile_limited as usize] != 0.0);
+        v[self.slots.index_limited as usize] = f64::from(any);
+    }
+
     /// The status members of the object `owner` names, in `phase`.
     fn owner_status(&mut self, owner: Owner, v: &mut [f64], phase: Phase) {
         match owner {
@@ -406,7 +419,7 @@ impl Drive {
             v[slot as usize] = value;
             if value != 0.0 && !was {
                 let minus = slot == g.minus;
-                if self.start_motion(owner, minus, StartRef::Now, 0, v, now)?
+                if self.start_motion(owner, minus, false, StartRef::Now, 0, v, now)?
                     == ActOutcome::ProfileBusy
                 {
                     return Err(format!("{name}: a motion is running on profile 0"));
@@ -604,9 +617,13 @@ impl Device for Drive {
             }
             Hook::TimerStop => o.timers[i].stop(v),
             Hook::ProfileLimitedReset => {
-                if let Some(ix) = o.indexes.get(i) {
-                    v[ix.s.profile_limited as usize] = 0.0;
+                // `Index.ResetProfileLimited` (no instance) clears every index's.
+                for (n, ix) in o.indexes.iter().enumerate() {
+                    if target.instance == GLOBAL_INSTANCE || n == i {
+                        v[ix.s.profile_limited as usize] = 0.0;
+                    }
                 }
+                self.profile_limited_any(v);
             }
             Hook::FaultReset => self.fault_reset(v),
             Hook::MotionStop => {
@@ -623,6 +640,11 @@ impl Device for Drive {
                     .jogs
                     .iter()
                     .any(|j| j.minus_initiate == target.slot);
+                let compound = self
+                    .objects
+                    .indexes
+                    .get(i)
+                    .is_some_and(|ix| ix.s.compound == target.slot);
                 let Some(owner) = self.owner_of(target) else {
                     return Err(format!(
                         "{:?} motion is not simulated yet in this build of pacer",
@@ -634,7 +656,7 @@ impl Device for Drive {
                 if let When::Edge(t) = when {
                     self.edge_start = Some((t, now.master_at(t)));
                 }
-                let r = self.start_motion(owner, minus, start, profile, v, now);
+                let r = self.start_motion(owner, minus, compound, start, profile, v, now);
                 self.edge_start = None;
                 return r;
             }
@@ -656,6 +678,14 @@ impl Device for Drive {
             out.push(super::Moving {
                 name: m.owner.to_string(),
                 settles: ends && (m.domain == Domain::Time || master_moves),
+            });
+        }
+        // Running on from a compounded index that no index has taken over yet: it does not
+        // stop by itself.
+        for c in self.axis.profiles.iter().filter_map(|p| p.coast.as_ref()) {
+            out.push(super::Moving {
+                name: format!("{} (compounded, no next index)", c.owner),
+                settles: false,
             });
         }
     }

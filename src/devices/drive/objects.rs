@@ -27,6 +27,7 @@ crate::bind_slots! {
         pls_status: "PLSStatus",
         pls_on: "PLSOnPoint",
         pls_off: "PLSOffPoint",
+        compound: "CompoundInitiate",
     }
 }
 
@@ -122,6 +123,11 @@ impl JogGlobals {
             minus: crate::global_slot!(registry, JOG_TYPE, "MinusActivate"),
         }
     }
+}
+
+/// The slot of `Index.ProfileLimited` (no instance): on while any index's is.
+pub fn index_limited(registry: &Registry) -> SlotId {
+    crate::global_slot!(registry, INDEX_TYPE, "ProfileLimited")
 }
 
 /// An index: its set-up and its slots.

@@ -2,8 +2,9 @@
 //! Last`, `Using Capture.N`, a latching input's edge), the plans of indexes, homes, jogs, the gear
 //! and dwells, the registration sensor and the home reference, and the stops.
 
+use super::motion::blend::Blend;
 use super::motion::trapezoid::{Phase, Trapezoid};
-use super::motion::{Motion, Owner, Plan};
+use super::motion::{Coast, Motion, Owner, Plan};
 use super::setup::IndexType;
 use super::{ActOutcome, Domain, Drive, Now, StartRef};
 
@@ -45,10 +46,12 @@ impl Drive {
     }
 
     /// Start the motion of `owner` on a profile, or report that the profile is busy.
+    #[allow(clippy::too_many_arguments)]
     pub(super) fn start_motion(
         &mut self,
         owner: Owner,
         minus: bool,
+        compound: bool,
         start: StartRef,
         profile: u8,
         v: &mut [f64],
@@ -69,15 +72,17 @@ impl Drive {
             Owner::Home(i) => self.start_home(i, start, p, v, now),
             Owner::Gear => self.start_gear(start, p, v, now),
             Owner::Jog(i) => self.start_jog(i, minus, start, p, v, now),
-            Owner::Index(i) => self.start_index(i, start, p, v, now),
+            Owner::Index(i) => self.start_index(i, compound, start, p, v, now),
             Owner::Dwell => Err("a dwell is not an object to initiate".into()),
         }
     }
 
-    /// Start index `instance` on free profile `p`.
+    /// Start index `instance` on free profile `p`; `compound`: it runs on into the next index
+    /// instead of stopping at its end point (`Index.N.CompoundInitiate`).
     fn start_index(
         &mut self,
         instance: u32,
+        compound: bool,
         start: StartRef,
         p: usize,
         v: &mut [f64],
@@ -90,9 +95,41 @@ impl Drive {
             .ok_or_else(|| format!("no Index.{instance}"))?
             .clone();
         let s = ix.s;
+        let name = format!("Index.{instance}");
+        // The compounded index before it, if the axis is running on from one.
+        let coast = self.axis.profiles[p].coast;
+        let domain = if ix.config.synchronized {
+            Domain::Master
+        } else {
+            Domain::Time
+        };
+        if compound || coast.is_some() {
+            // `pacer check` refuses these where it can see them (FM-3 reference p. 98: "A Timed
+            // Index can not be compounded into or out of"); the rest is refused here.
+            let role = if compound {
+                "compounded"
+            } else {
+                "compounded into"
+            };
+            if ix.config.timed {
+                return Err(format!(
+                    "{name} is a timed index: a timed index cannot be {role} (FM-3 reference, p. 98)"
+                ));
+            }
+            if ix.config.kind == IndexType::Registration {
+                return Err(format!(
+                    "{name} is a registration index: pacer does not compound registration indexes"
+                ));
+            }
+        }
         let target = v[s.distance as usize];
         let r = self.rollover;
-        let here = self.axis.command();
+        // Where the axis is when the index starts: for one compounded into, where the compounded
+        // index ended (the other profile as it is now).
+        let here = match coast {
+            Some(c) => self.axis.command() - self.axis.profiles[p].position + c.base,
+            None => self.axis.command(),
+        };
         let distance = match ix.config.kind {
             IndexType::Incremental | IndexType::Registration => target,
             IndexType::Absolute => target - here,
@@ -100,39 +137,59 @@ impl Drive {
             IndexType::RotaryPlus => (target - here.rem_euclid(r)).rem_euclid(r),
             IndexType::RotaryMinus => -(here.rem_euclid(r) - target).rem_euclid(r),
         };
-        // A registration index waits for its sensor until it reaches its limit distance.
-        self.armed[instance as usize] = ix.config.kind == IndexType::Registration;
-        v[s.limit_hit as usize] = 0.0;
         let (velocity, accel, decel) = (
             v[s.velocity as usize],
             v[s.acceleration as usize],
             v[s.deceleration as usize],
         );
-        let (plan, limited) = if ix.config.timed {
+        let mut start = start;
+        let v0 = match coast {
+            None => 0.0,
+            Some(c) => {
+                let previous = c.owner;
+                if c.domain != domain {
+                    return Err(format!(
+                        "{name} cannot follow the compounded {previous}: one is synchronized to \
+                         the master and the other is not"
+                    ));
+                }
+                if let StartRef::Capture(n) = start {
+                    return Err(format!(
+                        "{name} cannot start Using Capture.{n}: it follows the compounded \
+                         {previous}, which runs on into it without stopping"
+                    ));
+                }
+                if distance * c.velocity < 0.0 || distance == 0.0 {
+                    return Err(format!(
+                        "{name} does not go on in the direction of the compounded {previous}: \
+                         a compound index cannot reverse or stop the axis"
+                    ));
+                }
+                // It starts exactly where the compounded index ended, on the timeline.
+                start = StartRef::Last;
+                c.velocity.abs()
+            }
+        };
+        let (plan, limited) = if v0 != 0.0 || compound {
+            Blend::new(distance, v0, velocity, accel, decel, compound)
+                .map(|b| (Plan::Blend(b), false))
+        } else if ix.config.timed {
             Trapezoid::timed(distance, v[s.time as usize], velocity, accel, decel)
+                .map(|(t, l)| (Plan::Move(t), l))
         } else {
-            Trapezoid::new(distance, velocity, accel, decel).map(|t| (t, false))
+            Trapezoid::new(distance, velocity, accel, decel).map(|t| (Plan::Move(t), false))
         }
-        .map_err(|e| format!("cannot plan the index: {e}"))?;
+        .map_err(|e| format!("cannot plan {name}: {e}"))?;
+        // A registration index waits for its sensor until it reaches its limit distance.
+        self.armed[instance as usize] = ix.config.kind == IndexType::Registration;
+        v[s.limit_hit as usize] = 0.0;
         // Latched: the drive clears it only on Index.N.ResetProfileLimited (SM-EZMotion User
         // Guide, p. 28), not when a later index meets its time.
         if limited {
             v[s.profile_limited as usize] = 1.0;
+            self.profile_limited_any(v);
         }
-        let domain = if ix.config.synchronized {
-            Domain::Master
-        } else {
-            Domain::Time
-        };
-        let started = self.launch(
-            p,
-            Owner::Index(instance),
-            Plan::Move(plan),
-            domain,
-            start,
-            v,
-            now,
-        )?;
+        let started = self.launch(p, Owner::Index(instance), plan, domain, start, v, now)?;
         ix.status(v, Phase::Accelerating);
         v[s.at_vel as usize] = 0.0;
         Ok(started)
@@ -377,8 +434,17 @@ impl Drive {
         v: &mut [f64],
         now: &Now<'_>,
     ) -> Result<ActOutcome, String> {
+        let coast = self.axis.profiles[p].coast;
+        if let (Some(c), false) = (coast, matches!(owner, Owner::Index(_))) {
+            return Err(format!(
+                "{owner} cannot start while the axis runs on from the compounded {}: a compound \
+                 index runs into the next index",
+                c.owner
+            ));
+        }
         let at = self.start_point(domain, start, p, v, now)?;
-        let base = self.axis.profiles[p].position;
+        // An index compounded into starts from where the compounded index ended.
+        let base = coast.map_or(self.axis.profiles[p].position, |c: Coast| c.base);
         self.axis.begin(
             p,
             Motion {
@@ -413,10 +479,9 @@ impl Drive {
             Owner::Gear | Owner::Dwell => 0.0,
         };
         for i in 0..self.axis.profiles.len() {
-            if self.axis.profiles[i]
-                .motion
-                .as_ref()
-                .is_some_and(|m| m.owner == owner)
+            let q = &self.axis.profiles[i];
+            if q.motion.as_ref().is_some_and(|m| m.owner == owner)
+                || q.coast.is_some_and(|c| c.owner == owner)
             {
                 self.stop_profile(i, decel, v, now);
             }

@@ -3,8 +3,10 @@
 //! the previous motion on its profile ended (`Using Last`), or from a capture's latched data
 //! (`Using Capture.N`). A start in the past is caught up at once; a start in the future waits.
 
+pub mod blend;
 pub mod trapezoid;
 
+use blend::Blend;
 use trapezoid::{Phase, Trapezoid};
 
 pub use crate::devices::command::Domain;
@@ -14,6 +16,8 @@ pub use crate::devices::command::Domain;
 pub enum Plan {
     /// A trapezoidal move.
     Move(Trapezoid),
+    /// A move of a compound chain: from a speed, or on at its velocity past its end point.
+    Blend(Blend),
     /// Stand still for this long (a dwell).
     Dwell(f64),
     /// Accelerate to `velocity` (signed) and keep going until replaced (homing).
@@ -30,6 +34,7 @@ impl Plan {
     pub fn duration(&self) -> f64 {
         match *self {
             Plan::Move(t) => t.duration(),
+            Plan::Blend(b) => b.duration(),
             Plan::Dwell(l) => l,
             Plan::Seek { .. } | Plan::Gear { .. } => f64::INFINITY,
             Plan::Finish {
@@ -45,11 +50,21 @@ impl Plan {
         }
     }
 
+    /// Velocity at the end, per domain unit: 0 but for a compounded index, which runs on into
+    /// the next one.
+    pub fn end_velocity(&self) -> f64 {
+        match self {
+            Plan::Blend(b) => b.end_velocity(),
+            _ => 0.0,
+        }
+    }
+
     /// Position, velocity and phase `u` into the plan.
     pub fn at(&self, u: f64) -> (f64, f64, Phase) {
         let u = u.max(0.0);
         match *self {
             Plan::Move(t) => t.at(u),
+            Plan::Blend(b) => b.at(u),
             Plan::Dwell(l) => (
                 0.0,
                 0.0,
@@ -155,6 +170,29 @@ impl Motion {
     }
 }
 
+/// A profile running on at the velocity a compounded index ended at, until the next index (which
+/// starts exactly at `start`, from `base`) takes over, or a stop ramps it down.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Coast {
+    /// The compounded index.
+    pub owner: Owner,
+    /// Its domain.
+    pub domain: Domain,
+    /// Where on the domain's timeline it ended.
+    pub start: f64,
+    /// The profile position at its end point.
+    pub base: f64,
+    /// Its velocity there, per domain unit (signed).
+    pub velocity: f64,
+}
+
+impl Coast {
+    /// The profile position at `clock` on its domain's timeline.
+    pub fn position(&self, clock: f64) -> f64 {
+        self.base + self.velocity * (clock - self.start).max(0.0)
+    }
+}
+
 /// One motion profile.
 #[derive(Debug, Clone, Default)]
 pub struct Profile {
@@ -166,6 +204,8 @@ pub struct Profile {
     pub motion: Option<Motion>,
     /// Where the last motion ended on its domain's timeline.
     pub last_end: Option<(Domain, f64)>,
+    /// Running on from a compounded index, not yet taken over by the next.
+    pub coast: Option<Coast>,
 }
 
 impl Profile {
@@ -225,6 +265,14 @@ impl Clocks {
         }
     }
 
+    /// Domain units per real second.
+    fn rate_of(&self, d: Domain) -> f64 {
+        match d {
+            Domain::Time => self.rate,
+            Domain::Master => self.master_speed,
+        }
+    }
+
     /// The real time at which the motion clock read `motion_time` (at the present rate).
     fn real_time_of(&self, motion_time: f64) -> f64 {
         if self.rate > 0.0 {
@@ -263,7 +311,13 @@ impl Axis {
                         p.position
                     }
                 }
-                None => p.position,
+                None => match &p.coast {
+                    Some(c) => c.position(match c.domain {
+                        Domain::Time => motion_time,
+                        Domain::Master => master,
+                    }),
+                    None => p.position,
+                },
             })
             .sum()
     }
@@ -284,6 +338,24 @@ impl Axis {
     /// Returns the owner of a motion that ended at once.
     pub fn decelerate(&mut self, profile: usize, t: f64, master: f64, decel: f64) -> Option<Owner> {
         let p = &mut self.profiles[profile];
+        // Running on from a compounded index with no next index yet: the stop ramps that down,
+        // as the compounded index's motion.
+        if p.motion.is_none() {
+            let c = p.coast.take()?;
+            let clock = match c.domain {
+                Domain::Time => t,
+                Domain::Master => master,
+            };
+            p.position = c.position(clock);
+            p.motion = Some(Motion {
+                owner: c.owner,
+                plan: Plan::Dwell(0.0),
+                domain: Domain::Time,
+                start: t,
+                base: p.position,
+                started: true,
+            });
+        }
         let m = p.motion.as_mut()?;
         // First bring the motion to the instant of the stop.
         let clock = match m.domain {
@@ -315,6 +387,7 @@ impl Axis {
     /// Put a motion on `profile` (which must be free).
     pub fn begin(&mut self, profile: usize, motion: Motion) {
         let p = &mut self.profiles[profile];
+        p.coast = None;
         p.motion = Some(motion);
     }
 
@@ -335,7 +408,14 @@ impl Axis {
         events: &mut Vec<Event>,
     ) {
         let Some(mut m) = self.profiles[i].motion.take() else {
-            self.profiles[i].velocity = 0.0;
+            let p = &mut self.profiles[i];
+            match p.coast {
+                Some(c) => {
+                    p.position = c.position(now.of(c.domain));
+                    p.velocity = c.velocity * now.rate_of(c.domain);
+                }
+                None => p.velocity = 0.0,
+            }
             return;
         };
         let clock = now.of(m.domain);
@@ -350,17 +430,18 @@ impl Axis {
                 Domain::Master => m.start,
                 Domain::Time => master_at(now.real_time_of(m.start)),
             };
+            // The axis where the motion starts: its profile at the motion's base (the end point
+            // of a compounded index it runs on from, which the profile has since passed).
+            let mut at = [self.profiles[0].position, self.profiles[1].position];
+            at[i] = m.base;
             events.push(Event::Started {
                 owner: m.owner,
                 master,
-                position: self.command(),
+                position: at[0] + at[1],
             });
         }
         let (dp, dv, phase) = m.plan.at(clock - m.start);
-        let rate = match m.domain {
-            Domain::Time => now.rate,
-            Domain::Master => now.master_speed,
-        };
+        let rate = now.rate_of(m.domain);
         self.profiles[i].position = m.base + dp;
         self.profiles[i].velocity = dv * rate;
         if phase == Phase::Done {
@@ -373,6 +454,21 @@ impl Axis {
                 end,
                 position,
             });
+            // A compounded index does not stop at its end point: the axis runs on at its end
+            // velocity, on the timeline, until the next index takes over from that instant.
+            let v_end = m.plan.end_velocity();
+            if v_end != 0.0 {
+                let c = Coast {
+                    owner: m.owner,
+                    domain: m.domain,
+                    start: end,
+                    base: m.base + dp,
+                    velocity: v_end,
+                };
+                self.profiles[i].coast = Some(c);
+                self.profiles[i].position = c.position(clock);
+                self.profiles[i].velocity = v_end * rate;
+            }
         } else {
             events.push(Event::Running {
                 owner: m.owner,
