@@ -159,6 +159,11 @@ pub struct Variables {
     pub assigned: IndexSet<String>,
     /// Arrays by name (upper-case, with its suffix), in order of first appearance.
     pub arrays: IndexMap<String, Array>,
+    /// The lowest subscript the program being collected gives its arrays (its OPTION BASE).
+    base: u32,
+    /// The program being collected may still say OPTION BASE: no array and no OPTION BASE
+    /// yet (the checker refuses a later one).
+    base_open: bool,
 }
 
 /// Most subscripts an array may have.
@@ -183,6 +188,10 @@ pub struct Array {
     pub bounds: Option<Vec<u32>>,
     /// Dimensioned by a `DIM` (not implicitly, by use, as 0 to 10).
     pub declared: bool,
+    /// The lowest subscript: 0, or 1 when the program that dimensions it (or first uses it,
+    /// without DIM) says `OPTION BASE 1`. Storage still starts at subscript 0 (element 0 of a
+    /// base-1 array is there, unused), so elements keep their names.
+    pub lower: u32,
 }
 
 impl Array {
@@ -240,6 +249,15 @@ pub fn constant(e: &Expr) -> Option<f64> {
                 _ => None,
             }
         }
+        _ => None,
+    }
+}
+
+/// The lowest subscript `OPTION BASE e` gives: `e` is the number 0 or 1 as written.
+pub fn option_base(e: &Expr) -> Option<u32> {
+    match e.kind {
+        ExprKind::Number(0.0) => Some(0),
+        ExprKind::Number(1.0) => Some(1),
         _ => None,
     }
 }
@@ -333,6 +351,7 @@ impl Variables {
                 ty,
                 bounds: Some(vec![0; subs.len()]),
                 declared: true,
+                lower: 0,
             });
             if let Some(bounds) = array.bounds.as_mut() {
                 for (b, s) in bounds.iter_mut().zip(&subs) {
@@ -346,6 +365,8 @@ impl Variables {
     /// Collect the variables `ast` uses. Names that are objects of the machine, labels and
     /// controller names are not variables.
     pub fn collect(&mut self, ast: &ProgramAst) {
+        self.base = 0;
+        self.base_open = true;
         self.stmts(&ast.body);
     }
 
@@ -369,6 +390,7 @@ impl Variables {
     /// An array named `seg` with `count` subscripts, dimensioned by `dim` when given (else
     /// implicitly, 0 to 10 each); `assigned` when stored into.
     fn note_array(&mut self, seg: &Segment, count: usize, dim: Option<&[Expr]>, assigned: bool) {
+        self.base_open = false;
         let key = seg.text.to_ascii_uppercase();
         let Some((ty, _)) = var_type(&key) else {
             return;
@@ -389,6 +411,7 @@ impl Variables {
             ty,
             bounds,
             declared: dim.is_some(),
+            lower: self.base,
         };
         let others = self.elements() - self.arrays.get(&key).map_or(0, Array::len);
         if others + array.len() > MAX_ELEMENTS {
@@ -463,6 +486,12 @@ impl Variables {
                     self.place(b);
                 }
                 StmtKind::Randomize(Some(e)) => self.expr(e),
+                StmtKind::OptionBase(e) => {
+                    if let (true, Some(b)) = (self.base_open, option_base(e)) {
+                        self.base = b;
+                    }
+                    self.base_open = false;
+                }
                 StmtKind::If {
                     cond,
                     then_body,
@@ -596,6 +625,13 @@ pub struct MotionBasic<'v> {
     implicit: IndexSet<String>,
     /// Arrays this program dimensions.
     dimensioned: IndexSet<String>,
+    /// The lowest subscript of the arrays this program dimensions (its OPTION BASE so far).
+    base: u32,
+    /// Where the program's OPTION BASE is, once seen.
+    option_base: Option<Span>,
+    /// The program's first array as written, and whether that was its DIM (else a use):
+    /// OPTION BASE must come before it.
+    first_array: Option<(String, bool)>,
 }
 
 impl<'v> MotionBasic<'v> {
@@ -606,6 +642,9 @@ impl<'v> MotionBasic<'v> {
             warned: IndexSet::new(),
             implicit: IndexSet::new(),
             dimensioned: IndexSet::new(),
+            base: 0,
+            option_base: None,
+            first_array: None,
         }
     }
 
@@ -1206,7 +1245,8 @@ impl Rules for MotionBasic<'_> {
             | StmtKind::Restore(_)
             | StmtKind::Swap(..)
             | StmtKind::Randomize(_)
-            | StmtKind::DefType { .. } => self.storage(cx, s),
+            | StmtKind::DefType { .. }
+            | StmtKind::OptionBase(_) => self.storage(cx, s),
             StmtKind::SetCall {
                 target,
                 args,
@@ -1448,6 +1488,9 @@ impl MotionBasic<'_> {
         span: Span,
     ) -> Option<typed::Element> {
         let key = seg.text.to_ascii_uppercase();
+        if self.first_array.is_none() {
+            self.first_array = Some((seg.text.clone(), false));
+        }
         let Some(array) = self.vars.arrays.get(&key).cloned() else {
             // Only at the REPL: a program's arrays are all collected before it is checked.
             cx.push(
@@ -1498,9 +1541,9 @@ impl MotionBasic<'_> {
                     "pacer::check::implicit_array",
                     seg.span,
                     format!(
-                        "{} is an array used without DIM: each subscript is 0 to 10, as in \
+                        "{} is an array used without DIM: each subscript is {} to 10, as in \
                          Microsoft BASIC",
-                        seg.text
+                        seg.text, array.lower
                     ),
                     "no DIM",
                 )
@@ -1524,11 +1567,14 @@ impl MotionBasic<'_> {
         for (a, &b) in args.iter().zip(&bounds) {
             if let Some(v) = constant(a) {
                 let r = v.round_ties_even();
-                if r < 0.0 || r > f64::from(b) {
+                if r < f64::from(array.lower) || r > f64::from(b) {
                     cx.push(Problem::error(
                         "pacer::check::subscript_range",
                         a.span,
-                        format!("Subscript out of range: {v} is not within 0 to {b}"),
+                        format!(
+                            "Subscript out of range: {v} is not within {} to {b}",
+                            array.lower
+                        ),
                         "out of range",
                     ));
                     ok = false;
@@ -1553,6 +1599,7 @@ impl MotionBasic<'_> {
         ok.then_some(typed::Element {
             base,
             bounds,
+            lower: array.lower,
             subs,
             text,
         })
@@ -1601,6 +1648,60 @@ impl MotionBasic<'_> {
         }
     }
 
+    /// `OPTION BASE e` at `span`: a literal 0 or 1, once, before the program's first array.
+    fn option_base(&mut self, cx: &mut Context<'_>, span: Span, e: &Expr) -> Option<T> {
+        const HELP: &str = "OPTION BASE 1 makes the subscripts of the program's arrays start \
+                            at 1 (DIM A(10) is A(1) to A(10)); OPTION BASE 0, the default, at 0";
+        let Some(b) = option_base(e) else {
+            let message = match constant(e) {
+                Some(v) if v != 0.0 && v != 1.0 => {
+                    format!("OPTION BASE is 0 or 1, not {}", crate::diag::number(v))
+                }
+                _ => "OPTION BASE takes the number 0 or 1, written as such".to_string(),
+            };
+            cx.push(
+                Problem::error("pacer::check::option_base", e.span, message, "not 0 or 1")
+                    .with_help(HELP),
+            );
+            return None;
+        };
+        if self.option_base.is_some() {
+            cx.push(
+                Problem::error(
+                    "pacer::check::option_base",
+                    span,
+                    "Duplicate Definition: a second OPTION BASE in this program",
+                    "second OPTION BASE",
+                )
+                .with_help("a program says OPTION BASE once, before its first array"),
+            );
+            return None;
+        }
+        self.option_base = Some(span);
+        if let Some((first, dim)) = &self.first_array {
+            let how = if *dim { "dimensioned" } else { "used" };
+            cx.push(
+                Problem::error(
+                    "pacer::check::option_base",
+                    span,
+                    format!(
+                        "Duplicate Definition: OPTION BASE must come before the program's \
+                         arrays, and {first} is already {how} above it"
+                    ),
+                    "after an array",
+                )
+                .with_help(
+                    "write OPTION BASE before the program's first DIM or array use: an \
+                     array's lowest subscript is fixed where its program first dimensions \
+                     or uses it",
+                ),
+            );
+            return None;
+        }
+        self.base = b;
+        Some(T::Nothing)
+    }
+
     /// The MotionBASIC statements of Microsoft BASIC's data and storage: DIM, DATA, READ,
     /// RESTORE, SWAP, RANDOMIZE, DEFINT …, and an array element's store.
     fn storage(&mut self, cx: &mut Context<'_>, s: &Stmt) -> Option<T> {
@@ -1633,6 +1734,29 @@ impl MotionBasic<'_> {
                 for (seg, bounds) in arrays {
                     if let Err((span, why)) = dim_bounds(bounds) {
                         cx.push(Problem::error("pacer::check::dim", span, why, "not a size"));
+                        ok = false;
+                        continue;
+                    }
+                    if self.first_array.is_none() {
+                        self.first_array = Some((seg.text.clone(), true));
+                    }
+                    let below = bounds
+                        .iter()
+                        .zip(dim_bounds(bounds).unwrap_or_default())
+                        .find(|(_, b)| *b < self.base);
+                    if let Some((e, b)) = below {
+                        cx.push(
+                            Problem::error(
+                                "pacer::check::dim",
+                                e.span,
+                                format!(
+                                    "Subscript out of range: under OPTION BASE {}, a bound is at least {0}, not {b}",
+                                    self.base
+                                ),
+                                "no element",
+                            )
+                            .with_help("OPTION BASE 1 makes an array's subscripts run from 1 to its bound"),
+                        );
                         ok = false;
                         continue;
                     }
@@ -1689,6 +1813,18 @@ impl MotionBasic<'_> {
                             ));
                             ok = false;
                         }
+                        Some(_) if array.lower != self.base => {
+                            cx.push(Problem::error(
+                                "pacer::check::dim",
+                                seg.span,
+                                format!(
+                                    "{} is dimensioned differently elsewhere (subscripts from {} here, under OPTION BASE {1}; from {} there)",
+                                    seg.text, self.base, array.lower
+                                ),
+                                "a different OPTION BASE",
+                            ));
+                            ok = false;
+                        }
                         Some(_) => {}
                     }
                     for b in bounds {
@@ -1697,6 +1833,7 @@ impl MotionBasic<'_> {
                 }
                 ok.then_some(T::Nothing)
             }
+            StmtKind::OptionBase(e) => self.option_base(cx, s.span, e),
             StmtKind::Data(items) => Some(T::Data(
                 items
                     .iter()

@@ -197,6 +197,8 @@ pub struct Element {
     pub base: Resolved,
     /// The upper bound of each subscript.
     pub bounds: Vec<u32>,
+    /// The lowest subscript (0, or 1 under `OPTION BASE 1`); storage starts at 0 either way.
+    pub lower: u32,
     /// The subscripts, one per bound.
     pub subs: Vec<Expr>,
     /// A string array.

@@ -312,6 +312,7 @@ fn statement<R: Rules>(rules: &mut R, cx: &mut Context<'_>, s: &Stmt) -> Option<
         | StmtKind::Restore(_)
         | StmtKind::Swap(..)
         | StmtKind::Randomize(_)
-        | StmtKind::DefType { .. } => rules.other(cx, s),
+        | StmtKind::DefType { .. }
+        | StmtKind::OptionBase(_) => rules.other(cx, s),
     }
 }

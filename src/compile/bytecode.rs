@@ -386,6 +386,10 @@ pub enum ExtOp {
     Read { dst: Reg, text: bool },
     /// The next `READ` takes `DATA` constant `item` (0: the first).
     Restore { item: u32 },
+    /// "Subscript out of range" unless `v[src]`, rounded (halves to even), is within
+    /// `low..=high`: a subscript of an array whose subscripts start at `low` (`OPTION BASE 1`),
+    /// checked before the subscript instructions, which take it from 0.
+    CheckSubscript { src: Reg, low: u32, high: u32 },
     /// `PRINT USING`: the format in `format`, `count` values in consecutive registers from
     /// `args` (bit i of `texts`: value i is a string), written at the task's print position.
     PrintUsing {

@@ -397,6 +397,9 @@ fn ext_text(op: &ExtOp, r: &dyn Fn(u32) -> String, chunk: &Chunk) -> String {
             None => "randomize (the scenario's seed)".to_string(),
         },
         ExtOp::Timer { dst } => format!("timer     {}", r(*dst)),
+        ExtOp::CheckSubscript { src, low, high } => {
+            format!("check.sub {} in {low}..={high}", r(*src))
+        }
         ExtOp::Read { dst, text } => {
             format!(
                 "read      {} <- DATA{}",

@@ -659,6 +659,7 @@ impl<'a> Compiler<'a> {
             let len = bound + 1;
             let mark = self.temp_top;
             let src = self.expr(sub);
+            self.check_subscript(el, sub, src, bound);
             self.temp_top = mark;
             let s = self.temp(sub.span);
             self.emit(Op::Subscript { dst: s, src, len });
@@ -683,6 +684,24 @@ impl<'a> Compiler<'a> {
             });
         }
         acc.unwrap_or_else(|| self.layout.constant(0.0))
+    }
+
+    /// For an array whose subscripts start above 0 (`OPTION BASE 1`): check the subscript in
+    /// `src` against its bounds, before the instructions that take it from 0.
+    fn check_subscript(&mut self, el: &Element, sub: &Expr, src: Reg, bound: u32) {
+        let known = match sub.kind {
+            ExprKind::Const(v) => {
+                (f64::from(el.lower)..=f64::from(bound)).contains(&v.round_ties_even())
+            }
+            _ => false,
+        };
+        if el.lower > 0 && !known {
+            self.emit_ext(ExtOp::CheckSubscript {
+                src,
+                low: el.lower,
+                high: bound,
+            });
+        }
     }
 
     /// Store `src` into an array element whose offset is in `off`.
@@ -728,6 +747,12 @@ impl<'a> Compiler<'a> {
             }
             if el.subs.len() == 1 {
                 let idx = self.expr(&el.subs[0]);
+                self.check_subscript(
+                    el,
+                    &el.subs[0],
+                    idx,
+                    el.bounds.first().copied().unwrap_or_default(),
+                );
                 let decimals = store_kind(el);
                 self.emit(Op::StoreIdx {
                     base: el.base.slot,
@@ -1248,6 +1273,12 @@ impl<'a> Compiler<'a> {
                 }
                 let mark = self.temp_top;
                 let idx = self.expr(&el.subs[0]);
+                self.check_subscript(
+                    el,
+                    &el.subs[0],
+                    idx,
+                    el.bounds.first().copied().unwrap_or_default(),
+                );
                 self.temp_top = mark;
                 let dst = self.temp(e.span);
                 self.emit(Op::LoadIdx {
@@ -1463,8 +1494,8 @@ fn store_kind(el: &Element) -> u8 {
     }
 }
 
-/// The slot of an element whose subscripts are all constants (within bounds: the checker
-/// refused others).
+/// The slot of an element whose subscripts are all constants within its bounds (the checker
+/// refused others it could see).
 fn constant_element(el: &Element) -> Option<Reg> {
     let mut off: u32 = 0;
     for (sub, &bound) in el.subs.iter().zip(&el.bounds) {
@@ -1472,7 +1503,7 @@ fn constant_element(el: &Element) -> Option<Reg> {
             return None;
         };
         let i = v.round_ties_even();
-        if !(0.0..=f64::from(bound)).contains(&i) {
+        if !(f64::from(el.lower)..=f64::from(bound)).contains(&i) {
             return None;
         }
         off = off * (bound + 1) + i as u32;

@@ -236,6 +236,9 @@ pub enum StmtKind {
         /// Each letter or range `I-N`.
         ranges: Vec<(Segment, Option<Segment>)>,
     },
+    /// `OPTION BASE n` (MotionBASIC): the lowest subscript of the program's arrays, as
+    /// written (the checker takes a literal 0 or 1 only).
+    OptionBase(Expr),
 }
 
 /// One item of a `DATA` statement.

@@ -204,7 +204,8 @@ fn stmts(body: &mut [Stmt], table: &mut Table, problems: &mut Vec<Problem>) {
             | StmtKind::Return
             | StmtKind::End
             | StmtKind::Data(_)
-            | StmtKind::Restore(_) => {}
+            | StmtKind::Restore(_)
+            | StmtKind::OptionBase(_) => {}
         }
     }
 }

@@ -73,6 +73,8 @@ pub enum Tok<'s> {
     Let,
     /// `DEFINT`, `DEFLNG`, `DEFSNG`, `DEFDBL` or `DEFSTR`, as written (MotionBASIC).
     DefType(&'s str),
+    /// `OPTION BASE` (MotionBASIC).
+    OptionBase,
     /// A word for ON: `TRUE` in MotionBASIC; `TRUE`, `YES`, `SET`, `ENABLE` in PowerTools.
     True,
     /// A word for OFF: `FALSE` in MotionBASIC; `OFF`, `FALSE`, `NO`, `CLEAR`, `DISABLE` in
@@ -168,6 +170,7 @@ impl Tok<'_> {
             Tok::Randomize => word("Randomize"),
             Tok::Let => word("Let"),
             Tok::DefType(s) => s.to_ascii_uppercase().into(),
+            Tok::OptionBase => "OPTION BASE".into(),
             Tok::True if basic => "TRUE".into(),
             Tok::True => "a boolean word (ON/TRUE/YES/SET/ENABLE)".into(),
             Tok::False if basic => "FALSE".into(),

@@ -1244,6 +1244,15 @@ fn ext(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(
             ctx.rnd.randomize(n);
         }
         ExtOp::Timer { dst } => v[dst as usize] = ctx.now.seconds(),
+        ExtOp::CheckSubscript { src, low, high } => {
+            let x = v[src as usize];
+            let i = x.round_ties_even();
+            if !(i >= f64::from(low) && i <= f64::from(high)) {
+                return Err(format!(
+                    "Subscript out of range: {x} is not within {low} to {high}"
+                ));
+            }
+        }
         ExtOp::Read { dst, text } => {
             let i = *ctx.data_at as usize;
             let Some(item) = chunk.data.get(i) else {

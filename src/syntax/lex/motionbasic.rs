@@ -93,6 +93,9 @@ enum MbLex<'s> {
     Let,
     #[regex(r"(?i:def(int|lng|sng|dbl|str))", |lex| lex.slice())]
     DefType(&'s str),
+    /// `OPTION BASE`: one token, so `OPTION` and `BASE` stay names a program may use.
+    #[regex(r"(?i:option[ \t]+base)")]
+    OptionBase,
     #[token("true", ignore(case))]
     True,
     #[token("false", ignore(case))]
@@ -293,6 +296,7 @@ fn token(word: MbLex<'_>) -> Option<Tok<'_>> {
         MbLex::Randomize => Tok::Randomize,
         MbLex::Let => Tok::Let,
         MbLex::DefType(s) => Tok::DefType(s),
+        MbLex::OptionBase => Tok::OptionBase,
         MbLex::True => Tok::True,
         MbLex::False => Tok::False,
         MbLex::Not => Tok::Not,
