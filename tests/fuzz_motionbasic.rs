@@ -425,6 +425,7 @@ const TOKENS: &[&str] = &[
     "DEFINT",
     "LEFT$(",
     "MID$(A$, 2) = ",
+    "OPTION BASE 1",
     "RND",
     "REM",
     "REM ",
@@ -672,7 +673,7 @@ fn index_expr() -> BoxedStrategy<String> {
 }
 
 /// The Microsoft BASIC data and storage statements: DIM, element stores, DATA, READ,
-/// RESTORE, SWAP, LET, the MID$ statement, RANDOMIZE, DEFINT and its kin.
+/// RESTORE, SWAP, LET, the MID$ statement, OPTION BASE, RANDOMIZE, DEFINT and its kin.
 fn storage_stmt() -> BoxedStrategy<String> {
     let dims = prop::collection::vec(index_expr(), 1..3).prop_map(|v| v.join(", "));
     prop_oneof![
@@ -701,6 +702,7 @@ fn storage_stmt() -> BoxedStrategy<String> {
         1 => (pick_any(&[NUM_VARS, STR_VARS]), pick_any(&[NUM_VARS, STR_VARS]))
             .prop_map(|(a, b)| format!("SWAP {a}, {b}")),
         1 => (pick(NUM_VARS), num_expr()).prop_map(|(t, e)| format!("LET {t} = {e}")),
+        1 => pick(&["OPTION BASE 1", "OPTION BASE 0", "option base 1", "OPTION BASE 2", "OPTION BASE X", "OPTION  BASE"]),
         1 => (
             prop_oneof![
                 3 => pick(STR_VARS),
