@@ -296,3 +296,30 @@ fn a_run_time_error_of_a_typed_line_is_shown_in_the_line_and_traced_with_its_pla
     assert_eq!(error["message"], "division by zero");
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A typed line takes the subscripts of a program's `OPTION BASE 1` array from 1, as the
+/// program does: 0 is out of range when checked (a literal) and when run (a variable).
+#[test]
+fn typed_lines_keep_a_programs_option_base() {
+    let dir = std::env::temp_dir().join(format!("pacer-repl-base-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    std::fs::write(
+        dir.join("program0.mb"),
+        "OPTION BASE 1\nDIM A(3)\nA(1) = 7\nEND\n",
+    )
+    .expect("program written");
+    let mut s = Session::open(Some(dir.clone()), None, false)
+        .expect("the machine loads")
+        .0;
+    assert_eq!(enter(&mut s, "A(3) = 4"), (Ran::Done, String::new()));
+    assert_eq!(enter(&mut s, "A(3) * 2"), (Ran::Done, "8".to_string()));
+    let (ran, said) = enter(&mut s, "A(0) = 5");
+    assert_eq!(ran, Ran::Failed, "{said}");
+    assert!(said.contains("0 is not within 1 to 3"), "{said}");
+    assert_eq!(enter(&mut s, "I& = 0"), (Ran::Done, String::new()));
+    let (ran, said) = enter(&mut s, "A(I&)");
+    assert_eq!(ran, Ran::Failed, "{said}");
+    assert!(said.contains("0 is not within 1 to 3"), "{said}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

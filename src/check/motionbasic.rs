@@ -329,8 +329,12 @@ pub fn dim_bounds(bounds: &[Expr]) -> Result<Vec<u32>, (Span, String)> {
 impl Variables {
     /// The variables and arrays a machine's registry already holds (its MotionBASIC variables
     /// and array elements by name, as the registry lists them), all taken as assigned: what a
-    /// line typed at the REPL may use.
-    pub fn known<'a>(names: impl Iterator<Item = (&'a str, ValueType)>) -> Variables {
+    /// line typed at the REPL may use. `lower`: the lowest subscript of the arrays that do not
+    /// start at 0 (the registry holds their elements from 0).
+    pub fn known<'a>(
+        names: impl Iterator<Item = (&'a str, ValueType)>,
+        lower: &IndexMap<String, u32>,
+    ) -> Variables {
         let mut vars = Variables::default();
         for (name, ty) in names {
             let key = name.to_ascii_uppercase();
@@ -346,12 +350,13 @@ impl Variables {
                 .collect();
             let base_key = base.to_ascii_uppercase();
             vars.assigned.insert(format!("{base_key}()"));
+            let lowest = lower.get(&base_key).copied().unwrap_or(0);
             let array = vars.arrays.entry(base_key).or_insert_with(|| Array {
                 written: base.to_string(),
                 ty,
                 bounds: Some(vec![0; subs.len()]),
                 declared: true,
-                lower: 0,
+                lower: lowest,
             });
             if let Some(bounds) = array.bounds.as_mut() {
                 for (b, s) in bounds.iter_mut().zip(&subs) {

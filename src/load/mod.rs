@@ -41,6 +41,10 @@ pub struct Loaded {
     pub layout: Layout,
     /// The validated Modbus map (`[modbus]`), if the machine file has one.
     pub io_map: Option<crate::io::map::IoMap>,
+    /// The lowest subscript of each MotionBASIC array that does not start at 0 (`OPTION
+    /// BASE 1`), by upper-case name: the registry holds every element from 0, so a line typed
+    /// at the REPL learns the base here.
+    pub array_lower: IndexMap<String, u32>,
 }
 
 /// Default update period, nanoseconds.
@@ -199,11 +203,19 @@ pub fn load_from(
             return Err(diags);
         }
     };
+    let array_lower = parsed
+        .variables
+        .arrays
+        .iter()
+        .filter(|(_, a)| a.lower != 0)
+        .map(|(name, a)| (name.clone(), a.lower))
+        .collect();
     Ok(Loaded {
         image,
         warnings: diags,
         sources: parsed.sources,
         layout,
         io_map,
+        array_lower,
     })
 }

@@ -71,6 +71,8 @@ pub struct Session {
     watches: Vec<Watch>,
     trace_path: Option<PathBuf>,
     color: bool,
+    /// The lowest subscript of the programs' arrays that do not start at 0.
+    array_lower: IndexMap<String, u32>,
 }
 
 impl Session {
@@ -124,6 +126,7 @@ impl Session {
             watches: Vec::new(),
             trace_path: None,
             color,
+            array_lower: loaded.array_lower,
         };
         Ok((session, warnings))
     }
@@ -388,10 +391,13 @@ impl Session {
     fn known_variables(&self) -> Variables {
         let registry = self.machine.registry();
         let t = registry.of(Kind::BasicVar);
-        Variables::known(t.display.iter().enumerate().map(|(i, name)| {
-            let slot = t.slot(i as u32, 0, false) as usize;
-            (name.as_str(), registry.slots[slot].ty)
-        }))
+        Variables::known(
+            t.display.iter().enumerate().map(|(i, name)| {
+                let slot = t.slot(i as u32, 0, false) as usize;
+                (name.as_str(), registry.slots[slot].ty)
+            }),
+            &self.array_lower,
+        )
     }
 
     fn report(&self, file: &SourceFile, problems: Vec<Problem>, out: &mut dyn Output) {
