@@ -407,8 +407,11 @@ impl Axis {
         master_at: &dyn Fn(f64) -> f64,
         events: &mut Vec<Event>,
     ) {
-        let Some(mut m) = self.profiles[i].motion.take() else {
-            let p = &mut self.profiles[i];
+        // The motion is updated where it lies: moving it out and back costs a copy of the
+        // whole plan at every update.
+        let positions = [self.profiles[0].position, self.profiles[1].position];
+        let p = &mut self.profiles[i];
+        let Some(m) = p.motion.as_mut() else {
             match p.coast {
                 Some(c) => {
                     p.position = c.position(now.of(c.domain));
@@ -421,8 +424,7 @@ impl Axis {
         let clock = now.of(m.domain);
         if !m.started {
             if clock < m.start {
-                self.profiles[i].velocity = 0.0;
-                self.profiles[i].motion = Some(m);
+                p.velocity = 0.0;
                 return;
             }
             m.started = true;
@@ -432,7 +434,7 @@ impl Axis {
             };
             // The axis where the motion starts: its profile at the motion's base (the end point
             // of a compounded index it runs on from, which the profile has since passed).
-            let mut at = [self.profiles[0].position, self.profiles[1].position];
+            let mut at = positions;
             at[i] = m.base;
             events.push(Event::Started {
                 owner: m.owner,
@@ -442,39 +444,39 @@ impl Axis {
         }
         let (dp, dv, phase) = m.plan.at(clock - m.start);
         let rate = now.rate_of(m.domain);
-        self.profiles[i].position = m.base + dp;
-        self.profiles[i].velocity = dv * rate;
-        if phase == Phase::Done {
-            let end = m.end();
-            self.profiles[i].last_end = Some((m.domain, end));
-            self.profiles[i].velocity = 0.0;
-            let position = self.command();
-            events.push(Event::Done {
-                owner: m.owner,
-                end,
-                position,
-            });
-            // A compounded index does not stop at its end point: the axis runs on at its end
-            // velocity, on the timeline, until the next index takes over from that instant.
-            let v_end = m.plan.end_velocity();
-            if v_end != 0.0 {
-                let c = Coast {
-                    owner: m.owner,
-                    domain: m.domain,
-                    start: end,
-                    base: m.base + dp,
-                    velocity: v_end,
-                };
-                self.profiles[i].coast = Some(c);
-                self.profiles[i].position = c.position(clock);
-                self.profiles[i].velocity = v_end * rate;
-            }
-        } else {
+        p.position = m.base + dp;
+        p.velocity = dv * rate;
+        if phase != Phase::Done {
             events.push(Event::Running {
                 owner: m.owner,
                 phase,
             });
-            self.profiles[i].motion = Some(m);
+            return;
+        }
+        let (owner, domain, end, base) = (m.owner, m.domain, m.end(), m.base);
+        let v_end = m.plan.end_velocity();
+        p.motion = None;
+        p.last_end = Some((domain, end));
+        p.velocity = 0.0;
+        let position = self.command();
+        events.push(Event::Done {
+            owner,
+            end,
+            position,
+        });
+        // A compounded index does not stop at its end point: the axis runs on at its end
+        // velocity, on the timeline, until the next index takes over from that instant.
+        if v_end != 0.0 {
+            let c = Coast {
+                owner,
+                domain,
+                start: end,
+                base: base + dp,
+                velocity: v_end,
+            };
+            self.profiles[i].coast = Some(c);
+            self.profiles[i].position = c.position(clock);
+            self.profiles[i].velocity = v_end * rate;
         }
     }
 }
