@@ -31,18 +31,7 @@ impl Blend {
         decel: f64,
         compounded: bool,
     ) -> Result<Blend, String> {
-        for (name, x) in [
-            ("velocity", velocity),
-            ("acceleration", accel),
-            ("deceleration", decel),
-        ] {
-            if !(x.is_finite() && x > 0.0) {
-                return Err(format!("the {name} must be above 0, not {x}"));
-            }
-        }
-        if !distance.is_finite() {
-            return Err(format!("the distance must be a number, not {distance}"));
-        }
+        super::trapezoid::settings(distance, velocity, accel, decel)?;
         if !(v0.is_finite() && v0 >= 0.0) {
             return Err(format!("the starting speed must be 0 or more, not {v0}"));
         }

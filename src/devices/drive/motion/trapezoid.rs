@@ -28,22 +28,29 @@ pub struct Trapezoid {
     t_decel: f64,
 }
 
+/// Whether a move's settings can be planned: a finite distance, and a velocity, acceleration
+/// and deceleration above 0. Err: which is not, in words.
+pub fn settings(distance: f64, velocity: f64, accel: f64, decel: f64) -> Result<(), String> {
+    for (name, x) in [
+        ("velocity", velocity),
+        ("acceleration", accel),
+        ("deceleration", decel),
+    ] {
+        if !(x.is_finite() && x > 0.0) {
+            return Err(format!("the {name} must be above 0, not {x}"));
+        }
+    }
+    if !distance.is_finite() {
+        return Err(format!("the distance must be a number, not {distance}"));
+    }
+    Ok(())
+}
+
 impl Trapezoid {
     /// Plan a move of `distance` (signed) with the given velocity, acceleration and
     /// deceleration (all above 0, in domain units).
     pub fn new(distance: f64, velocity: f64, accel: f64, decel: f64) -> Result<Trapezoid, String> {
-        for (name, x) in [
-            ("velocity", velocity),
-            ("acceleration", accel),
-            ("deceleration", decel),
-        ] {
-            if !(x.is_finite() && x > 0.0) {
-                return Err(format!("the {name} must be above 0, not {x}"));
-            }
-        }
-        if !distance.is_finite() {
-            return Err(format!("the distance must be a number, not {distance}"));
-        }
+        settings(distance, velocity, accel, decel)?;
         let d = distance.abs();
         let mut peak = velocity;
         let mut t_accel = velocity / accel;
