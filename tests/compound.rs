@@ -47,11 +47,8 @@ fn sampled(update: &str, program: &str, machine: &str, seconds: f64) -> (Run, Ve
         Ok(l) => l,
         Err(d) => panic!("{}", d.render_plain()),
     };
-    let sink = common::Sink::default();
-    let trace = pacer::trace::Trace::new(Some(Box::new(sink.clone())), loaded.image.tick_ns);
-    let mut m = Machine::new(loaded.image, trace);
     let mut samples = Vec::new();
-    let summary = m.run_observed(None, &mut |m| {
+    let run = common::run_observed(loaded, &mut |m| {
         samples.push(Sample {
             t: m.time(),
             position: value(m, "PosnCommand"),
@@ -62,21 +59,7 @@ fn sampled(update: &str, program: &str, machine: &str, seconds: f64) -> (Run, Ve
             at_vel: [0, 1].map(|i| value(m, &format!("Index.{i}.AtVel"))),
         })
     });
-    m.finish().expect("in-memory trace");
-    let text = sink.text();
-    let events = text
-        .lines()
-        .map(|l| serde_json::from_str(l).expect("each trace line is JSON"))
-        .collect();
-    (
-        Run {
-            machine: m,
-            summary,
-            text,
-            events,
-        },
-        samples,
-    )
+    (run, samples)
 }
 
 fn ends(r: &Run) -> Vec<(String, f64)> {

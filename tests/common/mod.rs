@@ -57,12 +57,22 @@ pub fn run_loaded_with_writes(loaded: Loaded) -> Run {
 }
 
 fn run_traced(loaded: Loaded, writes: bool) -> Run {
+    run_with(loaded, writes, &mut |_| {})
+}
+
+/// [`run_loaded`], calling `observe` with the machine after every update (to sample values
+/// the trace does not hold at each update).
+pub fn run_observed(loaded: Loaded, observe: &mut dyn FnMut(&Machine)) -> Run {
+    run_with(loaded, false, observe)
+}
+
+fn run_with(loaded: Loaded, writes: bool, observe: &mut dyn FnMut(&Machine)) -> Run {
     let sink = Sink::default();
     let tick = loaded.image.tick_ns;
     let mut trace = Trace::new(Some(Box::new(sink.clone())), tick);
     trace.record_writes(writes);
     let mut machine = Machine::new(loaded.image, trace);
-    let summary = machine.run(None);
+    let summary = machine.run_observed(None, observe);
     machine.finish().expect("in-memory trace");
     let text = sink.text();
     let events = text
