@@ -204,6 +204,7 @@ const BOOL_RO: &[&str] = &[
     "Index.0.PLSStatus",
     "Index.0.LimitDistHit",
     "Index.0.ProfileLimited",
+    "Index.ProfileLimited",
     "Index.0.Decelerating",
     "Home.0.CommandComplete",
     "Jog.0.CommandInProgress",
@@ -751,6 +752,16 @@ fn typed_leaf(with_vars: bool) -> BoxedStrategy<String> {
         3 => pick(ACTIONS),
         1 => pick(ACTIONS).prop_map(|a| format!("{a}=ON")),
         2 => (pick(MOTION_STARTS), pick(MODIFIERS)).prop_map(|(a, m)| format!("{a}{m}")),
+        // A compound index: most often followed at once by the initiate it blends into (the
+        // one form `pacer check` accepts), otherwise alone or into another kind of motion.
+        1 => (
+            pick(&["Index.0.CompoundInitiate", "Index.1.CompoundInitiate"]),
+            pick(&["\nIndex.1.Initiate", "\nIndex.0.Initiate", "\nIndex.0.CompoundInitiate",
+                   "\nHome.0.Initiate", "\nDwell For Time 0.1", "", "\nIndex.1.Initiate Using Capture.0"]),
+            pick(&["", " On Profile.1", " Using Last"]),
+        )
+            .prop_map(|(c, next, m)| format!("{c}{m}{next}")),
+        1 => pick(&["Index.ResetProfileLimited", "Index.ProfileLimited=OFF"]),
         1 => num.clone().prop_map(|e| format!("Dwell For Time {e}")),
         1 => num.clone().prop_map(|e| format!("Dwell For Time {e} Using Last")),
         1 => num.clone().prop_map(|e| format!("Dwell For Master Dist {e}")),
