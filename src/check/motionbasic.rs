@@ -1230,7 +1230,14 @@ impl Rules for MotionBasic<'_> {
                 when: None,
             }),
             _ => {
-                unknown_label(cx, seg, "no such subroutine");
+                if let Some(message) = crate::syntax::not_yet::motionbasic(&seg.text) {
+                    cx.push(
+                        Problem::error("pacer::check::not_yet", seg.span, message, "not run yet")
+                            .with_help(crate::syntax::not_yet::HELP),
+                    );
+                } else {
+                    unknown_label(cx, seg, "no such subroutine");
+                }
                 None
             }
         }

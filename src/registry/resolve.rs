@@ -42,6 +42,12 @@ impl Registry {
                     return Ok(self.resolved(motion, 0, idx, false));
                 }
             }
+            if let Some(message) = crate::syntax::not_yet::powertools(&first.text) {
+                return Err(
+                    Problem::error(CODE_OBJECT, first.span, message, "not run yet")
+                        .with_help(crate::syntax::not_yet::HELP),
+                );
+            }
             let candidates = catalog::TYPES
                 .iter()
                 .filter(|t| t.name != catalog::BARE_GLOBAL_TYPE)

@@ -6,6 +6,7 @@ pub mod blocks;
 pub mod deftype;
 pub mod lex;
 pub mod lines;
+pub mod not_yet;
 pub mod token;
 
 lalrpop_util::lalrpop_mod!(
@@ -217,6 +218,20 @@ fn in_words(src: &str, l: usize, r: usize, tok: &Tok<'_>, dialect: Dialect) -> O
             "times in programs are seconds, without a unit: write {}",
             n * scale
         ));
+    }
+    if dialect == Dialect::MotionBasic {
+        let line = &before[before.rfind('\n').map_or(0, |i| i + 1)..];
+        // The statement's one word before the token, after a line number or a `LABEL:` if the
+        // line has one (`CAM knife~ …`).
+        let statement = line
+            .rsplit(':')
+            .next()
+            .unwrap_or(line)
+            .trim_start_matches(|c: char| c.is_ascii_digit() || c == ' ' || c == '\t');
+        let first = statement.trim_end();
+        if let Some(message) = not_yet::motionbasic(first) {
+            return Some(message);
+        }
     }
     if matches!(tok, Tok::On) && dialect == Dialect::MotionBasic {
         return Some(
