@@ -170,4 +170,29 @@ impl KernelFunc {
             .find(|f| f.1 == self)
             .map_or("?", |f| f.0)
     }
+
+    /// How many arguments it takes (the table's count, as a `match` for the VM, which needs
+    /// it at every call).
+    pub fn arity(self) -> usize {
+        match self {
+            KernelFunc::Regist => 7,
+            KernelFunc::StatusSv => 1,
+            KernelFunc::ReadSv => 2,
+            KernelFunc::WriteSv => 3,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn kernel_arity_is_the_tables_count() {
+        for &(name, func, count, _) in KERNEL_FUNCTIONS {
+            assert_eq!(func.arity(), count, "{name}");
+            assert_eq!(func.name(), name);
+        }
+        assert_eq!(KERNEL_FUNCTIONS.len(), 4);
+    }
 }

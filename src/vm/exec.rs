@@ -1353,6 +1353,46 @@ fn motionbasic(
             member,
             truth,
         } => v[dst as usize] = axis_read(ctx, v, v[axes as usize], u32::from(member), truth)?,
+        Op::AxisWrite { .. } | Op::Motion { .. } => {
+            return motion_or_write(op, here, chunk, v, ctx)
+        }
+        Op::KernelCall { func, dst, args } => {
+            let a = args as usize;
+            let count = func.arity();
+            // The arguments on the stack (a kernel function has at most 7): no allocation.
+            let mut buf = [0.0; 8];
+            let values = match v.get(a..a + count) {
+                Some(args) if count <= buf.len() => {
+                    buf[..count].copy_from_slice(args);
+                    &buf[..count]
+                }
+                _ => &[][..],
+            };
+            let axes = ctx
+                .devices
+                .axes()
+                .ok_or_else(|| format!("{} works on DSP axes: {NO_AXES}", func.name()))?;
+            v[dst as usize] = axes
+                .call(func, values, v, &mut ctx.now)
+                .map_err(|m| format!("{}: {m}", func.name()))?;
+        }
+        _ => {}
+    }
+    Ok(None)
+}
+
+/// The MotionBASIC instructions that write to the axes: apart from [`motionbasic`], whose reads
+/// a polling loop runs every scan.
+#[inline(never)]
+fn motion_or_write(
+    op: Op,
+    here: u32,
+    chunk: &Chunk,
+    v: &mut [f64],
+    ctx: &mut Ctx<'_, '_>,
+) -> Result<Option<Exit>, String> {
+    const NO_AXES: &str = "this machine has no DSP axes: define them in machine.toml ([axis.1] …)";
+    match op {
         Op::AxisWrite {
             axes,
             src,
@@ -1402,29 +1442,6 @@ fn motionbasic(
                 // The axis's motion queue is full: the statement waits for room.
                 (false, _) => return Ok(Some(Exit::Sleep { ticks: 1, pc: here })),
             }
-        }
-        Op::KernelCall { func, dst, args } => {
-            let a = args as usize;
-            let count = crate::check::functions::KERNEL_FUNCTIONS
-                .iter()
-                .find(|f| f.1 == func)
-                .map_or(0, |f| f.2);
-            // The arguments on the stack (a kernel function has at most 7): no allocation.
-            let mut buf = [0.0; 8];
-            let values = match v.get(a..a + count) {
-                Some(args) if count <= buf.len() => {
-                    buf[..count].copy_from_slice(args);
-                    &buf[..count]
-                }
-                _ => &[][..],
-            };
-            let axes = ctx
-                .devices
-                .axes()
-                .ok_or_else(|| format!("{} works on DSP axes: {NO_AXES}", func.name()))?;
-            v[dst as usize] = axes
-                .call(func, values, v, &mut ctx.now)
-                .map_err(|m| format!("{}: {m}", func.name()))?;
         }
         _ => {}
     }

@@ -286,24 +286,35 @@ impl Orion {
     }
 }
 
-impl AxisSet for Orion {
-    /// The axis numbers in an axis-set value, checked against the machine.
-    fn axes_of(&self, mask: f64) -> Result<crate::devices::Axes, String> {
+impl Orion {
+    /// Why `mask`, which [`AxisSet::axes_of`] refused, is not a set of this machine's axes.
+    #[cold]
+    #[inline(never)]
+    fn not_axes(&self, mask: f64) -> String {
         if !(mask.fract() == 0.0 && (0.0..65536.0).contains(&mask)) {
-            return Err(format!("{mask} is not an axis set"));
+            return format!("{mask} is not an axis set");
         }
         let bits = mask as u16;
         if bits == 0 {
-            return Err("the axis set is empty (was the axis variable assigned?)".into());
+            return "the axis set is empty (was the axis variable assigned?)".into();
         }
-        let unknown = bits & !self.defined;
-        if unknown != 0 {
-            let n = unknown.trailing_zeros() + 1;
-            return Err(format!(
-                "axis {n} is not defined in machine.toml ([axis.{n}])"
-            ));
+        // `axes_of` refused a whole nonzero mask: one of its bits is an undefined axis.
+        let n = (bits & !self.defined).trailing_zeros() + 1;
+        format!("axis {n} is not defined in machine.toml ([axis.{n}])")
+    }
+}
+
+impl AxisSet for Orion {
+    /// The axis numbers in an axis-set value, checked against the machine.
+    fn axes_of(&self, mask: f64) -> Result<crate::devices::Axes, String> {
+        // Every controller-variable read comes here: the usual case in three tests (`as`
+        // saturates, so a fraction, a negative, NaN or a value past 16 bits fails the first),
+        // the reason for anything else away from it.
+        let bits = mask as u16;
+        if f64::from(bits) == mask && bits != 0 && bits & !self.defined == 0 {
+            return Ok(crate::devices::Axes(bits));
         }
-        Ok(crate::devices::Axes(bits))
+        Err(self.not_axes(mask))
     }
 
     /// The slot of `member` (an index into the Axis members) of axis `n`.

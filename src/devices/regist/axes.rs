@@ -140,54 +140,7 @@ impl RegistAxes {
         };
         let regist = &mut self.regists[i];
         match func {
-            KernelFunc::Regist => {
-                if arg(0) == 0.0 {
-                    regist.disable();
-                    return Ok(0.0);
-                }
-                let params = RegistParams {
-                    dist: arg(2),
-                    tolr: arg(3),
-                    ignr: arg(4),
-                    lgth: arg(5),
-                    dim: arg(6),
-                };
-                // As on the controller, bad values leave OK false; the trace says why.
-                if let Err(e) = regist.enable(params) {
-                    now.trace.emit(
-                        now.tick,
-                        &Event::Warning {
-                            origin: Origin::Axis { axis: n },
-                            message: format!("REGIST: {}", e.0).into(),
-                        },
-                    );
-                }
-                let ok = regist.ok();
-                // A mark is an edge the axis makes crossing it: one under the axis now is
-                // never seen, which the examples avoid by backing the axis off first.
-                let here = self.last[i];
-                let tol = 1e-9 * here.abs().max(1.0);
-                let under = self
-                    .fast
-                    .iter()
-                    .filter(|track| track.axis == n)
-                    .any(|track| track.positions.iter().any(|&m| (m - here).abs() <= tol));
-                if ok && under {
-                    now.trace.emit(
-                        now.tick,
-                        &Event::Warning {
-                            origin: Origin::Axis { axis: n },
-                            message: format!(
-                                "REGIST enabled with axis {n} standing on a mark (position \
-                                 {here}): that mark is never seen, since a mark is seen when the \
-                                 axis crosses it; back the axis off the mark before enabling"
-                            )
-                            .into(),
-                        },
-                    );
-                }
-                Ok(f64::from(ok))
-            }
+            KernelFunc::Regist => self.regist(i, n, args, now),
             KernelFunc::StatusSv => Ok(f64::from(regist.status())),
             KernelFunc::ReadSv => regist.read_sv(var()?).map_err(|e| e.0),
             KernelFunc::WriteSv => {
@@ -195,6 +148,61 @@ impl RegistAxes {
                 Ok(1.0)
             }
         }
+    }
+
+    /// `REGIST(EN, AXIS, DIST, TOLR, IGNR, LGTH, DIM)` on the axis of index `i` (number `n`):
+    /// apart from the polled functions, which a registration loop calls every scan, so the
+    /// polled ones stay small enough to inline.
+    #[inline(never)]
+    fn regist(&mut self, i: usize, n: u32, args: &[f64], now: &mut Now<'_>) -> Result<f64, String> {
+        let arg = |i: usize| args.get(i).copied().unwrap_or(0.0);
+        let regist = &mut self.regists[i];
+        if arg(0) == 0.0 {
+            regist.disable();
+            return Ok(0.0);
+        }
+        let params = RegistParams {
+            dist: arg(2),
+            tolr: arg(3),
+            ignr: arg(4),
+            lgth: arg(5),
+            dim: arg(6),
+        };
+        // As on the controller, bad values leave OK false; the trace says why.
+        if let Err(e) = regist.enable(params) {
+            now.trace.emit(
+                now.tick,
+                &Event::Warning {
+                    origin: Origin::Axis { axis: n },
+                    message: format!("REGIST: {}", e.0).into(),
+                },
+            );
+        }
+        let ok = regist.ok();
+        // A mark is an edge the axis makes crossing it: one under the axis now is
+        // never seen, which the examples avoid by backing the axis off first.
+        let here = self.last[i];
+        let tol = 1e-9 * here.abs().max(1.0);
+        let under = self
+            .fast
+            .iter()
+            .filter(|track| track.axis == n)
+            .any(|track| track.positions.iter().any(|&m| (m - here).abs() <= tol));
+        if ok && under {
+            now.trace.emit(
+                now.tick,
+                &Event::Warning {
+                    origin: Origin::Axis { axis: n },
+                    message: format!(
+                        "REGIST enabled with axis {n} standing on a mark (position \
+                         {here}): that mark is never seen, since a mark is seen when the \
+                         axis crosses it; back the axis off the mark before enabling"
+                    )
+                    .into(),
+                },
+            );
+        }
+        Ok(f64::from(ok))
     }
 
     /// Fast-input edges of this update, in time order: (time, rising, axis index, position).
