@@ -161,6 +161,89 @@ pub enum Op {
     SubCheck { dst: Reg, a: Reg, b: Reg },
     /// `mul dst <- a * b` then `chk.long dst`.
     MulCheck { dst: Reg, a: Reg, b: Reg },
+    // Superinstructions of three or four instructions, made by [`fuse`] as the pairs are (and
+    // with the same rules: each counts as the instructions it replaces, reports a fault at the
+    // place of the instruction that failed, writes the temporary as they do, and is listed as
+    // its first instruction, the others following). `t_first`: the temporary is the first
+    // operand of the instruction that reads it (the order the disassembly shows and the
+    // arithmetic takes).
+    /// `mul t <- a * b`, `chk.long t`, `add t <- t + c` (or `c + t`), `chk.long t`: a long's
+    /// `x * k + c`.
+    MulAddCheck {
+        t: Reg,
+        a: Reg,
+        b: Reg,
+        c: Reg,
+        t_first: bool,
+    },
+    /// `add t <- t + x` (or `x + t`), `imod t <- t MOD m`, `store.l dst <- t`: a long's
+    /// `(… + x) MOD m`.
+    AddModLong {
+        t: Reg,
+        x: Reg,
+        dst: Reg,
+        m: Reg,
+        t_first: bool,
+    },
+    /// `add t <- t + x` (or `x + t`), then `mod.f0 dst <- t MOD m` (a [`Op::ModWhole`]).
+    AddModWhole {
+        t: Reg,
+        x: Reg,
+        dst: Reg,
+        m: Reg,
+        t_first: bool,
+    },
+    /// `bnot t <- NOT a`, `band t <- t AND b` (or `b AND t`), `store.l dst <- t`.
+    NotAndLong {
+        t: Reg,
+        a: Reg,
+        b: Reg,
+        dst: Reg,
+        t_first: bool,
+    },
+    /// `bnot t <- NOT a`, then `band.f0 dst <- t AND b` (or `b AND t`, a [`Op::AndWhole`]).
+    NotAndWhole {
+        t: Reg,
+        a: Reg,
+        b: Reg,
+        dst: Reg,
+        t_first: bool,
+    },
+    /// `band t <- a AND b`, then `bor t <- t OR x` (or `x OR t`).
+    AndOr {
+        t: Reg,
+        a: Reg,
+        b: Reg,
+        x: Reg,
+        t_first: bool,
+    },
+    /// `band t <- a AND b`, `bxor t <- t XOR dst` (or `dst XOR t`), `store.l dst <- t`: a long's
+    /// `dst = dst XOR (a AND b)`.
+    AndXorLong {
+        t: Reg,
+        a: Reg,
+        b: Reg,
+        dst: Reg,
+        t_first: bool,
+    },
+    /// `band t <- a AND b`, then `bxor.f0 dst <- t XOR dst` (or `dst XOR t`, a
+    /// [`Op::XorWhole`]).
+    AndXorWhole {
+        t: Reg,
+        a: Reg,
+        b: Reg,
+        dst: Reg,
+        t_first: bool,
+    },
+    /// `idiv t <- a \ b`, `add t <- t + dst` (or `dst + t`), `store.l dst <- t`: a long's
+    /// `dst = dst + a \ b`.
+    DivAddLong {
+        t: Reg,
+        a: Reg,
+        b: Reg,
+        dst: Reg,
+        t_first: bool,
+    },
     /// `add t <- a + b` then `store.r dst <- t`.
     AddReal { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// `sub t <- a - b` then `store.r dst <- t`.
@@ -457,6 +540,20 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
     }
     let mut i = 0;
     while i + 1 < ops.len() {
+        // A triple through one temporary first (its last two instructions are fused as a pair
+        // too, for a jump to the second).
+        if let Some(&third) = ops.get(i + 2) {
+            if let Some((op, t)) = triple(ops[i], ops[i + 1], third) {
+                if temps.contains(&t) {
+                    if let Some(second) = pair(ops[i + 1], third) {
+                        ops[i + 1] = second;
+                    }
+                    ops[i] = op;
+                    i += 3;
+                    continue;
+                }
+            }
+        }
         let mut fused = pair(ops[i], ops[i + 1]);
         // A multiply-add gives way to a fusion of the add with what follows it.
         if let Some(Op::MulAdd { .. }) = fused {
@@ -480,6 +577,10 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
                 | Op::OrLong { t, .. }
                 | Op::XorLong { t, .. }
                 | Op::MulAdd { t, .. }
+                | Op::AddModWhole { t, .. }
+                | Op::NotAndWhole { t, .. }
+                | Op::AndOr { t, .. }
+                | Op::AndXorWhole { t, .. }
                 | Op::AddReal { t, .. }
                 | Op::SubReal { t, .. }
                 | Op::MulReal { t, .. }
@@ -495,6 +596,112 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
         } else {
             i += 1;
         }
+    }
+    // Then a long multiply-add: a `MulCheck` and the `AddCheck` of its product after it.
+    for i in 0..ops.len().saturating_sub(2) {
+        if let (Op::MulCheck { dst: t, a, b }, Op::AddCheck { dst, a: x, b: y }) =
+            (ops[i], ops[i + 2])
+        {
+            if dst == t && (x == t || y == t) && temps.contains(&t) {
+                let t_first = x == t;
+                let c = if t_first { y } else { x };
+                ops[i] = Op::MulAddCheck {
+                    t,
+                    a,
+                    b,
+                    c,
+                    t_first,
+                };
+            }
+        }
+    }
+}
+
+/// The superinstruction doing the work of `first`, `second` and `third`, and the temporary
+/// joining them, if there is one.
+fn triple(first: Op, second: Op, third: Op) -> Option<(Op, Reg)> {
+    match (first, second, third) {
+        (
+            Op::Add { dst: t, a, b },
+            Op::IMod {
+                dst: t2,
+                a: u,
+                b: m,
+            },
+            Op::StoreLong { dst, src },
+        ) if t2 == t && u == t && src == t && (a == t || b == t) => {
+            let t_first = a == t;
+            let x = if t_first { b } else { a };
+            Some((
+                Op::AddModLong {
+                    t,
+                    x,
+                    dst,
+                    m,
+                    t_first,
+                },
+                t,
+            ))
+        }
+        (
+            Op::BitNot { dst: t, a },
+            Op::BitAnd {
+                dst: t2,
+                a: x,
+                b: y,
+            },
+            Op::StoreLong { dst, src },
+        ) if t2 == t && src == t && (x == t || y == t) => {
+            let t_first = x == t;
+            let b = if t_first { y } else { x };
+            Some((
+                Op::NotAndLong {
+                    t,
+                    a,
+                    b,
+                    dst,
+                    t_first,
+                },
+                t,
+            ))
+        }
+        (
+            Op::BitAnd { dst: t, a, b },
+            Op::BitXor {
+                dst: t2,
+                a: x,
+                b: y,
+            },
+            Op::StoreLong { dst, src },
+        ) if t2 == t && src == t && ((x == t && y == dst) || (y == t && x == dst)) => Some((
+            Op::AndXorLong {
+                t,
+                a,
+                b,
+                dst,
+                t_first: x == t,
+            },
+            t,
+        )),
+        (
+            Op::IDiv { dst: t, a, b },
+            Op::Add {
+                dst: t2,
+                a: x,
+                b: y,
+            },
+            Op::StoreLong { dst, src },
+        ) if t2 == t && src == t && ((x == t && y == dst) || (y == t && x == dst)) => Some((
+            Op::DivAddLong {
+                t,
+                a,
+                b,
+                dst,
+                t_first: x == t,
+            },
+            t,
+        )),
+        _ => None,
     }
 }
 
@@ -541,6 +748,32 @@ fn pair(first: Op, second: Op) -> Option<Op> {
         (Op::Mul { dst, a, b }, Op::CheckLong { r }) if r == dst => {
             Some(Op::MulCheck { dst, a, b })
         }
+        (Op::Add { dst: t, a, b }, Op::ModWhole { dst, a: u, b: m })
+            if u == t && (a == t || b == t) =>
+        {
+            let t_first = a == t;
+            let x = if t_first { b } else { a };
+            Some(Op::AddModWhole {
+                t,
+                x,
+                dst,
+                m,
+                t_first,
+            })
+        }
+        (Op::BitNot { dst: t, a }, Op::AndWhole { dst, a: x, b: y })
+            if (x == t || y == t) && dst != t =>
+        {
+            let t_first = x == t;
+            let b = if t_first { y } else { x };
+            Some(Op::NotAndWhole {
+                t,
+                a,
+                b,
+                dst,
+                t_first,
+            })
+        }
         (Op::Add { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
             Some(Op::AddReal { t, dst, a, b })
         }
@@ -549,6 +782,34 @@ fn pair(first: Op, second: Op) -> Option<Op> {
         }
         (Op::Mul { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
             Some(Op::MulReal { t, dst, a, b })
+        }
+        (
+            Op::BitAnd { dst: t, a, b },
+            Op::BitOr {
+                dst: t2,
+                a: x,
+                b: y,
+            },
+        ) if t2 == t && (x == t || y == t) => {
+            let t_first = x == t;
+            Some(Op::AndOr {
+                t,
+                a,
+                b,
+                x: if t_first { y } else { x },
+                t_first,
+            })
+        }
+        (Op::BitAnd { dst: t, a, b }, Op::XorWhole { dst, a: x, b: y })
+            if (x == t && y == dst) || (y == t && x == dst) =>
+        {
+            Some(Op::AndXorWhole {
+                t,
+                a,
+                b,
+                dst,
+                t_first: x == t,
+            })
         }
         _ => None,
     }
@@ -630,6 +891,18 @@ impl Op {
             | Op::AddReal { t, dst, a, b }
             | Op::SubReal { t, dst, a, b }
             | Op::MulReal { t, dst, a, b } => t.max(dst).max(a).max(b),
+            Op::MulAddCheck { t, a, b, c, .. } => t.max(a).max(b).max(c),
+            Op::AddModLong { t, x, dst, m, .. } | Op::AddModWhole { t, x, dst, m, .. } => {
+                t.max(x).max(dst).max(m)
+            }
+            Op::NotAndLong { t, a, b, dst, .. }
+            | Op::NotAndWhole { t, a, b, dst, .. }
+            | Op::AndOr {
+                t, a, b, x: dst, ..
+            }
+            | Op::AndXorLong { t, a, b, dst, .. }
+            | Op::AndXorWhole { t, a, b, dst, .. }
+            | Op::DivAddLong { t, a, b, dst, .. } => t.max(a).max(b).max(dst),
             Op::Neg { dst, a } | Op::Not { dst, a } | Op::BitNot { dst, a } => dst.max(a),
             Op::Write { slot, src, .. } => slot.max(src),
             Op::JumpIfFalse { cond, .. }
@@ -777,6 +1050,288 @@ mod tests {
         assert_eq!(fused[6], ops[6]);
         assert_eq!(fused[8], ops[8]);
         assert_eq!(fused[7].target(), Some(9));
+    }
+
+    #[test]
+    fn fuse_makes_chains_of_three_and_four_through_a_temporary() {
+        let temps = 100..110;
+        let ops = vec![
+            // @0..@3: a long's `a * b + c`, the temporary second in the add.
+            Op::Mul {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::CheckLong { r: 100 },
+            Op::Add {
+                dst: 100,
+                a: 3,
+                b: 100,
+            },
+            Op::CheckLong { r: 100 },
+            // @4..@6: `(x + t) MOD m` into a long.
+            Op::Add {
+                dst: 100,
+                a: 4,
+                b: 100,
+            },
+            Op::IMod {
+                dst: 100,
+                a: 100,
+                b: 5,
+            },
+            Op::StoreLong { dst: 6, src: 100 },
+            // @7..@9: `(NOT a) AND b` into a long.
+            Op::BitNot { dst: 100, a: 1 },
+            Op::BitAnd {
+                dst: 100,
+                a: 100,
+                b: 2,
+            },
+            Op::StoreLong { dst: 7, src: 100 },
+            // @10, @11: `(t + x) MOD m` into a whole fixed-point slot.
+            Op::Add {
+                dst: 100,
+                a: 100,
+                b: 4,
+            },
+            Op::ArithFixed {
+                op: BinaryOp::Mod,
+                dst: 8,
+                a: 100,
+                b: 5,
+                decimals: 0,
+            },
+            // @12, @13: `b AND (NOT a)` into one; @14..@16: through a variable, left alone.
+            Op::BitNot { dst: 100, a: 1 },
+            Op::ArithFixed {
+                op: BinaryOp::BitAnd,
+                dst: 9,
+                a: 2,
+                b: 100,
+                decimals: 0,
+            },
+            Op::Add { dst: 9, a: 9, b: 4 },
+            Op::IMod { dst: 9, a: 9, b: 5 },
+            Op::StoreLong { dst: 6, src: 9 },
+            Op::End,
+        ];
+        let mut fused = ops.clone();
+        fuse(&mut fused, temps);
+        assert_eq!(
+            fused[0],
+            Op::MulAddCheck {
+                t: 100,
+                a: 1,
+                b: 2,
+                c: 3,
+                t_first: false
+            }
+        );
+        assert_eq!(
+            fused[2],
+            Op::AddCheck {
+                dst: 100,
+                a: 3,
+                b: 100
+            }
+        );
+        assert_eq!(
+            fused[4],
+            Op::AddModLong {
+                t: 100,
+                x: 4,
+                dst: 6,
+                m: 5,
+                t_first: false
+            }
+        );
+        // The last two of a triple are a pair of their own, for a jump to the second.
+        assert_eq!(
+            fused[5],
+            Op::ModLong {
+                t: 100,
+                dst: 6,
+                a: 100,
+                b: 5
+            }
+        );
+        assert_eq!(
+            fused[7],
+            Op::NotAndLong {
+                t: 100,
+                a: 1,
+                b: 2,
+                dst: 7,
+                t_first: true
+            }
+        );
+        assert_eq!(
+            fused[8],
+            Op::AndLong {
+                t: 100,
+                dst: 7,
+                a: 100,
+                b: 2
+            }
+        );
+        assert_eq!(
+            fused[10],
+            Op::AddModWhole {
+                t: 100,
+                x: 4,
+                dst: 8,
+                m: 5,
+                t_first: true
+            }
+        );
+        assert_eq!(
+            fused[11],
+            Op::ModWhole {
+                dst: 8,
+                a: 100,
+                b: 5
+            }
+        );
+        assert_eq!(
+            fused[12],
+            Op::NotAndWhole {
+                t: 100,
+                a: 1,
+                b: 2,
+                dst: 9,
+                t_first: false
+            }
+        );
+        assert_eq!(&fused[14..], &ops[14..]);
+        for (i, (f, o)) in fused.iter().zip(&ops).enumerate() {
+            if matches!(i, 1 | 3 | 6 | 9 | 14 | 15 | 16 | 17) {
+                assert_eq!(f, o, "@{i} stays as it was");
+            }
+        }
+    }
+
+    #[test]
+    fn fuse_makes_accumulating_chains_only_into_the_variable_they_read() {
+        let temps = 100..110;
+        let ops = vec![
+            // @0..@2: `Q = Q + a \ b`; @3..@5: `X = (a AND b) XOR X`.
+            Op::IDiv {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::Add {
+                dst: 100,
+                a: 7,
+                b: 100,
+            },
+            Op::StoreLong { dst: 7, src: 100 },
+            Op::BitAnd {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::BitXor {
+                dst: 100,
+                a: 100,
+                b: 8,
+            },
+            Op::StoreLong { dst: 8, src: 100 },
+            // @6, @7: `x OR (a AND b)` into the temporary; @8: its store.
+            Op::BitAnd {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::BitOr {
+                dst: 100,
+                a: 3,
+                b: 100,
+            },
+            Op::StoreLong { dst: 9, src: 100 },
+            // @9, @10: `X = X XOR (a AND b)` into a whole fixed-point slot.
+            Op::BitAnd {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::ArithFixed {
+                op: BinaryOp::BitXor,
+                dst: 8,
+                a: 8,
+                b: 100,
+                decimals: 0,
+            },
+            // @11..@13: the sum stored into another variable than it reads: not fused.
+            Op::IDiv {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::Add {
+                dst: 100,
+                a: 7,
+                b: 100,
+            },
+            Op::StoreLong { dst: 6, src: 100 },
+            Op::End,
+        ];
+        let mut fused = ops.clone();
+        fuse(&mut fused, temps);
+        let chain = |t_first| (1, 2, t_first);
+        match fused[0] {
+            Op::DivAddLong {
+                t: 100,
+                a,
+                b,
+                dst: 7,
+                t_first,
+            } => assert_eq!((a, b, t_first), chain(false)),
+            other => panic!("@0: {other:?}"),
+        }
+        match fused[3] {
+            Op::AndXorLong {
+                t: 100,
+                a,
+                b,
+                dst: 8,
+                t_first,
+            } => assert_eq!((a, b, t_first), chain(true)),
+            other => panic!("@3: {other:?}"),
+        }
+        match fused[6] {
+            Op::AndOr {
+                t: 100,
+                a,
+                b,
+                x: 3,
+                t_first,
+            } => assert_eq!((a, b, t_first), chain(false)),
+            other => panic!("@6: {other:?}"),
+        }
+        match fused[9] {
+            Op::AndXorWhole {
+                t: 100,
+                a,
+                b,
+                dst: 8,
+                t_first,
+            } => assert_eq!((a, b, t_first), chain(false)),
+            other => panic!("@9: {other:?}"),
+        }
+        assert_eq!(fused[8], ops[8]);
+        // `idiv` alone, then the add and its store as the pair they are.
+        assert_eq!(fused[11], ops[11]);
+        assert_eq!(
+            fused[12],
+            Op::AddLong {
+                t: 100,
+                dst: 6,
+                a: 7,
+                b: 100
+            }
+        );
     }
 
     #[test]

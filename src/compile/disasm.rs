@@ -96,6 +96,24 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 format!("bxor      {} <- {} XOR {}", r(t), r(a), r(b))
             }
             Op::MulAdd { t, a, b, .. } => format!("mul       {} <- {} * {}", r(t), r(a), r(b)),
+            Op::MulAddCheck { t, a, b, .. } => {
+                format!("mul       {} <- {} * {}", r(t), r(a), r(b))
+            }
+            Op::AddModLong { t, x, t_first, .. } | Op::AddModWhole { t, x, t_first, .. } => {
+                let (p, q) = if t_first { (t, x) } else { (x, t) };
+                format!("add       {} <- {} + {}", r(t), r(p), r(q))
+            }
+            Op::AndOr { t, a, b, .. }
+            | Op::AndXorLong { t, a, b, .. }
+            | Op::AndXorWhole { t, a, b, .. } => {
+                format!("band      {} <- {} AND {}", r(t), r(a), r(b))
+            }
+            Op::DivAddLong { t, a, b, .. } => {
+                format!("idiv      {} <- {} \\ {}", r(t), r(a), r(b))
+            }
+            Op::NotAndLong { t, a, .. } | Op::NotAndWhole { t, a, .. } => {
+                format!("bnot      {} <- NOT {}", r(t), r(a))
+            }
             Op::JumpNext { at, .. } => format!("jump      @{at}"),
             // Specialisations of `ArithFixed` (one instruction each), listed as it is.
             Op::ModWhole { dst, a, b } => fused("mod", 0, r(dst), r(a), "MOD", r(b)),

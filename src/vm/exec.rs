@@ -277,6 +277,55 @@ pub fn run<'a>(
             }
         }};
     }
+    // The `imod t <- x MOD v[b]` at `$here` (`$x` its first operand's value) and the
+    // `store.l $dst <- t` after it, counted (but for the first instruction) by the caller.
+    macro_rules! mod_long {
+        ($t:expr, $dst:expr, $x:expr, $b:expr, $here:expr) => {{
+            let (t, dst, x, y): (u32, u32, f64, f64) = ($t, $dst, $x, rd!($b as usize));
+            let (i, j) = (trunc_i32(x), trunc_i32(y));
+            if f64::from(i) == x && f64::from(j) == y && j != 0 {
+                // As `basic_mod`: the remainder has the sign of x, a zero one included
+                // (the temporary's); the long stores it with a zero made 0.
+                let r = f64::from(i.wrapping_rem(j));
+                wr!(t as usize, r.copysign(x));
+                store_whole!(dst, r);
+            } else {
+                match basic_integer(BinaryOp::BasicMod, x, y) {
+                    Ok(x) => {
+                        wr!(t as usize, x);
+                        store_long!(dst, x, $here + 1);
+                    }
+                    Err(message) => {
+                        // The `imod` failed: the store was not reached.
+                        n -= 1;
+                        pc = $here;
+                        fault!("{message}");
+                    }
+                }
+            }
+            pc = $here + 2;
+        }};
+    }
+    // The PowerTools `MOD` at `$here` of `$x` by `v[$b]` into the whole fixed-point slot `$dst`
+    // (`Op::ModWhole`).
+    macro_rules! mod_whole {
+        ($dst:expr, $x:expr, $b:expr, $here:expr) => {{
+            let (dst, x, y): (u32, f64, f64) = ($dst, $x, rd!($b as usize));
+            let (i, j) = (trunc_i32(x), trunc_i32(y));
+            if f64::from(i) == x && f64::from(j) == y && j != 0 {
+                // As `int_rem`, whose remainder a whole fixed-point slot keeps as it is.
+                store_whole!(dst, f64::from(i.wrapping_rem(j)));
+            } else {
+                match binary(BinaryOp::Mod, x, y) {
+                    Ok(x) => store_fixed!(dst, x, 0, $here),
+                    Err(message) => {
+                        pc = $here;
+                        fault!("{message}");
+                    }
+                }
+            }
+        }};
+    }
     // The end of a `For` body at instruction `$here` (see `Op::ForNext`).
     macro_rules! for_next {
         ($var:expr, $limit:expr, $body:expr, $decimals:expr, $here:expr) => {{
@@ -433,28 +482,153 @@ pub fn run<'a>(
                 }
                 Op::ModLong { t, dst, a, b } => {
                     n += 1;
-                    let (x, y) = (rd!(a as usize), rd!(b as usize));
-                    let (i, j) = (trunc_i32(x), trunc_i32(y));
-                    if f64::from(i) == x && f64::from(j) == y && j != 0 {
-                        // As `basic_mod`: the remainder has the sign of x, a zero one included
-                        // (the temporary's); the long stores it with a zero made 0.
-                        let r = f64::from(i.wrapping_rem(j));
-                        wr!(t as usize, r.copysign(x));
-                        store_whole!(dst, r);
-                    } else {
-                        match basic_integer(BinaryOp::BasicMod, x, y) {
-                            Ok(x) => {
-                                wr!(t as usize, x);
-                                store_long!(dst, x, here + 1);
-                            }
-                            Err(message) => {
-                                n -= 1;
-                                pc = here;
-                                fault!("{message}");
-                            }
+                    mod_long!(t, dst, rd!(a as usize), b, here);
+                }
+                Op::AddModLong {
+                    t,
+                    x,
+                    dst,
+                    m,
+                    t_first,
+                } => {
+                    // `add` (here), then the `imod` and `store.l` of a `ModLong` (here + 1).
+                    n += 2;
+                    let (p, q) = if t_first { (t, x) } else { (x, t) };
+                    let s = rd!(p as usize) + rd!(q as usize);
+                    wr!(t as usize, s);
+                    mod_long!(t, dst, s, m, here + 1);
+                }
+                Op::AddModWhole {
+                    t,
+                    x,
+                    dst,
+                    m,
+                    t_first,
+                } => {
+                    // `add` (here), then a `ModWhole` (here + 1).
+                    n += 1;
+                    let (p, q) = if t_first { (t, x) } else { (x, t) };
+                    let s = rd!(p as usize) + rd!(q as usize);
+                    wr!(t as usize, s);
+                    mod_whole!(dst, s, m, here + 1);
+                    pc = here + 2;
+                }
+                Op::NotAndLong {
+                    t,
+                    a,
+                    b,
+                    dst,
+                    t_first,
+                } => {
+                    // `bnot` (here), then the `band` and `store.l` of an `AndLong` (here + 1).
+                    n += 1;
+                    wr!(t as usize, !int(rd!(a as usize)) as f64);
+                    let (p, q) = if t_first { (t, b) } else { (b, t) };
+                    bitwise_long!(t, dst, p, q, &, here + 1);
+                }
+                Op::NotAndWhole {
+                    t,
+                    a,
+                    b,
+                    dst,
+                    t_first,
+                } => {
+                    // `bnot` (here), then an `AndWhole` (here + 1).
+                    n += 1;
+                    wr!(t as usize, !int(rd!(a as usize)) as f64);
+                    let (p, q) = if t_first { (t, b) } else { (b, t) };
+                    bitwise_whole!(dst, p, q, &, here + 1);
+                    pc = here + 2;
+                }
+                Op::AndOr {
+                    t,
+                    a,
+                    b,
+                    x,
+                    t_first,
+                } => {
+                    // `band` (here), then `bor` (here + 1).
+                    n += 1;
+                    wr!(
+                        t as usize,
+                        (int(rd!(a as usize)) & int(rd!(b as usize))) as f64
+                    );
+                    let (p, q) = if t_first { (t, x) } else { (x, t) };
+                    wr!(
+                        t as usize,
+                        (int(rd!(p as usize)) | int(rd!(q as usize))) as f64
+                    );
+                    pc = here + 2;
+                }
+                Op::AndXorLong {
+                    t,
+                    a,
+                    b,
+                    dst,
+                    t_first,
+                } => {
+                    // `band` (here), then the `bxor` and `store.l` of a `XorLong` (here + 1).
+                    n += 1;
+                    wr!(
+                        t as usize,
+                        (int(rd!(a as usize)) & int(rd!(b as usize))) as f64
+                    );
+                    let (p, q) = if t_first { (t, dst) } else { (dst, t) };
+                    bitwise_long!(t, dst, p, q, ^, here + 1);
+                }
+                Op::AndXorWhole {
+                    t,
+                    a,
+                    b,
+                    dst,
+                    t_first,
+                } => {
+                    // `band` (here), then a `XorWhole` (here + 1).
+                    n += 1;
+                    wr!(
+                        t as usize,
+                        (int(rd!(a as usize)) & int(rd!(b as usize))) as f64
+                    );
+                    let (p, q) = if t_first { (t, dst) } else { (dst, t) };
+                    bitwise_whole!(dst, p, q, ^, here + 1);
+                    pc = here + 2;
+                }
+                Op::DivAddLong {
+                    t,
+                    a,
+                    b,
+                    dst,
+                    t_first,
+                } => {
+                    // `idiv` (here), then the `add` and `store.l` of an `AddLong` (here + 1).
+                    match basic_div(rd!(a as usize), rd!(b as usize)) {
+                        Ok(q) => wr!(t as usize, q),
+                        Err(message) => {
+                            pc = here;
+                            fault!("{message}");
                         }
                     }
-                    pc = here + 2;
+                    n += 2;
+                    let (p, q) = if t_first { (t, dst) } else { (dst, t) };
+                    let x = rd!(p as usize) + rd!(q as usize);
+                    wr!(t as usize, x);
+                    store_long!(dst, x, here + 2);
+                    pc = here + 3;
+                }
+                Op::MulAddCheck {
+                    t,
+                    a,
+                    b,
+                    c,
+                    t_first,
+                } => {
+                    // A `MulCheck` (here, here + 1), then an `AddCheck` (here + 2, here + 3).
+                    n += 1;
+                    check_long!(t, rd!(a as usize) * rd!(b as usize), here + 1);
+                    n += 2;
+                    let (p, q) = if t_first { (t, c) } else { (c, t) };
+                    check_long!(t, rd!(p as usize) + rd!(q as usize), here + 3);
+                    pc = here + 4;
                 }
                 Op::AndLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, &, here),
                 Op::OrLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, |, here),
@@ -465,22 +639,7 @@ pub fn run<'a>(
                     wr!(t as usize, rd!(t as usize) + rd!(c as usize));
                     pc = here + 2;
                 }
-                Op::ModWhole { dst, a, b } => {
-                    let (x, y) = (rd!(a as usize), rd!(b as usize));
-                    let (i, j) = (trunc_i32(x), trunc_i32(y));
-                    if f64::from(i) == x && f64::from(j) == y && j != 0 {
-                        // As `int_rem`, whose remainder a whole fixed-point slot keeps as it is.
-                        store_whole!(dst, f64::from(i.wrapping_rem(j)));
-                    } else {
-                        match binary(BinaryOp::Mod, x, y) {
-                            Ok(x) => store_fixed!(dst, x, 0, here),
-                            Err(message) => {
-                                pc = here;
-                                fault!("{message}");
-                            }
-                        }
-                    }
-                }
+                Op::ModWhole { dst, a, b } => mod_whole!(dst, rd!(a as usize), b, here),
                 Op::AndWhole { dst, a, b } => bitwise_whole!(dst, a, b, &, here),
                 Op::OrWhole { dst, a, b } => bitwise_whole!(dst, a, b, |, here),
                 Op::XorWhole { dst, a, b } => bitwise_whole!(dst, a, b, ^, here),

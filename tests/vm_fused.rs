@@ -1,0 +1,327 @@
+//! The superinstructions of three and four instructions (`MulAddCheck`, `AddModLong`,
+//! `AddModWhole`, `NotAndLong`, `NotAndWhole`) give what the instructions they replace give:
+//! the values (negative, -0, fractions, past 32 bits), the faults (MOD by zero, an Overflow in
+//! either half, a store that does not fit) at the same line, and the same instruction counts
+//! against the budget. The expected figures are those of the build before these fusions.
+
+mod common;
+
+use common::{load_memory, run_loaded, Run};
+
+/// Run a MotionBASIC program `x.mb` (program 0) with the instruction budget `budget`.
+fn run_mb(name: &str, program: &str, budget: u32) -> Run {
+    let machine = format!(
+        "[machine]\nname = \"e\"\nbudget = {budget}\n\n[[program]]\nnumber = 0\nfile = \"x.mb\"\n"
+    );
+    match load_memory(name, &[("x.mb", program), ("machine.toml", &machine)]) {
+        Ok(l) => run_loaded(l),
+        Err(d) => panic!("{}", d.render_plain()),
+    }
+}
+
+/// The PowerTools variables of the programs below: whole ones, and `F` with 2 decimals.
+const PT_VARS: &str = "[variables.A]\ndecimals = 0\n[variables.B]\ndecimals = 0\n[variables.H]\ndecimals = 0\n[variables.I]\ndecimals = 0\n[variables.F]\ndecimals = 2\n[variables.Z]\ndecimals = 0\n[variables.Y]\ndecimals = 0\n";
+
+/// Run a PowerTools program with the instruction budget `budget`.
+fn run_pt(name: &str, program: &str, budget: u32) -> Run {
+    let machine = format!("[machine]\nname = \"e\"\nbudget = {budget}\n{PT_VARS}");
+    match load_memory(
+        name,
+        &[("program0.pt", program), ("machine.toml", &machine)],
+    ) {
+        Ok(l) => run_loaded(l),
+        Err(d) => panic!("{}", d.render_plain()),
+    }
+}
+
+/// The value of a variable after the run (by its slot name; `Var.A` for PowerTools).
+#[track_caller]
+fn val(run: &Run, name: &str) -> f64 {
+    if let Some(v) = run.machine.value_of(name) {
+        return v;
+    }
+    let slot = run
+        .machine
+        .registry()
+        .slots
+        .iter()
+        .position(|s| s.name.eq_ignore_ascii_case(name))
+        .unwrap_or_else(|| panic!("no `{name}`"));
+    run.machine.values()[slot]
+}
+
+/// The error a run ended with: its line and message.
+#[track_caller]
+fn error(run: &Run) -> (u32, String) {
+    let e = run
+        .summary
+        .error
+        .as_ref()
+        .expect("the run ends with an error");
+    (e.line, e.message.clone())
+}
+
+const MB_LOOP: &str = "A& = 12345\nH& = 7\nB& = 0\nR = 0\nFOR I& = 1 TO 20\n  A& = (A& * 75 + 74) MOD 65537\n  B& = (NOT A&) AND 65535\n  C& = 65535 AND NOT A&\n  H& = (H& + (B& OR (I& AND 1023))) MOD 1000003\n  G& = (A& + H&) MOD 7\n  K& = (-A& - 3) MOD 5\n  M& = (A& * -3 + -7) MOD 10\nNEXT\nR = -0.0\nZ& = (R + 0) MOD 3\nZ2& = (0 + R) MOD 3\nF = 2.5\nY& = (F + 1) MOD 3\nY2& = (1 + F) MOD 2\nP = 4294967296.0\nW& = (P + 1) MOD 7\nV& = (NOT F) AND 255\nV2& = (NOT P) AND 255\nN& = -5\nN2& = (N& * 3 + 2) MOD 4\n";
+
+#[test]
+fn motionbasic_long_chains_give_the_values_of_their_instructions() {
+    let run = run_mb("fused-mb-values", MB_LOOP, 10_000);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    let want = [
+        ("A&", 28919.0),
+        ("B&", 36616.0),
+        ("C&", 36616.0),
+        ("H&", 658192.0),
+        ("G&", 5.0),
+        ("K&", -2.0),
+        ("M&", -4.0),
+        // -0 + 0 and 0 + -0 MOD 3: a long holds 0, not -0.
+        ("Z&", 0.0),
+        ("Z2&", 0.0),
+        // 3.5 and 3.5 round to 4 (halves to even) before MOD.
+        ("Y&", 1.0),
+        ("Y2&", 0.0),
+        // Past 32 bits: (2^32 + 1) MOD 7, NOT 2^32 AND 255.
+        ("W&", 5.0),
+        ("V&", 253.0),
+        ("V2&", 255.0),
+        ("N2&", -1.0),
+    ];
+    for (name, v) in want {
+        let v: f64 = v;
+        let got = val(&run, name);
+        assert_eq!(got.to_bits(), v.to_bits(), "{name}: {got}, want {v}");
+    }
+    assert_eq!(run.summary.instructions, 803);
+}
+
+#[test]
+fn motionbasic_faults_in_a_chain_are_those_of_its_instructions() {
+    // MOD by zero in the `imod` after an `add`: the store is not reached.
+    let run = run_mb(
+        "fused-mb-mod0",
+        "A& = 5\nB& = 0\nC& = 1\nC& = (A& + 1) MOD B&\nC& = 9\n",
+        10_000,
+    );
+    assert_eq!(error(&run), (4, "MOD by zero".to_string()));
+    assert_eq!(val(&run, "C&"), 1.0);
+    assert_eq!(run.summary.instructions, 6);
+    // The multiply half of `x * k + c` overflows.
+    let run = run_mb(
+        "fused-mb-ovf-mul",
+        "A& = 100000\nC& = 1\nC& = A& * A& + 1\nC& = 9\n",
+        10_000,
+    );
+    let (line, message) = error(&run);
+    assert_eq!(line, 3);
+    assert!(
+        message.starts_with("Overflow: 10000000000 does not fit a long"),
+        "{message}"
+    );
+    assert_eq!(run.summary.instructions, 4);
+    // The add half overflows.
+    let run = run_mb(
+        "fused-mb-ovf-add",
+        "A& = 2147483647\nC& = 1\nC& = A& * 1 + 1\nC& = 9\n",
+        10_000,
+    );
+    let (line, message) = error(&run);
+    assert_eq!(line, 3);
+    assert!(
+        message.starts_with("Overflow: 2147483648 does not fit"),
+        "{message}"
+    );
+    assert_eq!(run.summary.instructions, 6);
+    assert_eq!(val(&run, "C&"), 1.0);
+    // A remainder that does not fit the long it is stored into.
+    let run = run_mb(
+        "fused-mb-ovf-store",
+        "P = 4294967296.0\nC& = 1\nC& = (P + 0.5) MOD 4294967297.0\nC& = (P + 1) MOD 8589934592.0\n",
+        10_000,
+    );
+    let (line, message) = error(&run);
+    assert_eq!(line, 3);
+    assert!(
+        message.starts_with("Overflow: 4294967296 does not fit C&"),
+        "{message}"
+    );
+    assert_eq!(run.summary.instructions, 5);
+    // NOT of a value past 32 bits, ANDed with -1, does not fit a long.
+    let run = run_mb(
+        "fused-mb-ovf-not",
+        "P = 4294967296.0\nC& = 1\nC& = (NOT P) AND -1\n",
+        10_000,
+    );
+    let (line, message) = error(&run);
+    assert_eq!(line, 3);
+    assert!(
+        message.starts_with("Overflow: -4294967297 does not fit C&"),
+        "{message}"
+    );
+    assert_eq!(run.summary.instructions, 7);
+}
+
+const CHAIN_LOOP_MB: &str = "A& = 12345\nH& = 0\nFOR I& = 1 TO 50\n  A& = (A& * 75 + 74) MOD 65537\n  B& = (NOT A&) AND 65535\n  H& = (H& + (B& OR (I& AND 1023))) MOD 1000003\nNEXT\n";
+
+#[test]
+fn small_budgets_count_a_chain_as_its_instructions() {
+    // A task yields at a `for.next` once it has run its budget: 15 instructions an iteration,
+    // so a budget of 3 or 7 yields at every one, 20 at every second, 40 at every third.
+    for (budget, ticks) in [(3, 50), (7, 50), (20, 26), (40, 17), (10_000, 1)] {
+        let run = run_mb("fused-mb-budget", CHAIN_LOOP_MB, budget);
+        assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+        assert_eq!(val(&run, "A&"), 8340.0);
+        assert_eq!(val(&run, "H&"), 796359.0);
+        assert_eq!(
+            (run.summary.instructions, run.summary.ticks),
+            (757, ticks),
+            "budget {budget}"
+        );
+    }
+}
+
+const PT_LOOP: &str = "Var.A = 12345\nVar.H = 7\nFor Var.I = 1 To 20\n  Var.A = (Var.A * 75 + 74) MOD 65537\n  Var.B = (NOT Var.A) AND 65535\n  Var.Y = 65535 AND NOT Var.A\n  Var.H = (Var.H + (Var.B OR (Var.I AND 1023))) MOD 1000003\n  Var.Z = (-Var.A - 3) MOD 5\nNext\nVar.F = 2.5\nVar.Y = (Var.F + 1) MOD 3\nVar.Z = (1.25 + Var.F) MOD 2\nVar.B = (NOT Var.F) AND 255\nEnd\n";
+
+#[test]
+fn powertools_whole_chains_give_the_values_of_their_instructions() {
+    let run = run_pt("fused-pt-values", PT_LOOP, 10_000);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    assert_eq!(run.summary.instructions, 314);
+    // `(2.5 + 1) MOD 3` is 0.5 and `(1.25 + 2.5) MOD 2` 1.75, rounded into whole variables;
+    // `NOT 2.5` is `NOT 2` (halves to even).
+    let want = [
+        ("Var.A", 28919.0),
+        ("Var.B", 253.0),
+        ("Var.H", 658192.0),
+        ("Var.I", 21.0),
+        ("Var.F", 2.5),
+        ("Var.Y", 1.0),
+        ("Var.Z", 2.0),
+    ];
+    for (name, v) in want {
+        assert_eq!(val(&run, name), v, "{name}");
+    }
+}
+
+#[test]
+fn powertools_faults_in_a_chain_are_those_of_its_instructions() {
+    let run = run_pt(
+        "fused-pt-mod0",
+        "Var.A = 5\nVar.B = 0\nVar.H = 1\nVar.H = (Var.A + 1) MOD Var.B\nVar.H = 9\nEnd\n",
+        10_000,
+    );
+    assert_eq!(error(&run), (4, "MOD by zero".to_string()));
+    assert_eq!(val(&run, "Var.H"), 1.0);
+    assert_eq!(run.summary.instructions, 5);
+    let run = run_pt(
+        "fused-pt-ovf",
+        "Var.A = 2000000000\nVar.H = 1\nVar.H = (Var.A + Var.A) MOD 4000000001\nVar.H = 9\nEnd\n",
+        10_000,
+    );
+    let (line, message) = error(&run);
+    assert_eq!(line, 3);
+    assert!(
+        message.starts_with("overflow: 4000000000 does not fit Var.H"),
+        "{message}"
+    );
+    assert_eq!(val(&run, "Var.H"), 1.0);
+    assert_eq!(run.summary.instructions, 4);
+}
+
+const MB_ACCUMULATE: &str = "Q& = 5\nX& = 3\nA& = 1000\nZ = -0.0\nF = 2.5\nP = 4294967296.0\nFOR I& = 1 TO 30\n  A& = (A& * 75 + 74) MOD 65537\n  Q& = Q& + A& \\ 3\n  Q& = (A& - 70000) \\ 7 + Q&\n  X& = X& XOR (A& AND 255)\n  X& = (A& AND 4095) XOR X&\n  H& = (I& AND 1023) OR A&\n  H2& = A& OR (I& AND 7)\nNEXT\nR& = 0\nR& = R& + (-1) \\ 5\nR2& = 3\nR2& = R2& + F \\ 2\nX2& = 1\nX2& = X2& XOR (F AND 255)\nX3& = 7\nX3& = X3& XOR (P AND 4294967295.0)\nH3 = (F AND 3) OR P\nH4 = (P AND -1) OR 1\n";
+
+#[test]
+fn motionbasic_accumulating_chains_give_the_values_of_their_instructions() {
+    // `Q& = Q& + A& \ 3` (`DivAddLong`), `X& = X& XOR (A& AND 255)` (`AndXorLong`), `(I& AND
+    // 1023) OR A&` (`AndOr`), each with the temporary on either side.
+    let run = run_mb("fused-mb-accumulate", MB_ACCUMULATE, 10_000);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    let want = [
+        ("Q&", 145501.0),
+        ("X&", 771.0),
+        ("H&", 5727.0),
+        ("H2&", 5703.0),
+        // 0 + (-1) \ 5: a -0 quotient, a long 0.
+        ("R&", 0.0),
+        // 2.5 \ 2 and 2.5 AND 255 take 2 (halves to even).
+        ("R2&", 4.0),
+        ("X2&", 3.0),
+        // Past 32 bits: 2^32 AND 4294967295 is 0; a real keeps 2^32 + 2 and 2^32 + 1.
+        ("X3&", 7.0),
+        ("H3", 4294967298.0),
+        ("H4", 4294967297.0),
+    ];
+    for (name, v) in want {
+        let v: f64 = v;
+        let got = val(&run, name);
+        assert_eq!(got.to_bits(), v.to_bits(), "{name}: {got}, want {v}");
+    }
+    assert_eq!(run.summary.instructions, 849);
+}
+
+#[test]
+fn motionbasic_faults_in_an_accumulating_chain_are_those_of_its_instructions() {
+    // Division by zero in the `idiv`: the add and the store are not reached.
+    let run = run_mb(
+        "fused-mb-div0",
+        "A& = 5\nB& = 0\nQ& = 1\nQ& = Q& + A& \\ B&\nQ& = 9\n",
+        10_000,
+    );
+    assert_eq!(error(&run), (4, "division by zero".to_string()));
+    assert_eq!(val(&run, "Q&"), 1.0);
+    assert_eq!(run.summary.instructions, 4);
+    // The sum does not fit the long it is stored into.
+    let run = run_mb(
+        "fused-mb-div-store",
+        "A& = 2147483647\nQ& = 2147483647\nQ& = Q& + A& \\ 1\n",
+        10_000,
+    );
+    let (line, message) = error(&run);
+    assert_eq!(line, 3);
+    assert!(
+        message.starts_with("Overflow: 4294967294 does not fit Q&"),
+        "{message}"
+    );
+    assert_eq!(val(&run, "Q&"), 2147483647.0);
+    assert_eq!(run.summary.instructions, 5);
+    // The one quotient that does not fit, and an operand past 32 bits.
+    let run = run_mb(
+        "fused-mb-div-quotient",
+        "M& = -2147483647 - 1\nQ& = 0\nQ& = Q& + M& \\ -1\n",
+        10_000,
+    );
+    assert_eq!(
+        error(&run),
+        (
+            3,
+            "Overflow: the quotient does not fit a long integer".to_string()
+        )
+    );
+    assert_eq!(run.summary.instructions, 8);
+    let run = run_mb(
+        "fused-mb-div-operand",
+        "P = 8589934592.0\nQ& = 0\nQ& = Q& + P \\ 1\n",
+        10_000,
+    );
+    assert_eq!(
+        error(&run),
+        (
+            3,
+            "Overflow: an operand of \\ does not fit a long integer".to_string()
+        )
+    );
+    assert_eq!(run.summary.instructions, 3);
+    // An XOR past 32 bits does not fit the long.
+    let run = run_mb(
+        "fused-mb-xor-store",
+        "P = 4294967296.0\nX& = 0\nX& = X& XOR (P AND -1)\n",
+        10_000,
+    );
+    let (line, message) = error(&run);
+    assert_eq!(line, 3);
+    assert!(
+        message.starts_with("Overflow: 4294967296 does not fit X&"),
+        "{message}"
+    );
+    assert_eq!(run.summary.instructions, 7);
+}
