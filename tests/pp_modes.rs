@@ -389,6 +389,7 @@ fn belt_setup(limit: AxisLimit) -> PickPlaceSetup {
             BeltSetup { number: 1, limit },
             BeltSetup { number: 2, limit },
         ],
+        prep_budget: None,
     }
 }
 
@@ -783,6 +784,7 @@ fn static_rig(p: Params) -> Rig {
         sw_limits: [None; 13],
         start: [0.0; 3],
         belts: Vec::new(),
+        prep_budget: None,
     };
     Rig::new(setup, p, Vec::new(), Vec::new())
 }
