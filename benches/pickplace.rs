@@ -9,7 +9,7 @@
 //! With `PACER_PP_TWINS` set, each update first runs on two copies of the module and the least
 //! CPU time of the three counts: a cycle still slow then is the module's own work, not an
 //! interrupt or the OS charged to the thread (the rare slow ordinary cycle is the latter).
-//! The module spreads each path preparation over updates at 300 work units an update
+//! The module spreads each path preparation over updates at 250 work units an update
 //! (`[pickplace] prep_budget = true`); `PACER_PP_BUDGET` sets another budget, 0 none (each path
 //! planned within the update it is asked for, as without `prep_budget`).
 //! The manual quotes 200 µs average / 511 µs peak on a 1.6 GHz Atom.

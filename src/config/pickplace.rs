@@ -67,7 +67,7 @@ pub fn setup(machine: &MachineFile, problems: &mut Vec<Problem>) -> Option<PickP
     })
 }
 
-/// `prep_budget = 300`: work units of path preparation per update (a whole number from 20
+/// `prep_budget = 250`: work units of path preparation per update (a whole number from 20
 /// up; see docs/pick-and-place.md), or `false` for none (planned within the update).
 fn prep_budget(v: &Spanned<TomlValue>, problems: &mut Vec<Problem>) -> Option<u64> {
     match v.get_ref() {
@@ -88,7 +88,7 @@ fn prep_budget(v: &Spanned<TomlValue>, problems: &mut Vec<Problem>) -> Option<u6
                     ),
                     "not a budget",
                 )
-                .with_help("prep_budget = 300 (about 11 µs an update), or true for that default"),
+                .with_help("prep_budget = 250 (about 9 µs an update), or true for that default"),
             );
             None
         }

@@ -16,17 +16,25 @@ pub const MAX_PROFILES: usize = 8;
 
 /// Work units ([`cost`]) a path preparation may use in one update when the machine spreads
 /// preparation (`[pickplace] prep_budget`) without saying how much: a preparation is then
-/// spread over as many updates as it needs at this rate (typically about 30 at 1 ms, most of
-/// them during the move before), so no update does more than this much planning: about 11 µs
-/// on the 2-core machine of the benchmark, counted in work, never in time, so the split — and
-/// every trace — is the same everywhere.
-pub const PREP_BUDGET: u64 = 300;
+/// spread over as many updates as it needs at this rate (typically about 35 at 1 ms, most of
+/// them during the move before), so no update does much more than this much planning: about
+/// 9 µs on the 2-core machine of the benchmark (a whole step of it at most about 17 µs),
+/// counted in work, never in time, so the split — and every trace — is the same everywhere.
+pub const PREP_BUDGET: u64 = 250;
 
 /// How much more work than expected a spread preparation's start leaves room for.
 const PREP_MARGIN: f64 = 1.25;
 
 /// Most updates ahead a move is planned for (about ten minutes at 1 ms).
 const MAX_AHEAD: u64 = 600_000;
+
+/// The longest a spread preparation may keep the tool waiting for its path, s: a preparation
+/// expected to take longer (a move slowed far by its axes' limits, whose check covers thousands
+/// of updates) is planned within the update instead, as without `prep_budget` — waiting for it
+/// would let the workpiece leave the operating range. The manual speaks of up to 25 cycles;
+/// 0.1 s leaves room for a Delta3's preparation at 1 ms (about 50 updates expected at 250
+/// units).
+const MAX_SPREAD_SECONDS: f64 = 0.1;
 
 /// What to do with a prepared move at the update it was planned for.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -944,13 +952,26 @@ impl Module {
         }
     }
 
-    /// The tool as it is now, for a move prepared from now on.
+    /// Most updates a spread preparation may keep the tool waiting ([`MAX_SPREAD_SECONDS`]).
+    fn max_spread(&self) -> u64 {
+        (MAX_SPREAD_SECONDS / self.dt)
+            .ceil()
+            .clamp(1.0, MAX_AHEAD as f64) as u64
+    }
+
+    /// The tool as it is now, for a move prepared from now on: spread over the updates it is
+    /// expected to need, or (`n` 0) planned within this update when that is too many.
     fn outset_now(&self) -> Outset {
+        let n = self.prep_updates();
         Outset {
             follow: self.follow,
             pose: self.pose,
             holding: self.holding,
-            n: self.prep_updates().clamp(1, MAX_AHEAD),
+            n: if n > self.max_spread() {
+                0
+            } else {
+                n.clamp(1, MAX_AHEAD)
+            },
         }
     }
 
@@ -1175,6 +1196,8 @@ impl Module {
             return;
         }
         let dt = self.dt;
+        // The updates to the move's end and its synchronous travel.
+        let hidden;
         let o = match &mut self.phase {
             Phase::Move(a) if !a.ahead && self.prep.is_none() => {
                 a.ahead = true;
@@ -1197,6 +1220,7 @@ impl Module {
                     // Arrived at a static position: the next move is chosen an update later.
                     None => 1,
                 };
+                hidden = arrive + dwell;
                 let anchor = a.traj.pose_at(a.traj.length(), [0.0; 3], &[]);
                 Outset {
                     follow: a.traj.dst.map(|f| (f, anchor)),
@@ -1231,6 +1255,11 @@ impl Module {
             }
             _ => return,
         };
+        // Prepared during this move only if that keeps the tool waiting at its end no longer
+        // than a spread preparation may; else the move is chosen when this one ends.
+        if o.n > hidden.saturating_add(self.max_spread()) {
+            return;
+        }
         if self.looping || !self.queue.is_empty() {
             self.next_move_from(params, belt_params, &o, events);
         } else if let Some((f, _)) = o.follow {
