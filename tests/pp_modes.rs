@@ -389,6 +389,7 @@ fn belt_setup(limit: AxisLimit) -> PickPlaceSetup {
             BeltSetup { number: 1, limit },
             BeltSetup { number: 2, limit },
         ],
+        prep_budget: None,
     }
 }
 
@@ -783,6 +784,7 @@ fn static_rig(p: Params) -> Rig {
         sw_limits: [None; 13],
         start: [0.0; 3],
         belts: Vec::new(),
+        prep_budget: None,
     };
     Rig::new(setup, p, Vec::new(), Vec::new())
 }
@@ -1181,6 +1183,64 @@ fn axis_limits_hold_on_blended_moves_too() {
     let peak = assert_within_limits(&r, "blended");
     assert!(peak[2] > 0.9, "the jerk limit binds: peak use {peak:?}");
     r.check_sync();
+}
+
+#[test]
+fn axis_limits_hold_on_blended_moves_with_preparation_spread_too() {
+    // The same cell with each path prepared over updates (`prep_budget`): the move is planned
+    // for the update it starts in, the next one during the move before. A first attempt that
+    // planned a late preparation again for a horizon twice as far ended this in error 29002
+    // (a move of 8,107 s); the horizon now comes from the work the job is expected to need.
+    for budget in [150, 300] {
+        let mut p = mode_1_params();
+        p.lr_blending_radius = 20.0;
+        p.cartesian_limits = [[VEL, ACC, JERK]; 7];
+        let ramp = Ramp {
+            t0: 6.3,
+            dv: 50.0,
+            len: 0.5,
+        };
+        let mut setup = belt_setup(belt_limit());
+        setup.prep_budget = Some(budget);
+        let mut r = Rig::new(
+            setup,
+            p,
+            belt_params(0.1),
+            vec![
+                Motion {
+                    v0: V_BELT,
+                    ramp: Some(ramp),
+                },
+                Motion::steady(V_BELT),
+            ],
+        );
+        r.feed_stream(0, 1, 0.0, 1.6, 15);
+        r.execute();
+        r.run(24_000);
+        let errors: Vec<String> = r
+            .events
+            .iter()
+            .filter_map(|(_, e)| match e {
+                Event::Error { id, message } => Some(format!("{id}: {message}")),
+                _ => None,
+            })
+            .collect();
+        assert!(errors.is_empty(), "at {budget}: {errors:?}");
+        let places = r.count(|e| matches!(e, Event::Place { .. }));
+        let summary: Vec<String> = r
+            .events
+            .iter()
+            .map(|(k, e)| format!("{k} {e:?}").chars().take(140).collect())
+            .collect();
+        assert!(
+            places >= 2,
+            "at {budget}: {places} places\n{}",
+            summary.join("\n")
+        );
+        let peak = assert_within_limits(&r, "blended, spread");
+        assert!(peak[2] > 0.9, "the jerk limit binds: peak use {peak:?}");
+        r.check_sync();
+    }
 }
 
 // ---------------------------------------------------------------------------------------------

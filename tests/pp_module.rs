@@ -50,6 +50,7 @@ fn cartesian_setup() -> PickPlaceSetup {
         sw_limits: [None; 13],
         start: [0.0; 3],
         belts: Vec::new(),
+        prep_budget: None,
     }
 }
 

@@ -118,8 +118,15 @@ pub struct ModbusMapEntry {
 }
 
 /// The keys of `[pickplace]` that are not members of the module.
-pub const PICKPLACE_SETUP_KEYS: &[&str] =
-    &["kinematics", "delta3", "start", "joint", "sw_limit", "belt"];
+pub const PICKPLACE_SETUP_KEYS: &[&str] = &[
+    "kinematics",
+    "delta3",
+    "start",
+    "joint",
+    "sw_limit",
+    "belt",
+    "prep_budget",
+];
 
 /// The keys of `[pickplace.belt.N]` that are not members of the belt: the belt drive's limits.
 pub const BELT_SETUP_KEYS: &[&str] = &["max_vel", "max_acc", "max_jerk"];

@@ -54,13 +54,45 @@ pub fn setup(machine: &MachineFile, problems: &mut Vec<Problem>) -> Option<PickP
             limit: belt_limit(number, t, problems),
         })
         .collect();
+    let prep_budget = table
+        .get("prep_budget")
+        .and_then(|v| prep_budget(v, problems));
     Some(PickPlaceSetup {
         kinematics,
         joint_limits,
         sw_limits,
         start,
         belts,
+        prep_budget,
     })
+}
+
+/// `prep_budget = 250`: work units of path preparation per update (a whole number from 20
+/// up; see docs/pick-and-place.md), or `false` for none (planned within the update).
+fn prep_budget(v: &Spanned<TomlValue>, problems: &mut Vec<Problem>) -> Option<u64> {
+    match v.get_ref() {
+        TomlValue::Bool(false) => None,
+        TomlValue::Bool(true) => Some(crate::devices::pickplace::module::PREP_BUDGET),
+        TomlValue::Integer(n) if *n >= 20 => u64::try_from(*n).ok(),
+        other => {
+            let what = match other {
+                TomlValue::Integer(n) => format!("{n}"),
+                _ => other.describe().to_string(),
+            };
+            problems.push(
+                Problem::error(
+                    CODE,
+                    span_of(v),
+                    format!(
+                        "prep_budget is a whole number of work units from 20 up (one move built), or true/false, not {what}"
+                    ),
+                    "not a budget",
+                )
+                .with_help("prep_budget = 250 (about 9 µs an update), or true for that default"),
+            );
+            None
+        }
+    }
 }
 
 /// `kinematics` and `delta3`.

@@ -4,7 +4,7 @@
 
 use super::io::{errors, BeltParams, Edges, Inputs, Outputs, Params, TmState};
 use super::law::{DoubleS, Limits, Stop};
-use super::plan::{Goal, PathParams, PlanError, Planner, Request};
+use super::plan::{cost, Goal, PathParams, PlanError, PlanJob, Planned, Planner, Request};
 use super::robot::{Pose, Robot, AUX1, AXES, AXIS_NAMES, C};
 use super::setup::{AxisLimit, PickPlaceSetup};
 use super::track::Belt;
@@ -13,6 +13,79 @@ use std::collections::VecDeque;
 
 /// Most profiles the module holds (the one running and those queued behind it).
 pub const MAX_PROFILES: usize = 8;
+
+/// Work units ([`cost`]) a path preparation may use in one update when the machine spreads
+/// preparation (`[pickplace] prep_budget`) without saying how much: a preparation is then
+/// spread over as many updates as it needs at this rate (typically about 35 at 1 ms, most of
+/// them during the move before), so no update does much more than this much planning: about
+/// 9 µs on the 2-core machine of the benchmark (a whole step of it at most about 17 µs),
+/// counted in work, never in time, so the split — and every trace — is the same everywhere.
+pub const PREP_BUDGET: u64 = 250;
+
+/// How much more work than expected a spread preparation's start leaves room for.
+const PREP_MARGIN: f64 = 1.25;
+
+/// Most updates ahead a move is planned for (about ten minutes at 1 ms).
+const MAX_AHEAD: u64 = 600_000;
+
+/// The longest a spread preparation may keep the tool waiting for its path, s: a preparation
+/// expected to take longer (a move slowed far by its axes' limits, whose check covers thousands
+/// of updates) is planned within the update instead, as without `prep_budget` — waiting for it
+/// would let the workpiece leave the operating range. The manual speaks of up to 25 cycles;
+/// 0.1 s leaves room for a Delta3's preparation at 1 ms (about 50 updates expected at 250
+/// units).
+const MAX_SPREAD_SECONDS: f64 = 0.1;
+
+/// What to do with a prepared move at the update it was planned for.
+#[derive(Debug, Clone, Copy, PartialEq)]
+enum Then {
+    /// Begin it (a static target, a mode-0 target).
+    Begin { purpose: Purpose, target_out: i32 },
+    /// Begin it unless the workpiece is out of the operating range then.
+    Workpiece {
+        i: usize,
+        id: u32,
+        purpose: Purpose,
+        target_out: i32,
+    },
+    /// Go to belt `i`'s parking position.
+    Park(usize),
+}
+
+/// Where the tool will be when a move being prepared starts, and what it will hold: as it is
+/// now, or as the move in progress will leave it.
+#[derive(Debug, Clone, Copy, PartialEq)]
+struct Outset {
+    /// The belt the tool will ride then, from its anchor pose.
+    follow: Option<(Follow, Pose)>,
+    /// The pose then, when it rides no belt.
+    pose: Pose,
+    /// Whether it will hold a workpiece.
+    holding: bool,
+    /// Updates from now to the start.
+    n: u64,
+}
+
+/// A path preparation spread over updates (eTMState PREPARING_PATH): the job, the belts as
+/// they are predicted for the update the move will start in, and that update.
+#[derive(Debug, Clone)]
+struct Prep {
+    job: PlanJob,
+    pp: PathParams,
+    belts: Vec<Belt>,
+    /// Time of the update the move starts in.
+    start_t: f64,
+    /// Time of the request.
+    since: f64,
+    then: Then,
+    /// The mode-0 profile the move is for (it becomes the current one when the move begins).
+    profile: Option<Profile>,
+    /// The tool stands at the start and the goal is static: the move does not depend on when
+    /// it begins, and begins as soon as it is prepared.
+    timeless: bool,
+    /// The prepared move, once the job is done, kept until `start_t`.
+    result: Option<Planned>,
+}
 
 /// What the module reports to the trace.
 #[derive(Debug, Clone, PartialEq)]
@@ -134,6 +207,8 @@ struct Active {
     braking: Option<Braking>,
     /// Stopped on the path, waiting for a resume.
     held: bool,
+    /// The move after this one has been looked for (prepared during this one if it could be).
+    ahead: bool,
     /// What the source belt has added so far, and its travel at the last update.
     src_off: [f64; 3],
     src_travel: f64,
@@ -215,6 +290,21 @@ pub struct Module {
     t: f64,
     /// Each belt's travel this cycle (kept to spare an allocation per cycle).
     travel_buf: Vec<f64>,
+    /// The path preparation in progress.
+    prep: Option<Box<Prep>>,
+    /// Work units of the preparation budget left in this update.
+    budget_left: u64,
+    /// Work units a path preparation may use per update (`[pickplace] prep_budget`); `None`:
+    /// a path is planned within the update it is asked for.
+    spread: Option<u64>,
+    /// Limit checks the last prepared move took (a spread preparation's start is chosen for
+    /// as many).
+    last_iterations: u32,
+    /// Spread preparations begun, and those not done by their start (planned again from the
+    /// actual state within one update).
+    prep_counts: (u64, u64),
+    /// How long the last preparation took, s (lrPathPreparationTime).
+    last_prep_time: f64,
 }
 
 /// The five Cartesian coordinates a stop brakes one by one: X, Y, Z, C, Aux1.
@@ -267,6 +357,12 @@ impl Module {
             dt,
             t: 0.0,
             travel_buf: Vec::new(),
+            prep: None,
+            budget_left: 0,
+            spread: setup.prep_budget.filter(|&b| b > 0),
+            last_iterations: 2,
+            prep_counts: (0, 0),
+            last_prep_time: 0.0,
         };
         if let Ok(q) = m.planner.robot.axes(&m.pose) {
             m.hist = [q, q];
@@ -332,6 +428,7 @@ impl Module {
 
     fn fail(&mut self, id: i32, message: String, events: &mut Vec<Event>) {
         self.error = Some((id, message.clone()));
+        self.prep = None;
         events.push(Event::Error { id, message });
         self.looping = false;
         self.queue.clear();
@@ -457,6 +554,7 @@ impl Module {
     ) -> Outputs {
         self.t = t;
         self.pulse = false;
+        self.budget_left = self.spread.unwrap_or(0);
         self.travel_buf.clear();
         for (b, &(travel, v)) in self.belts.iter_mut().zip(belts) {
             b.travel = travel;
@@ -468,6 +566,7 @@ impl Module {
         let axes_on = enabled && inputs.x_regulator_on_all;
         if !enabled {
             self.phase = Phase::Idle;
+            self.prep = None;
             self.set_state(TmState::Disabled, events);
         } else if self.state == TmState::Disabled {
             self.set_state(TmState::Ready, events);
@@ -484,9 +583,10 @@ impl Module {
         }
         self.last_enabled = axes_on;
         let edges = if axes_on { edges } else { Edges::default() };
-        if enabled && !axes_on && !matches!(self.phase, Phase::Idle) {
-            // The drives are off: nothing moves any more.
+        if enabled && !axes_on && (!matches!(self.phase, Phase::Idle) || self.prep.is_some()) {
+            // The drives are off: nothing moves any more, and nothing is prepared.
             self.phase = Phase::Idle;
+            self.prep = None;
             self.follow = None;
             self.looping = false;
             self.queue.clear();
@@ -587,6 +687,11 @@ impl Module {
         events: &mut Vec<Event>,
     ) {
         let stop = inputs.x_path_stop || inputs.x_path_halt;
+        if inputs.x_stop_all || stop {
+            // A move being prepared is given up with the mode (mode 0: its profile stays
+            // first in the queue).
+            self.prep = None;
+        }
         if inputs.x_stop_all && !matches!(self.phase, Phase::AxisStop { .. }) {
             let moving = !matches!(self.phase, Phase::Idle) || self.follow.is_some();
             if moving {
@@ -633,6 +738,8 @@ impl Module {
         // Interrupt: brake on the path, resume from the break point when released.
         if let Phase::Move(a) = &mut self.phase {
             if inputs.x_path_interrupt && a.braking.is_none() && !a.held {
+                // The move's end is no longer known: the next move is prepared afresh.
+                self.prep = None;
                 brake(a, params.lr_path_stop_dec, params.lr_path_stop_jerk, true);
                 a.gripper_ok = false;
                 a.interrupted = true;
@@ -643,6 +750,7 @@ impl Module {
             }
         }
         if edges.x_abort && self.is_still() {
+            self.prep = None;
             if matches!(self.phase, Phase::Move(_)) || self.restart.is_some() {
                 self.phase = Phase::Idle;
                 self.restart = None;
@@ -729,8 +837,9 @@ impl Module {
             if params.e_tracking_mode != 0 {
                 self.looping = true;
             }
-            if matches!(self.phase, Phase::Idle) {
-                self.next_move(params, belt_params, events);
+            // Spread: the move is prepared from this update on, when the module advances.
+            if self.spread.is_none() && matches!(self.phase, Phase::Idle) {
+                self.next_move_now(params, belt_params, events);
             }
             return;
         }
@@ -764,9 +873,10 @@ impl Module {
                 return;
             }
         }
+        // Spread: the move is prepared from this update on, when the module advances.
         self.restart = None;
-        if matches!(self.phase, Phase::Idle) {
-            self.next_move(params, belt_params, events);
+        if self.spread.is_none() && matches!(self.phase, Phase::Idle) {
+            self.next_move_now(params, belt_params, events);
         }
     }
 
@@ -788,8 +898,607 @@ impl Module {
         })
     }
 
-    /// Choose and prepare the next move, if there is one to make.
+    /// Updates a spread preparation is expected to take, from the work its job will have to
+    /// do ([`cost`]): as many limit checks as the last move took (at least two: about half the
+    /// moves are slowed once), each of every update of a move as long as the last one, after
+    /// an interception solve of six rounds (about five on average) each summing the source belt's share over
+    /// those updates; with [`PREP_MARGIN`] to spare and two updates more (the update that
+    /// chooses the move plans nothing, and the move begins in the update after the last step).
+    fn prep_updates(&self) -> u64 {
+        let budget = self.spread.unwrap_or(PREP_BUDGET).max(1) as f64;
+        let t = if self.last_profile_time > 0.0 {
+            self.last_profile_time
+        } else {
+            0.3
+        };
+        let n = (t / self.dt).ceil().clamp(0.0, 1e7);
+        let round = cost::ROUND as f64 + cost::SRC_UPDATE as f64 * n;
+        let check = cost::CHECK_UPDATE as f64 * (n + 7.0);
+        let checks = f64::from(self.last_iterations.clamp(2, 12));
+        let units = checks * (6.0 * round + check) * PREP_MARGIN;
+        (units / budget).ceil() as u64 + 2
+    }
+
+    /// Spread preparations begun, and those of them not done by the update they were planned
+    /// for (planned again from the actual state within one update).
+    pub fn prep_counts(&self) -> (u64, u64) {
+        self.prep_counts
+    }
+
+    /// Where the tool will be `lead` seconds from now if it stays on its present course (riding
+    /// its belt at the belt's present speed, or standing): the start pose, the source belt
+    /// (its base the travel predicted then) and the lift of Intermediate Point 1.
+    fn origin(
+        &self,
+        params: &Params,
+        belt_params: &[BeltParams],
+        o: &Outset,
+    ) -> (Pose, Option<Follow>, f64) {
+        let lead = o.n as f64 * self.dt;
+        match o.follow {
+            Some((f, anchor)) => {
+                let travel = self
+                    .belts
+                    .get(f.belt)
+                    .map_or(f.base, |b| b.travel + b.velocity * lead);
+                let mut p = anchor;
+                for (x, d) in p.p.iter_mut().zip(f.offset_at(travel)) {
+                    *x += d;
+                }
+                let lift = belt_params.get(f.belt).map_or(0.0, |b| b.lr_z_dist_belt);
+                (p, Some(Follow { base: travel, ..f }), lift)
+            }
+            None => (o.pose, None, params.lr_z_start_dist),
+        }
+    }
+
+    /// Most updates a spread preparation may keep the tool waiting ([`MAX_SPREAD_SECONDS`]).
+    fn max_spread(&self) -> u64 {
+        (MAX_SPREAD_SECONDS / self.dt)
+            .ceil()
+            .clamp(1.0, MAX_AHEAD as f64) as u64
+    }
+
+    /// The tool as it is now, for a move prepared from now on: spread over the updates it is
+    /// expected to need, or (`n` 0) planned within this update when that is too many.
+    fn outset_now(&self) -> Outset {
+        let n = self.prep_updates();
+        Outset {
+            follow: self.follow,
+            pose: self.pose,
+            holding: self.holding,
+            n: if n > self.max_spread() {
+                0
+            } else {
+                n.clamp(1, MAX_AHEAD)
+            },
+        }
+    }
+
+    /// Begin preparing `req` for the update `n` updates from now: the belts as they are
+    /// predicted to be then (at their present speeds). Only the goal's belt takes its
+    /// workpieces along; the others are needed for their travel alone.
+    #[allow(clippy::too_many_arguments)]
+    fn prepare(
+        &mut self,
+        req: Request,
+        pp: PathParams,
+        n: u64,
+        then: Then,
+        profile: Option<Profile>,
+        params: &Params,
+        belt_params: &[BeltParams],
+        events: &mut Vec<Event>,
+    ) {
+        if n == 0 {
+            // Now, within this update: the belts as they are.
+            if let Goal::Workpiece { belt, id, .. } = req.goal {
+                let tracked = self
+                    .belts
+                    .get(belt)
+                    .is_some_and(|b| b.pieces.iter().any(|w| w.id == id && w.pos0.is_some()));
+                if !tracked {
+                    // Dropped meanwhile (the belt sped up): choose again.
+                    return self.next_move(params, belt_params, events);
+                }
+            }
+            return match self.planner.plan(&req, &pp, &self.belts) {
+                Err(e) => self.plan_error(e, events),
+                Ok(p) => {
+                    if let Some(profile) = profile {
+                        self.current_target = profile;
+                    }
+                    self.apply(then, p, params, belt_params, events)
+                }
+            };
+        }
+        self.prep_counts.0 += 1;
+        let lead = n as f64 * self.dt;
+        let goal_belt = match req.goal {
+            Goal::Workpiece { belt, .. } => Some(belt),
+            _ => None,
+        };
+        let belts: Vec<Belt> = self
+            .belts
+            .iter()
+            .enumerate()
+            .map(|(k, b)| Belt {
+                number: b.number,
+                travel: b.travel + b.velocity * lead,
+                velocity: b.velocity,
+                frame: b.frame,
+                origin: b.origin,
+                pieces: if goal_belt == Some(k) {
+                    b.pieces.clone()
+                } else {
+                    Vec::new()
+                },
+                picked: b.picked,
+                missed: b.missed,
+            })
+            .collect();
+        let job = PlanJob::new(&req, &pp, &belts);
+        // The update that chose the move and copied the belts does no more planning.
+        self.budget_left = 0;
+        let timeless = req.src.is_none() && !matches!(req.goal, Goal::Workpiece { .. });
+        self.prep = Some(Box::new(Prep {
+            job,
+            pp,
+            belts,
+            start_t: self.t + lead,
+            since: self.t,
+            then,
+            profile,
+            timeless,
+            result: None,
+        }));
+    }
+
+    /// Go on with the preparation in progress, with what is left of this update's budget; at
+    /// the update it was planned for, begin its move (or, for a workpiece out of the range,
+    /// choose again). An error ends it at once; a preparation not done by then (its work was
+    /// underestimated, or the move before ended later than foreseen) is planned again from the
+    /// actual state within that update, once: a start chosen further ahead would have the tool
+    /// ride its belt on, possibly beyond a limit, for a path planned for where it was.
+    fn run_prep(&mut self, params: &Params, belt_params: &[BeltParams], events: &mut Vec<Event>) {
+        while let Some(mut prep) = self.prep.take() {
+            if prep.result.is_none() {
+                match prep
+                    .job
+                    .step_within(&self.planner, &prep.belts, &mut self.budget_left)
+                {
+                    None => {}
+                    Some(Err(e)) => return self.plan_error(e, events),
+                    Some(Ok(p)) => prep.result = Some(p),
+                }
+            }
+            let ready = prep.result.is_some() && prep.timeless;
+            if self.t + 1e-9 < prep.start_t && !ready {
+                self.prep = Some(prep);
+                return;
+            }
+            self.last_prep_time = self.t - prep.since;
+            // Prepared during the move before, which ended later than foreseen (an override,
+            // a stop): the start is past, so it is prepared again like one not done in time.
+            let late = self.t > prep.start_t + 0.5 * self.dt && !prep.timeless;
+            match prep.result.take().filter(|_| !late) {
+                None => {
+                    // The same goal, from where the tool is now.
+                    self.prep_counts.1 += 1;
+                    let o = Outset {
+                        n: 0,
+                        ..self.outset_now()
+                    };
+                    let (start, src, lift) = self.origin(params, belt_params, &o);
+                    let req = Request {
+                        start,
+                        src,
+                        lift,
+                        ..*prep.job.request()
+                    };
+                    let (pp, then, profile) = (prep.pp, prep.then, prep.profile);
+                    self.prepare(req, pp, 0, then, profile, params, belt_params, events);
+                }
+                Some(p) => {
+                    if let Some(profile) = prep.profile {
+                        self.current_target = profile;
+                    }
+                    self.apply(prep.then, p, params, belt_params, events)
+                }
+            }
+            // A new preparation goes on with what is left of this update's budget, if any: its
+            // start lies at least an update ahead, so the loop ends (a move planned within the
+            // update leaves no preparation).
+        }
+    }
+
+    /// At the update a prepared move was planned for: begin it, or for a workpiece the plan
+    /// found out of the range, drop it (missed) or wait for it at the park position.
+    fn apply(
+        &mut self,
+        then: Then,
+        p: Planned,
+        params: &Params,
+        belt_params: &[BeltParams],
+        events: &mut Vec<Event>,
+    ) {
+        self.last_iterations = p.iterations;
+        match then {
+            Then::Begin {
+                purpose,
+                target_out,
+            } => self.begin(p.traj, p.scale, purpose, target_out, None, params, events),
+            Then::Park(i) => {
+                self.at_park = Some(i);
+                let out = self.belts.get(i).map_or(0, |b| b.number as i32);
+                self.begin_inner(p.traj, p.scale, Purpose::Park(i), out, None, 0.0, events);
+            }
+            Then::Workpiece {
+                i,
+                id,
+                purpose,
+                target_out,
+            } => {
+                let (Some(bp), Some(b)) = (belt_params.get(i).copied(), self.belts.get(i)) else {
+                    return;
+                };
+                let pp = match self.path_params(params) {
+                    Ok(p) => p,
+                    Err(m) => return self.fail(errors::INVALID_PARAMETER, m, events),
+                };
+                let v = b.velocity;
+                let sync = bp.lr_sync_time_on_belt.max(0.0);
+                let x = p.arrival_x.unwrap_or(0.0);
+                if !b.pieces.iter().any(|w| w.id == id) {
+                    // Dropped meanwhile (the belt sped up): choose again.
+                    return self.next_move(params, belt_params, events);
+                }
+                if x + v * sync > bp.lr_upper_sync_limit {
+                    self.miss(i, id, events);
+                    return self.next_move(params, belt_params, events);
+                }
+                if x < bp.lr_lower_sync_limit {
+                    // Not in the operating range yet: wait at the park position until it can
+                    // be met there.
+                    let wait = if v > 0.0 {
+                        (bp.lr_lower_sync_limit - x) / v
+                    } else {
+                        0.05
+                    };
+                    let o = self.outset_now();
+                    return self.park(i, &bp, &pp, params, belt_params, wait, &o, events);
+                }
+                self.at_park = None;
+                self.begin(
+                    p.traj,
+                    p.scale,
+                    purpose,
+                    target_out,
+                    Some((i, id)),
+                    params,
+                    events,
+                );
+            }
+        }
+    }
+
+    /// During a move whose end is known, prepare the next one for the update it will start in
+    /// (after the synchronous travel, when the tool leaves the belt), so the preparation's
+    /// updates are hidden in the move; and go on with such a preparation until the move ends.
+    fn prepare_ahead(
+        &mut self,
+        params: &Params,
+        belt_params: &[BeltParams],
+        rate: f64,
+        events: &mut Vec<Event>,
+    ) {
+        if self.spread.is_none() {
+            return;
+        }
+        let dt = self.dt;
+        // The updates to the move's end and its synchronous travel.
+        let hidden;
+        let o = match &mut self.phase {
+            Phase::Move(a) if !a.ahead && self.prep.is_none() => {
+                a.ahead = true;
+                let plain = a.braking.is_none() && !a.held && !a.interrupted && rate == 1.0;
+                if !plain || matches!(a.purpose, Purpose::Park(_)) || self.state != TmState::MovePp
+                {
+                    return;
+                }
+                // The updates to the arrival and those of the synchronous travel, as `advance`
+                // counts them (the tolerance keeps a whole number of updates whole). Should
+                // the count be off, the move is prepared again when it ends (`run_prep`).
+                let arrive = ((a.traj.duration - a.tau) / dt - 1e-9)
+                    .ceil()
+                    .clamp(0.0, 1e7) as u64;
+                let dwell = match a.wp {
+                    Some((i, _)) => {
+                        let sync = belt_params.get(i).map_or(0.0, |b| b.lr_sync_time_on_belt);
+                        ((sync.max(dt * 0.5) - 1e-9) / dt).ceil().clamp(0.0, 1e7) as u64
+                    }
+                    // Arrived at a static position: the next move is chosen an update later.
+                    None => 1,
+                };
+                hidden = arrive + dwell;
+                let anchor = a.traj.pose_at(a.traj.length(), [0.0; 3], &[]);
+                Outset {
+                    follow: a.traj.dst.map(|f| (f, anchor)),
+                    pose: anchor,
+                    holding: match a.purpose {
+                        Purpose::Pick => true,
+                        Purpose::Place => false,
+                        _ => self.holding,
+                    },
+                    n: (arrive + dwell)
+                        .max(self.prep_updates())
+                        .clamp(1, MAX_AHEAD),
+                }
+            }
+            Phase::Move(_) | Phase::Dwell { .. } => {
+                if let Some(prep) = self.prep.as_mut() {
+                    if prep.result.is_none() {
+                        match prep.job.step_within(
+                            &self.planner,
+                            &prep.belts,
+                            &mut self.budget_left,
+                        ) {
+                            None => {}
+                            // Raised when the move ends, by a preparation made afresh then
+                            // (an error does not stop the move in progress).
+                            Some(Err(_)) => self.prep = None,
+                            Some(Ok(p)) => prep.result = Some(p),
+                        }
+                    }
+                }
+                return;
+            }
+            _ => return,
+        };
+        // Prepared during this move only if that keeps the tool waiting at its end no longer
+        // than a spread preparation may; else the move is chosen when this one ends.
+        if o.n > hidden.saturating_add(self.max_spread()) {
+            return;
+        }
+        if self.looping || !self.queue.is_empty() {
+            self.next_move_from(params, belt_params, &o, events);
+        } else if let Some((f, _)) = o.follow {
+            if let (Some(bp), Ok(pp)) = (belt_params.get(f.belt).copied(), self.path_params(params))
+            {
+                self.park(f.belt, &bp, &pp, params, belt_params, 0.0, &o, events);
+            }
+        }
+    }
+
+    /// Choose the next move, if there is one to make, and begin its preparation for the
+    /// update it is expected to be ready by ([`Module::prep_updates`]): the tool's start and
+    /// the belts are predicted for that update.
     fn next_move(&mut self, params: &Params, belt_params: &[BeltParams], events: &mut Vec<Event>) {
+        if self.spread.is_none() {
+            return self.next_move_now(params, belt_params, events);
+        }
+        let o = self.outset_now();
+        self.next_move_from(params, belt_params, &o, events);
+    }
+
+    /// [`Module::next_move`] from outset `o` (now, or the end of the move in progress).
+    fn next_move_from(
+        &mut self,
+        params: &Params,
+        belt_params: &[BeltParams],
+        o: &Outset,
+        events: &mut Vec<Event>,
+    ) {
+        let pp = match self.path_params(params) {
+            Ok(p) => p,
+            Err(m) => return self.fail(errors::INVALID_PARAMETER, m, events),
+        };
+        let mut profile = None;
+        let (side, purpose, target_out) = if self.looping {
+            let (pick, place) = match self.sides(params.e_tracking_mode) {
+                Ok(s) => s,
+                Err(m) => return self.fail(errors::INVALID_PARAMETER, m, events),
+            };
+            if o.holding {
+                (place, Purpose::Place, side_target(place))
+            } else {
+                (pick, Purpose::Pick, side_target(pick))
+            }
+        } else if let Some(&(target, static_target)) = self.queue.front() {
+            profile = Some((target, static_target));
+            let side = if target == 0 {
+                Side::Static
+            } else {
+                match u32::try_from(target).ok().and_then(|n| self.belt_index(n)) {
+                    Some(i) => Side::Belt(i),
+                    None => {
+                        self.queue.pop_front();
+                        return self.fail(
+                            errors::INVALID_PARAMETER,
+                            format!("eSetTarget = {target}: the machine has no belt {target}"),
+                            events,
+                        );
+                    }
+                }
+            };
+            (side, Purpose::Target, target)
+        } else {
+            return;
+        };
+        let n = o.n;
+        let lead = n as f64 * self.dt;
+        let (start, src, lift) = self.origin(params, belt_params, o);
+        let request = |goal| Request {
+            start,
+            src,
+            lift,
+            goal,
+        };
+        match side {
+            Side::Static => {
+                let t = match profile {
+                    Some((_, t)) => t,
+                    None => params.target,
+                };
+                let goal = Goal::Point {
+                    pose: Pose {
+                        p: [t[0], t[1], t[2]],
+                        ab: start.ab,
+                        c: t[5],
+                        aux: t[6],
+                    },
+                    approach: params.lr_z_target_dist,
+                };
+                let then = Then::Begin {
+                    purpose,
+                    target_out,
+                };
+                self.prepare(
+                    request(goal),
+                    pp,
+                    n,
+                    then,
+                    profile,
+                    params,
+                    belt_params,
+                    events,
+                );
+            }
+            Side::Belt(i) => {
+                let Some(bp) = belt_params.get(i).copied() else {
+                    return;
+                };
+                if self.t < self.wait_until && self.at_park == Some(i) {
+                    return;
+                }
+                let sync = bp.lr_sync_time_on_belt.max(0.0);
+                let v = self.belts[i].velocity;
+                // The belt as it will be when the move starts.
+                let travel = self.belts[i].travel + v * lead;
+                let candidates: Vec<u32> = self.belts[i]
+                    .pieces
+                    .iter()
+                    .filter(|w| w.pos0.is_some())
+                    .map(|w| w.id)
+                    .collect();
+                // A first guess of the travel time: the last move's.
+                let t_est = if self.last_profile_time > 0.0 {
+                    self.last_profile_time
+                } else {
+                    0.3
+                };
+                for id in candidates {
+                    let b = &self.belts[i];
+                    let w = b.pieces.iter().find(|w| w.id == id);
+                    let x_then = w.and_then(|w| w.belt_x(travel)).unwrap_or(0.0);
+                    // No move is quicker than the straight line at full path speed with the
+                    // belt bringing the workpiece toward the tool: a workpiece that would be
+                    // out of range even then is dropped without planning.
+                    let t_min = w.and_then(|w| b.position_of(w, travel)).map_or(0.0, |p| {
+                        let d = ((p[0] - start.p[0]).powi(2)
+                            + (p[1] - start.p[1]).powi(2)
+                            + (p[2] - start.p[2]).powi(2))
+                        .sqrt();
+                        d / (pp.law.vel + v.abs())
+                    });
+                    if x_then + v * (t_min + sync) > bp.lr_upper_sync_limit {
+                        self.miss(i, id, events);
+                        continue;
+                    }
+                    if x_then + v * t_est < bp.lr_lower_sync_limit {
+                        // Far upstream: no use planning yet (the wait counts from now).
+                        let wait = if v > 0.0 {
+                            lead + (bp.lr_lower_sync_limit - x_then) / v - t_est
+                        } else {
+                            0.05
+                        };
+                        return self.park(i, &bp, &pp, params, belt_params, wait, o, events);
+                    }
+                    let goal = Goal::Workpiece {
+                        belt: i,
+                        id,
+                        approach: bp.lr_z_dist_belt,
+                        aux: bp.lr_aux1_target_pos,
+                        upper: bp.lr_upper_sync_limit,
+                        carry: v * sync,
+                    };
+                    let then = Then::Workpiece {
+                        i,
+                        id,
+                        purpose,
+                        target_out,
+                    };
+                    return self.prepare(
+                        request(goal),
+                        pp,
+                        n,
+                        then,
+                        profile,
+                        params,
+                        belt_params,
+                        events,
+                    );
+                }
+                self.park(i, &bp, &pp, params, belt_params, 0.0, o, events);
+            }
+        }
+    }
+
+    /// Go to belt `i`'s parking position (unless the tool waits there already) from outset
+    /// `o`, and wait there `wait` seconds from now before looking for a workpiece again.
+    #[allow(clippy::too_many_arguments)]
+    fn park(
+        &mut self,
+        i: usize,
+        bp: &BeltParams,
+        pp: &PathParams,
+        params: &Params,
+        belt_params: &[BeltParams],
+        wait: f64,
+        o: &Outset,
+        events: &mut Vec<Event>,
+    ) {
+        self.wait_until = self.t + wait.max(0.0);
+        if self.at_park == Some(i) && o.follow.is_none() {
+            return;
+        }
+        let n = o.n;
+        let (start, src, lift) = self.origin(params, belt_params, o);
+        let park = bp.alr_park_pos;
+        let goal = Goal::Park {
+            pose: Pose {
+                p: [park[0], park[1], park[2]],
+                ab: start.ab,
+                c: park[5],
+                aux: start.aux,
+            },
+        };
+        let req = Request {
+            start,
+            src,
+            lift,
+            goal,
+        };
+        self.prepare(
+            req,
+            *pp,
+            n,
+            Then::Park(i),
+            None,
+            params,
+            belt_params,
+            events,
+        );
+    }
+
+    /// Choose and prepare the next move within this update (no `prep_budget`: the path is
+    /// planned in the update it is asked for).
+    fn next_move_now(
+        &mut self,
+        params: &Params,
+        belt_params: &[BeltParams],
+        events: &mut Vec<Event>,
+    ) {
         let pp = match self.path_params(params) {
             Ok(p) => p,
             Err(m) => return self.fail(errors::INVALID_PARAMETER, m, events),
@@ -915,7 +1624,7 @@ impl Module {
                         } else {
                             0.05
                         };
-                        return self.park(i, &bp, &pp, start, src, lift, wait, events);
+                        return self.park_now(i, &bp, &pp, start, src, lift, wait, events);
                     }
                     let goal = Goal::Workpiece {
                         belt: i,
@@ -940,7 +1649,7 @@ impl Module {
                                 } else {
                                     0.05
                                 };
-                                return self.park(i, &bp, &pp, start, src, lift, wait, events);
+                                return self.park_now(i, &bp, &pp, start, src, lift, wait, events);
                             }
                             self.at_park = None;
                             return self.begin(
@@ -956,13 +1665,14 @@ impl Module {
                         Err(e) => return self.plan_error(e, events),
                     }
                 }
-                self.park(i, &bp, &pp, start, src, lift, 0.0, events);
+                self.park_now(i, &bp, &pp, start, src, lift, 0.0, events);
             }
         }
     }
 
+    /// [`Module::park`] within this update (no `prep_budget`).
     #[allow(clippy::too_many_arguments)]
-    fn park(
+    fn park_now(
         &mut self,
         i: usize,
         bp: &BeltParams,
@@ -1081,6 +1791,13 @@ impl Module {
         let src_travel = traj
             .src
             .map_or(0.0, |f| self.belts.get(f.belt).map_or(f.base, |b| b.travel));
+        // The move was planned with the source belt where it was predicted to be now; what
+        // it really travelled meanwhile (a speed change) is where the tool really is, and the
+        // clutch takes it up like any other deviation of the source belt.
+        let src_off = match (self.spread, traj.src) {
+            (Some(_), Some(f)) => f.offset_at(src_travel),
+            _ => [0.0; 3],
+        };
         self.phase = Phase::Move(Box::new(Active {
             traj,
             tau: 0.0,
@@ -1093,7 +1810,8 @@ impl Module {
             interrupted: false,
             braking: None,
             held: false,
-            src_off: [0.0; 3],
+            ahead: false,
+            src_off,
             src_travel,
         }));
         self.set_state(TmState::MovePp, events);
@@ -1198,22 +1916,30 @@ impl Module {
         self.phase = match phase {
             Phase::Idle => {
                 self.pose = self.current_pose();
-                if (self.looping || !self.queue.is_empty())
+                if (self.looping || !self.queue.is_empty() || self.prep.is_some())
                     && self.state != TmState::Error
                     && self.state != TmState::Stop
                     && inputs.x_regulator_on_all
                 {
                     self.phase = Phase::Idle;
-                    self.next_move(params, belt_params, events);
+                    if self.prep.is_none() {
+                        self.next_move(params, belt_params, events);
+                    }
+                    self.run_prep(params, belt_params, events);
                     if matches!(self.phase, Phase::Idle)
                         && self.at_park.is_some()
+                        && self.prep.is_none()
                         && self.state != TmState::Error
                     {
                         self.set_state(TmState::MovePp, events);
                     }
                     std::mem::replace(&mut self.phase, Phase::Idle)
                 } else {
-                    if self.state == TmState::MovePp && !self.looping && self.queue.is_empty() {
+                    self.prep = None;
+                    if matches!(self.state, TmState::MovePp | TmState::PreparingPath)
+                        && !self.looping
+                        && self.queue.is_empty()
+                    {
                         self.done = true;
                         self.set_state(TmState::Ready, events);
                     }
@@ -1275,30 +2001,56 @@ impl Module {
                 self.pose = self.current_pose();
                 if self.t + 1e-9 >= until || edges.x_ack_gripper {
                     self.finish_dwell(purpose, wp, target_out, events);
-                    if self.looping || !self.queue.is_empty() {
-                        self.next_move(params, belt_params, events);
-                    } else if let Some((f, _)) = self.follow {
-                        // Nothing more to do on this belt: leave it for its parking position.
-                        if let Some(bp) = belt_params.get(f.belt).copied() {
-                            if let Ok(pp) = self.path_params(params) {
-                                let start = self.current_pose();
-                                let src = Some(Follow {
-                                    base: self.belts[f.belt].travel,
-                                    ..f
-                                });
-                                self.park(
-                                    f.belt,
-                                    &bp,
-                                    &pp,
-                                    start,
-                                    src,
-                                    bp.lr_z_dist_belt,
-                                    0.0,
-                                    events,
-                                );
+                    // The next move, prepared during this one, is kept if it is still the one
+                    // to make (the mode still runs) and its start is not past.
+                    let wanted = self.looping || !self.queue.is_empty();
+                    let keep = self.prep.as_ref().is_some_and(|p| {
+                        self.t <= p.start_t + 0.5 * dt
+                            && (wanted || matches!(p.then, Then::Park(_)))
+                    });
+                    if !keep {
+                        self.prep = None;
+                        if wanted {
+                            self.next_move(params, belt_params, events);
+                        } else if let Some((f, _)) = self.follow {
+                            // Nothing more to do on this belt: leave it for its parking
+                            // position.
+                            if let (Some(bp), Ok(pp)) =
+                                (belt_params.get(f.belt).copied(), self.path_params(params))
+                            {
+                                if self.spread.is_some() {
+                                    let o = self.outset_now();
+                                    self.park(
+                                        f.belt,
+                                        &bp,
+                                        &pp,
+                                        params,
+                                        belt_params,
+                                        0.0,
+                                        &o,
+                                        events,
+                                    );
+                                } else {
+                                    let start = self.current_pose();
+                                    let src = Some(Follow {
+                                        base: self.belts[f.belt].travel,
+                                        ..f
+                                    });
+                                    self.park_now(
+                                        f.belt,
+                                        &bp,
+                                        &pp,
+                                        start,
+                                        src,
+                                        bp.lr_z_dist_belt,
+                                        0.0,
+                                        events,
+                                    );
+                                }
                             }
                         }
                     }
+                    self.run_prep(params, belt_params, events);
                     std::mem::replace(&mut self.phase, Phase::Idle)
                 } else {
                     Phase::Dwell {
@@ -1435,6 +2187,15 @@ impl Module {
             }
             Phase::Homing { next } => self.home(next, params, events),
         };
+        self.prepare_ahead(params, belt_params, rate, events);
+        // PREPARING_PATH while the tool waits for its next move (riding its belt, or standing).
+        if self.prep.is_some() && matches!(self.phase, Phase::Idle) {
+            if matches!(self.state, TmState::Ready | TmState::MovePp) {
+                self.set_state(TmState::PreparingPath, events);
+            }
+        } else if self.state == TmState::PreparingPath {
+            self.set_state(TmState::MovePp, events);
+        }
         self.travel_buf = travels;
     }
 
@@ -1573,15 +2334,18 @@ impl Module {
             alr_act_vel: vel,
             x_pulse_gripper: self.pulse,
             lr_pre_calc_profile_time: self.last_profile_time,
-            lr_path_preparation_time: if self.last_profile_time > 0.0 {
-                dt
-            } else {
-                0.0
+            lr_path_preparation_time: match self.spread {
+                Some(_) => self.last_prep_time,
+                None if self.last_profile_time > 0.0 => dt,
+                None => 0.0,
             },
             x_profile_in_preparation: self.queue.len() + 1 >= MAX_PROFILES,
             ..Outputs::default()
         };
-        o.x_busy = !matches!(self.phase, Phase::Idle) || self.looping || !self.queue.is_empty();
+        o.x_busy = !matches!(self.phase, Phase::Idle)
+            || self.looping
+            || !self.queue.is_empty()
+            || self.prep.is_some();
         let hw = inputs.x_group_enable_hw_limit;
         o.ax_hw_limit_switch_pos = inputs.ax_hw_limit_pos.map(|x| hw && x);
         o.ax_hw_limit_switch_neg = inputs.ax_hw_limit_neg.map(|x| hw && x);

@@ -48,4 +48,8 @@ pub struct PickPlaceSetup {
     pub start: [f64; 3],
     /// The belts the machine has, in number order.
     pub belts: Vec<BeltSetup>,
+    /// `prep_budget`: work units a path preparation may use per update, spread over as many
+    /// updates as it needs (eTMState PREPARING_PATH meanwhile); `None`: a path is planned
+    /// within the update it is asked for.
+    pub prep_budget: Option<u64>,
 }
