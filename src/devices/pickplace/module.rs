@@ -1293,36 +1293,8 @@ impl Module {
             Ok(p) => p,
             Err(m) => return self.fail(errors::INVALID_PARAMETER, m, events),
         };
-        let mut profile = None;
-        let (side, purpose, target_out) = if self.looping {
-            let (pick, place) = match self.sides(params.e_tracking_mode) {
-                Ok(s) => s,
-                Err(m) => return self.fail(errors::INVALID_PARAMETER, m, events),
-            };
-            if o.holding {
-                (place, Purpose::Place, side_target(place))
-            } else {
-                (pick, Purpose::Pick, side_target(pick))
-            }
-        } else if let Some(&(target, static_target)) = self.queue.front() {
-            profile = Some((target, static_target));
-            let side = if target == 0 {
-                Side::Static
-            } else {
-                match u32::try_from(target).ok().and_then(|n| self.belt_index(n)) {
-                    Some(i) => Side::Belt(i),
-                    None => {
-                        self.queue.pop_front();
-                        return self.fail(
-                            errors::INVALID_PARAMETER,
-                            format!("eSetTarget = {target}: the machine has no belt {target}"),
-                            events,
-                        );
-                    }
-                }
-            };
-            (side, Purpose::Target, target)
-        } else {
+        let Some((side, purpose, target_out, profile)) = self.choose(params, o.holding, events)
+        else {
             return;
         };
         let n = o.n;
@@ -1491,6 +1463,49 @@ impl Module {
         );
     }
 
+    /// The next move to make, if there is one: its side, purpose and `eActTarget`, and in
+    /// target mode the queued target it takes (`holding`: the tool holds a workpiece). `None`
+    /// when there is none, or when the choice failed (the error is raised).
+    fn choose(
+        &mut self,
+        params: &Params,
+        holding: bool,
+        events: &mut Vec<Event>,
+    ) -> Option<(Side, Purpose, i32, Option<Profile>)> {
+        if self.looping {
+            let (pick, place) = match self.sides(params.e_tracking_mode) {
+                Ok(s) => s,
+                Err(m) => {
+                    self.fail(errors::INVALID_PARAMETER, m, events);
+                    return None;
+                }
+            };
+            return Some(if holding {
+                (place, Purpose::Place, side_target(place), None)
+            } else {
+                (pick, Purpose::Pick, side_target(pick), None)
+            });
+        }
+        let &(target, static_target) = self.queue.front()?;
+        let side = if target == 0 {
+            Side::Static
+        } else {
+            match u32::try_from(target).ok().and_then(|n| self.belt_index(n)) {
+                Some(i) => Side::Belt(i),
+                None => {
+                    self.queue.pop_front();
+                    self.fail(
+                        errors::INVALID_PARAMETER,
+                        format!("eSetTarget = {target}: the machine has no belt {target}"),
+                        events,
+                    );
+                    return None;
+                }
+            }
+        };
+        Some((side, Purpose::Target, target, Some((target, static_target))))
+    }
+
     /// Choose and prepare the next move within this update (no `prep_budget`: the path is
     /// planned in the update it is asked for).
     fn next_move_now(
@@ -1503,35 +1518,11 @@ impl Module {
             Ok(p) => p,
             Err(m) => return self.fail(errors::INVALID_PARAMETER, m, events),
         };
-        let (side, purpose, target_out) = if self.looping {
-            let (pick, place) = match self.sides(params.e_tracking_mode) {
-                Ok(s) => s,
-                Err(m) => return self.fail(errors::INVALID_PARAMETER, m, events),
-            };
-            if self.holding {
-                (place, Purpose::Place, side_target(place))
-            } else {
-                (pick, Purpose::Pick, side_target(pick))
-            }
-        } else if let Some(&(target, static_target)) = self.queue.front() {
-            self.current_target = (target, static_target);
-            let side = if target == 0 {
-                Side::Static
-            } else {
-                match u32::try_from(target).ok().and_then(|n| self.belt_index(n)) {
-                    Some(i) => Side::Belt(i),
-                    None => {
-                        self.queue.pop_front();
-                        return self.fail(
-                            errors::INVALID_PARAMETER,
-                            format!("eSetTarget = {target}: the machine has no belt {target}"),
-                            events,
-                        );
-                    }
-                }
-            };
-            (side, Purpose::Target, target)
-        } else {
+        // The target taken is the current one even when its belt turns out not to exist.
+        if let (false, Some(&p)) = (self.looping, self.queue.front()) {
+            self.current_target = p;
+        }
+        let Some((side, purpose, target_out, _)) = self.choose(params, self.holding, events) else {
             return;
         };
         let start = self.current_pose();
