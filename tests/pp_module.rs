@@ -1314,3 +1314,38 @@ fn queued_profile_keeps_the_target_of_its_edge() {
         r.now()
     );
 }
+
+/// A queued target on a belt the machine does not have (`eSetTarget = 5`, no belts): error
+/// 29002 naming it, whether the path is planned in the update or spread over updates.
+#[test]
+fn a_target_on_a_missing_belt_is_error_29002_in_both_preparations() {
+    for prep_budget in [None, Some(250)] {
+        let setup = PickPlaceSetup {
+            prep_budget,
+            ..cartesian_setup()
+        };
+        let mut r = Rig::new(setup, params());
+        r.inputs.e_set_target = 5;
+        r.execute();
+        r.run(3);
+        let errors: Vec<(i32, String)> = r
+            .events
+            .iter()
+            .filter_map(|(_, e)| match e {
+                Event::Error { id, message } => Some((*id, message.to_string())),
+                _ => None,
+            })
+            .collect();
+        assert_eq!(
+            errors,
+            vec![(
+                29002,
+                "eSetTarget = 5: the machine has no belt 5".to_string()
+            )],
+            "prep_budget {prep_budget:?}"
+        );
+        assert_eq!(r.out().e_tm_state, TmState::Error);
+        assert_eq!(r.out().e_error_id, 29002);
+        assert_eq!(r.now(), [0.0; 3], "no motion");
+    }
+}
