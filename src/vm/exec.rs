@@ -2,7 +2,7 @@
 //! its budget.
 
 use super::task::Frame;
-use crate::compile::bytecode::{BinaryOp, Op, INT_STORE, REAL_STORE};
+use crate::compile::bytecode::{BinaryOp, KernelFunc, Op, Reg, INT_STORE, REAL_STORE};
 use crate::compile::Chunk;
 use crate::devices::command::{Domain, StartRef};
 use crate::devices::{ActOutcome, Devices, Now, Target, When};
@@ -1076,21 +1076,38 @@ pub fn run<'a>(
                         return Exit::Yield(pc);
                     }
                 }
-                Op::AxisBit { .. }
-                | Op::AxisRead { .. }
-                | Op::AxisWrite { .. }
-                | Op::Motion { .. }
-                | Op::KernelCall { .. } => match motionbasic(*op, here, chunk, v, ctx) {
-                    Ok(None) => {}
-                    Ok(Some(exit)) => {
-                        *executed = n;
-                        return exit;
-                    }
+                // The two a polling loop runs every scan go straight to their handler.
+                Op::AxisRead {
+                    dst,
+                    axes,
+                    member,
+                    truth,
+                } => match axis_read(ctx, v, rd!(axes as usize), u32::from(member), truth) {
+                    Ok(x) => wr!(dst as usize, x),
                     Err(message) => {
                         pc = here;
                         fault!("{message}");
                     }
                 },
+                Op::KernelCall { func, dst, args } => {
+                    if let Err(message) = kernel_call(func, dst, args, v, ctx) {
+                        pc = here;
+                        fault!("{message}");
+                    }
+                }
+                Op::AxisBit { .. } | Op::AxisWrite { .. } | Op::Motion { .. } => {
+                    match motionbasic(*op, here, chunk, v, ctx) {
+                        Ok(None) => {}
+                        Ok(Some(exit)) => {
+                            *executed = n;
+                            return exit;
+                        }
+                        Err(message) => {
+                            pc = here;
+                            fault!("{message}");
+                        }
+                    }
+                }
                 Op::LoadIdx {
                     dst,
                     base,
@@ -1497,7 +1514,6 @@ fn motionbasic(
     v: &mut [f64],
     ctx: &mut Ctx<'_, '_>,
 ) -> Result<Option<Exit>, String> {
-    const NO_AXES: &str = "this machine has no DSP axes: define them in machine.toml ([axis.1] …)";
     match op {
         Op::AxisBit { dst, a } => {
             let x = v[a as usize];
@@ -1515,30 +1531,44 @@ fn motionbasic(
         Op::AxisWrite { .. } | Op::Motion { .. } => {
             return motion_or_write(op, here, chunk, v, ctx)
         }
-        Op::KernelCall { func, dst, args } => {
-            let a = args as usize;
-            let count = func.arity();
-            // The arguments on the stack (a kernel function has at most 7): no allocation.
-            let mut buf = [0.0; 8];
-            let values = match v.get(a..a + count) {
-                Some(args) if count <= buf.len() => {
-                    buf[..count].copy_from_slice(args);
-                    &buf[..count]
-                }
-                _ => &[][..],
-            };
-            let axes = ctx
-                .devices
-                .axes()
-                .ok_or_else(|| format!("{} works on DSP axes: {NO_AXES}", func.name()))?;
-            v[dst as usize] = axes
-                .call(func, values, v, &mut ctx.now)
-                .map_err(|m| format!("{}: {m}", func.name()))?;
-        }
+        Op::KernelCall { func, dst, args } => kernel_call(func, dst, args, v, ctx)?,
         _ => {}
     }
     Ok(None)
 }
+
+/// `dst = func(args…)`, a kernel function on the DSP axes.
+#[inline(never)]
+fn kernel_call(
+    func: KernelFunc,
+    dst: Reg,
+    args: Reg,
+    v: &mut [f64],
+    ctx: &mut Ctx<'_, '_>,
+) -> Result<(), String> {
+    let a = args as usize;
+    let count = func.arity();
+    // The arguments on the stack (a kernel function has at most 7): no allocation.
+    let mut buf = [0.0; 8];
+    let values = match v.get(a..a + count) {
+        Some(args) if count <= buf.len() => {
+            buf[..count].copy_from_slice(args);
+            &buf[..count]
+        }
+        _ => &[][..],
+    };
+    let axes = ctx
+        .devices
+        .axes()
+        .ok_or_else(|| format!("{} works on DSP axes: {NO_AXES}", func.name()))?;
+    v[dst as usize] = axes
+        .call(func, values, v, &mut ctx.now)
+        .map_err(|m| format!("{}: {m}", func.name()))?;
+    Ok(())
+}
+
+/// The fault of a MotionBASIC axis instruction on a machine without DSP axes.
+const NO_AXES: &str = "this machine has no DSP axes: define them in machine.toml ([axis.1] …)";
 
 /// The MotionBASIC instructions that write to the axes: apart from [`motionbasic`], whose reads
 /// a polling loop runs every scan.
@@ -1550,7 +1580,6 @@ fn motion_or_write(
     v: &mut [f64],
     ctx: &mut Ctx<'_, '_>,
 ) -> Result<Option<Exit>, String> {
-    const NO_AXES: &str = "this machine has no DSP axes: define them in machine.toml ([axis.1] …)";
     match op {
         Op::AxisWrite {
             axes,
@@ -1769,6 +1798,7 @@ fn int(x: f64) -> i64 {
 }
 
 /// Read member `member` of the DSP axes in `mask`.
+#[inline(never)]
 fn axis_read(
     ctx: &mut Ctx<'_, '_>,
     v: &[f64],
@@ -1777,9 +1807,7 @@ fn axis_read(
     truth: bool,
 ) -> Result<f64, String> {
     let Some(orion) = ctx.devices.axes() else {
-        return Err(
-            "this machine has no DSP axes: define them in machine.toml ([axis.1] …)".into(),
-        );
+        return Err(NO_AXES.into());
     };
     let axes = orion.axes_of(mask)?;
     let slot = |n: u32| orion.slot(n, member).map(|s| v[s as usize]).unwrap_or(0.0);
@@ -1811,9 +1839,7 @@ fn axis_write(
     text: Option<&str>,
 ) -> Result<(), String> {
     let Some(orion) = ctx.devices.axes() else {
-        return Err(
-            "this machine has no DSP axes: define them in machine.toml ([axis.1] …)".into(),
-        );
+        return Err(NO_AXES.into());
     };
     let axes = orion.axes_of(mask)?;
     if let Some(text) = text {
