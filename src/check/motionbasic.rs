@@ -1230,10 +1230,10 @@ impl Rules for MotionBasic<'_> {
                 when: None,
             }),
             _ => {
-                if let Some(message) = crate::syntax::not_yet::motionbasic(&seg.text) {
+                if let Some(message) = crate::registry::not_yet::motionbasic(&seg.text) {
                     cx.push(
                         Problem::error("pacer::check::not_yet", seg.span, message, "not run yet")
-                            .with_help(crate::syntax::not_yet::HELP),
+                            .with_help(crate::registry::not_yet::HELP),
                     );
                 } else {
                     unknown_label(cx, seg, "no such subroutine");

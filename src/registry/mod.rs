@@ -4,6 +4,7 @@
 
 pub mod catalog;
 pub mod name;
+pub mod not_yet;
 pub mod objects;
 mod resolve;
 

@@ -42,10 +42,10 @@ impl Registry {
                     return Ok(self.resolved(motion, 0, idx, false));
                 }
             }
-            if let Some(message) = crate::syntax::not_yet::powertools(&first.text) {
+            if let Some(message) = crate::registry::not_yet::powertools(&first.text) {
                 return Err(
                     Problem::error(CODE_OBJECT, first.span, message, "not run yet")
-                        .with_help(crate::syntax::not_yet::HELP),
+                        .with_help(crate::registry::not_yet::HELP),
                 );
             }
             let candidates = catalog::TYPES

@@ -6,7 +6,6 @@ pub mod blocks;
 pub mod deftype;
 pub mod lex;
 pub mod lines;
-pub mod not_yet;
 pub mod token;
 
 lalrpop_util::lalrpop_mod!(
@@ -229,7 +228,7 @@ fn in_words(src: &str, l: usize, r: usize, tok: &Tok<'_>, dialect: Dialect) -> O
             .unwrap_or(line)
             .trim_start_matches(|c: char| c.is_ascii_digit() || c == ' ' || c == '\t');
         let first = statement.trim_end();
-        if let Some(message) = not_yet::motionbasic(first) {
+        if let Some(message) = crate::registry::not_yet::motionbasic(first) {
             return Some(message);
         }
     }
