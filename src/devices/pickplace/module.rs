@@ -1436,15 +1436,7 @@ impl Module {
         }
         let n = o.n;
         let (start, src, lift) = self.origin(params, belt_params, o);
-        let park = bp.alr_park_pos;
-        let goal = Goal::Park {
-            pose: Pose {
-                p: [park[0], park[1], park[2]],
-                ab: start.ab,
-                c: park[5],
-                aux: start.aux,
-            },
-        };
+        let goal = park_goal(bp, &start);
         let req = Request {
             start,
             src,
@@ -1678,15 +1670,7 @@ impl Module {
         if self.at_park == Some(i) && self.follow.is_none() {
             return;
         }
-        let park = bp.alr_park_pos;
-        let goal = Goal::Park {
-            pose: Pose {
-                p: [park[0], park[1], park[2]],
-                ab: start.ab,
-                c: park[5],
-                aux: start.aux,
-            },
-        };
+        let goal = park_goal(bp, &start);
         let req = Request {
             start,
             src,
@@ -2468,4 +2452,18 @@ fn resume(a: &mut Active) {
     a.traj.legs = legs;
     a.traj.duration = t0;
     a.held = false;
+}
+
+/// The park position of a belt as a goal: its X, Y, Z and C, the tool's other axes as they are
+/// at `start`.
+fn park_goal(bp: &BeltParams, start: &Pose) -> Goal {
+    let park = bp.alr_park_pos;
+    Goal::Park {
+        pose: Pose {
+            p: [park[0], park[1], park[2]],
+            ab: start.ab,
+            c: park[5],
+            aux: start.aux,
+        },
+    }
 }
