@@ -2,6 +2,7 @@
 //! cells run with it as they run without it — the same picks, places, targets and misses, no
 //! module error, every declared software limit kept — while the module reports PREPARING_PATH;
 //! and a run with it is the same on every run (the work is counted in units, never in time).
+//! It is the default: a machine file without `prep_budget` spreads at 250 units an update.
 
 mod common;
 
@@ -68,9 +69,9 @@ fn count(k: &BTreeMap<String, usize>, kind: &str) -> usize {
 #[test]
 fn both_cells_keep_their_picks_places_and_misses_with_preparation_spread() {
     for cell in CELLS {
-        let before = kinds(&run_cell(cell, ""));
-        // `prep_budget = true` (250 units an update), and more.
-        for budget in [250u32, 300] {
+        let before = kinds(&run_cell(cell, "prep_budget = false"));
+        // The default (`prep_budget = true`, 250 units an update), and more.
+        for budget in ["true", "300"] {
             let run = run_cell(cell, &format!("prep_budget = {budget}"));
             let after = kinds(&run);
             assert_eq!(
@@ -104,6 +105,25 @@ fn both_cells_keep_their_picks_places_and_misses_with_preparation_spread() {
             );
         }
     }
+}
+
+/// Without `prep_budget` a cell spreads its preparation at 250 units an update: the same
+/// trace as `prep_budget = true` and as `prep_budget = 250`, another than `false`.
+#[test]
+fn spreading_is_the_default() {
+    let default = run_cell("gantry-mode0", "");
+    assert_eq!(
+        default.text,
+        run_cell("gantry-mode0", "prep_budget = true").text
+    );
+    assert_eq!(
+        default.text,
+        run_cell("gantry-mode0", "prep_budget = 250").text
+    );
+    assert_ne!(
+        default.text,
+        run_cell("gantry-mode0", "prep_budget = false").text
+    );
 }
 
 /// At 150 units an update (the budget at which a first attempt, re-planning a late

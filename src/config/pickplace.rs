@@ -54,9 +54,12 @@ pub fn setup(machine: &MachineFile, problems: &mut Vec<Problem>) -> Option<PickP
             limit: belt_limit(number, t, problems),
         })
         .collect();
-    let prep_budget = table
-        .get("prep_budget")
-        .and_then(|v| prep_budget(v, problems));
+    // Spread by default: a path prepared within one update makes that update late (hundreds of
+    // µs, issue 19); `prep_budget = false` asks for that.
+    let prep_budget = match table.get("prep_budget") {
+        Some(v) => prep_budget(v, problems),
+        None => Some(crate::devices::pickplace::module::PREP_BUDGET),
+    };
     Some(PickPlaceSetup {
         kinematics,
         joint_limits,
@@ -68,7 +71,8 @@ pub fn setup(machine: &MachineFile, problems: &mut Vec<Problem>) -> Option<PickP
 }
 
 /// `prep_budget = 250`: work units of path preparation per update (a whole number from 20
-/// up; see docs/pick-and-place.md), or `false` for none (planned within the update).
+/// up; see docs/pick-and-place.md), `true` for the default, or `false` for none (planned
+/// within the update).
 fn prep_budget(v: &Spanned<TomlValue>, problems: &mut Vec<Problem>) -> Option<u64> {
     match v.get_ref() {
         TomlValue::Bool(false) => None,
@@ -88,7 +92,7 @@ fn prep_budget(v: &Spanned<TomlValue>, problems: &mut Vec<Problem>) -> Option<u6
                     ),
                     "not a budget",
                 )
-                .with_help("prep_budget = 250 (about 9 µs an update), or true for that default"),
+                .with_help("prep_budget = 250 (about 9 µs an update, the default), true for that, or false to plan each path within one update"),
             );
             None
         }

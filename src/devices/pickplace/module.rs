@@ -30,7 +30,7 @@ const MAX_AHEAD: u64 = 600_000;
 
 /// The longest a spread preparation may keep the tool waiting for its path, s: a preparation
 /// expected to take longer (a move slowed far by its axes' limits, whose check covers thousands
-/// of updates) is planned within the update instead, as without `prep_budget` — waiting for it
+/// of updates) is planned within the update instead, as with `prep_budget = false` — waiting for it
 /// would let the workpiece leave the operating range. The manual speaks of up to 25 cycles;
 /// 0.1 s leaves room for a Delta3's preparation at 1 ms (about 50 updates expected at 250
 /// units).

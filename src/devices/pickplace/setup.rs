@@ -50,6 +50,7 @@ pub struct PickPlaceSetup {
     pub belts: Vec<BeltSetup>,
     /// `prep_budget`: work units a path preparation may use per update, spread over as many
     /// updates as it needs (eTMState PREPARING_PATH meanwhile); `None`: a path is planned
-    /// within the update it is asked for.
+    /// within the update it is asked for. A machine file without the key gets
+    /// `Some(PREP_BUDGET)`; `prep_budget = false` gives `None`.
     pub prep_budget: Option<u64>,
 }
