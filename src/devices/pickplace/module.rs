@@ -36,6 +36,60 @@ const MAX_AHEAD: u64 = 600_000;
 /// units).
 const MAX_SPREAD_SECONDS: f64 = 0.1;
 
+/// A workpiece on a belt as a candidate for the next move, before any planning.
+enum Screen {
+    /// Out of range by the time any move could meet it: dropped without planning.
+    Gone,
+    /// Too far upstream to plan for yet: its belt position (mm).
+    Upstream(f64),
+    /// Worth planning a move to.
+    Plan,
+}
+
+/// The workpieces on `belt` whose position is known, in the order they came in.
+fn candidates(belt: &Belt) -> Vec<u32> {
+    belt.pieces
+        .iter()
+        .filter(|w| w.pos0.is_some())
+        .map(|w| w.id)
+        .collect()
+}
+
+/// Screen workpiece `id` of `belt`, which has travelled `travel`, for a move from `start`
+/// expected to take about `t_est` seconds (the spread and the in-update planning alike).
+fn screen(
+    belt: &Belt,
+    id: u32,
+    travel: f64,
+    start: &Pose,
+    pp: &PathParams,
+    bp: &BeltParams,
+    t_est: f64,
+) -> Screen {
+    let sync = bp.lr_sync_time_on_belt.max(0.0);
+    let v = belt.velocity;
+    let w = belt.pieces.iter().find(|w| w.id == id);
+    let x = w.and_then(|w| w.belt_x(travel)).unwrap_or(0.0);
+    // No move is quicker than the straight line at full path speed with the belt bringing the
+    // workpiece toward the tool: a workpiece that would be out of range even then is dropped.
+    let t_min = w
+        .and_then(|w| belt.position_of(w, travel))
+        .map_or(0.0, |p| {
+            let d = ((p[0] - start.p[0]).powi(2)
+                + (p[1] - start.p[1]).powi(2)
+                + (p[2] - start.p[2]).powi(2))
+            .sqrt();
+            d / (pp.law.vel + v.abs())
+        });
+    if x + v * (t_min + sync) > bp.lr_upper_sync_limit {
+        Screen::Gone
+    } else if x + v * t_est < bp.lr_lower_sync_limit {
+        Screen::Upstream(x)
+    } else {
+        Screen::Plan
+    }
+}
+
 /// What to do with a prepared move at the update it was planned for.
 #[derive(Debug, Clone, Copy, PartialEq)]
 enum Then {
@@ -1347,44 +1401,23 @@ impl Module {
                 let v = self.belts[i].velocity;
                 // The belt as it will be when the move starts.
                 let travel = self.belts[i].travel + v * lead;
-                let candidates: Vec<u32> = self.belts[i]
-                    .pieces
-                    .iter()
-                    .filter(|w| w.pos0.is_some())
-                    .map(|w| w.id)
-                    .collect();
-                // A first guess of the travel time: the last move's.
-                let t_est = if self.last_profile_time > 0.0 {
-                    self.last_profile_time
-                } else {
-                    0.3
-                };
-                for id in candidates {
-                    let b = &self.belts[i];
-                    let w = b.pieces.iter().find(|w| w.id == id);
-                    let x_then = w.and_then(|w| w.belt_x(travel)).unwrap_or(0.0);
-                    // No move is quicker than the straight line at full path speed with the
-                    // belt bringing the workpiece toward the tool: a workpiece that would be
-                    // out of range even then is dropped without planning.
-                    let t_min = w.and_then(|w| b.position_of(w, travel)).map_or(0.0, |p| {
-                        let d = ((p[0] - start.p[0]).powi(2)
-                            + (p[1] - start.p[1]).powi(2)
-                            + (p[2] - start.p[2]).powi(2))
-                        .sqrt();
-                        d / (pp.law.vel + v.abs())
-                    });
-                    if x_then + v * (t_min + sync) > bp.lr_upper_sync_limit {
-                        self.miss(i, id, events);
-                        continue;
-                    }
-                    if x_then + v * t_est < bp.lr_lower_sync_limit {
-                        // Far upstream: no use planning yet (the wait counts from now).
-                        let wait = if v > 0.0 {
-                            lead + (bp.lr_lower_sync_limit - x_then) / v - t_est
-                        } else {
-                            0.05
-                        };
-                        return self.park(i, &bp, &pp, params, belt_params, wait, o, events);
+                let t_est = self.travel_estimate();
+                for id in candidates(&self.belts[i]) {
+                    match screen(&self.belts[i], id, travel, &start, &pp, &bp, t_est) {
+                        Screen::Gone => {
+                            self.miss(i, id, events);
+                            continue;
+                        }
+                        Screen::Upstream(x_then) => {
+                            // No use planning yet (the wait counts from now).
+                            let wait = if v > 0.0 {
+                                lead + (bp.lr_lower_sync_limit - x_then) / v - t_est
+                            } else {
+                                0.05
+                            };
+                            return self.park(i, &bp, &pp, params, belt_params, wait, o, events);
+                        }
+                        Screen::Plan => {}
                     }
                     let goal = Goal::Workpiece {
                         belt: i,
@@ -1453,6 +1486,15 @@ impl Module {
             belt_params,
             events,
         );
+    }
+
+    /// A first guess of the next move's travel time: the last move's (0.3 s before any).
+    fn travel_estimate(&self) -> f64 {
+        if self.last_profile_time > 0.0 {
+            self.last_profile_time
+        } else {
+            0.3
+        }
     }
 
     /// The next move to make, if there is one: its side, purpose and `eActTarget`, and in
@@ -1562,52 +1604,24 @@ impl Module {
                 }
                 let sync = bp.lr_sync_time_on_belt.max(0.0);
                 let v = self.belts[i].velocity;
-                let candidates: Vec<u32> = self.belts[i]
-                    .pieces
-                    .iter()
-                    .filter(|w| w.pos0.is_some())
-                    .map(|w| w.id)
-                    .collect();
-                // A first guess of the travel time: the last move's.
-                let t_est = if self.last_profile_time > 0.0 {
-                    self.last_profile_time
-                } else {
-                    0.3
-                };
-                for id in candidates {
-                    let x_now = self.belts[i]
-                        .pieces
-                        .iter()
-                        .find(|w| w.id == id)
-                        .and_then(|w| w.belt_x(self.belts[i].travel))
-                        .unwrap_or(0.0);
-                    // No move is quicker than the straight line at full path speed with the
-                    // belt bringing the workpiece toward the tool: a workpiece that would be
-                    // out of range even then is dropped without planning.
-                    let t_min = self.belts[i]
-                        .pieces
-                        .iter()
-                        .find(|w| w.id == id)
-                        .and_then(|w| self.belts[i].position_of(w, self.belts[i].travel))
-                        .map_or(0.0, |p| {
-                            let d = ((p[0] - start.p[0]).powi(2)
-                                + (p[1] - start.p[1]).powi(2)
-                                + (p[2] - start.p[2]).powi(2))
-                            .sqrt();
-                            d / (pp.law.vel + v.abs())
-                        });
-                    if x_now + v * (t_min + sync) > bp.lr_upper_sync_limit {
-                        self.miss(i, id, events);
-                        continue;
-                    }
-                    if x_now + v * t_est < bp.lr_lower_sync_limit {
-                        // Far upstream: no use planning yet.
-                        let wait = if v > 0.0 {
-                            (bp.lr_lower_sync_limit - x_now) / v - t_est
-                        } else {
-                            0.05
-                        };
-                        return self.park_now(i, &bp, &pp, start, src, lift, wait, events);
+                let travel = self.belts[i].travel;
+                let t_est = self.travel_estimate();
+                for id in candidates(&self.belts[i]) {
+                    match screen(&self.belts[i], id, travel, &start, &pp, &bp, t_est) {
+                        Screen::Gone => {
+                            self.miss(i, id, events);
+                            continue;
+                        }
+                        Screen::Upstream(x_now) => {
+                            // No use planning yet.
+                            let wait = if v > 0.0 {
+                                (bp.lr_lower_sync_limit - x_now) / v - t_est
+                            } else {
+                                0.05
+                            };
+                            return self.park_now(i, &bp, &pp, start, src, lift, wait, events);
+                        }
+                        Screen::Plan => {}
                     }
                     let goal = Goal::Workpiece {
                         belt: i,
