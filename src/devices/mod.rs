@@ -196,6 +196,9 @@ pub trait AxisSet {
     /// The slot of member index `member` of axis `axis`.
     fn slot(&self, axis: u32, member: u32) -> Option<SlotId>;
 
+    /// Where the axes' members live, which does not change while the machine runs.
+    fn layout(&self) -> AxisLayout;
+
     /// A program writes a string to member index `member` of axis `axis`.
     fn write_text(
         &mut self,
@@ -276,6 +279,35 @@ impl Axes {
 /// Number of [`Hook`]s (the routing table's size).
 const HOOKS: usize = Hook::ALL.len();
 
+/// Where the members of a machine's numbered axes live: axis `n` (1 to `count`, defined when
+/// bit n-1 of `defined` is set) has member `m` in slot `base + (n - 1) * per + m`.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct AxisLayout {
+    /// The defined axes as a set.
+    pub defined: u16,
+    /// The slot of axis 1's first member.
+    pub base: SlotId,
+    /// Slots per axis.
+    pub per: u32,
+    /// Axes with slots.
+    pub count: u32,
+}
+
+impl AxisLayout {
+    /// The slot of `member` of the one axis of the axis-set value `mask`, when `mask` is a set
+    /// of one defined axis; `None` for anything else, whose reason [`AxisSet::axes_of`] gives.
+    #[inline]
+    pub fn single_slot(&self, mask: f64, member: u32) -> Option<SlotId> {
+        // `as` saturates: a fraction, a negative, NaN or a value past 16 bits fails the test.
+        let bits = mask as u16;
+        if f64::from(bits) != mask || !bits.is_power_of_two() || bits & !self.defined != 0 {
+            return None;
+        }
+        let n = bits.trailing_zeros() + 1;
+        (n <= self.count).then(|| self.base + (n - 1) * self.per + member)
+    }
+}
+
 /// The devices of a machine, in the order they update, and which serves what.
 pub struct Devices {
     list: Vec<Box<dyn Device>>,
@@ -283,6 +315,9 @@ pub struct Devices {
     route: [Option<u8>; HOOKS],
     profiles: Option<usize>,
     axes: Option<usize>,
+    /// The layout of the axes' members (`axes`), kept here for the controller-variable reads a
+    /// polling loop makes every scan.
+    layout: Option<AxisLayout>,
 }
 
 /// A run-time error of a device: its name and what went wrong.
@@ -303,11 +338,16 @@ impl Devices {
         }
         let profiles = list.iter_mut().position(|d| d.profiles().is_some());
         let axes = list.iter_mut().position(|d| d.axes().is_some());
+        let layout = axes
+            .and_then(|i| list.get_mut(i))
+            .and_then(|d| d.axes())
+            .map(|a| a.layout());
         Devices {
             list,
             route,
             profiles,
             axes,
+            layout,
         }
     }
 
@@ -422,6 +462,12 @@ impl Devices {
         self.list.get_mut(self.axes?)?.axes()
     }
 
+    /// Where the members of [`Devices::axes`] live.
+    #[inline]
+    pub fn axis_layout(&self) -> Option<&AxisLayout> {
+        self.layout.as_ref()
+    }
+
     /// The device of type `T`, if the machine has one (tools and tests look inside).
     pub fn get<T: Any>(&self) -> Option<&T> {
         self.list
@@ -437,5 +483,45 @@ impl Devices {
     fn device_for(&mut self, hook: Hook) -> Option<&mut Box<dyn Device>> {
         let i = self.route.get(hook as usize).copied().flatten()?;
         self.list.get_mut(usize::from(i))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::AxisLayout;
+
+    /// Axes 1, 2 and 4 defined of 4, 10 slots each from slot 100.
+    const LAYOUT: AxisLayout = AxisLayout {
+        defined: 0b1011,
+        base: 100,
+        per: 10,
+        count: 4,
+    };
+
+    #[test]
+    fn a_set_of_one_defined_axis_reads_its_slot() {
+        assert_eq!(LAYOUT.single_slot(1.0, 3), Some(103));
+        assert_eq!(LAYOUT.single_slot(2.0, 0), Some(110));
+        assert_eq!(LAYOUT.single_slot(8.0, 9), Some(139));
+    }
+
+    /// Everything else goes the long way, which says why it is refused (or reads a set).
+    #[test]
+    fn any_other_set_is_left_to_the_long_way() {
+        for mask in [
+            0.0,
+            3.0,  // two axes
+            4.0,  // axis 3, not defined
+            1.5,  // a fraction
+            -1.0, // negative
+            f64::NAN,
+            65536.0, // past 16 bits
+            -0.0,
+        ] {
+            assert_eq!(LAYOUT.single_slot(mask, 0), None, "{mask}");
+        }
+        // Defined but without slots.
+        let short = AxisLayout { count: 1, ..LAYOUT };
+        assert_eq!(short.single_slot(2.0, 0), None);
     }
 }

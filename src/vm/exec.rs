@@ -1082,13 +1082,27 @@ pub fn run<'a>(
                     axes,
                     member,
                     truth,
-                } => match axis_read(ctx, v, rd!(axes as usize), u32::from(member), truth) {
-                    Ok(x) => wr!(dst as usize, x),
-                    Err(message) => {
-                        pc = here;
-                        fault!("{message}");
+                } => {
+                    let mask = rd!(axes as usize);
+                    // The usual read, one defined axis's member, straight from its slot; every
+                    // other set (and every reason to refuse one) goes through `axis_read`.
+                    let quick = ctx
+                        .devices
+                        .axis_layout()
+                        .and_then(|l| l.single_slot(mask, u32::from(member)))
+                        .and_then(|s| v.get(s as usize).copied());
+                    match quick {
+                        Some(x) if truth => wr!(dst as usize, if x != 0.0 { -1.0 } else { 0.0 }),
+                        Some(x) => wr!(dst as usize, x),
+                        None => match axis_read(ctx, v, mask, u32::from(member), truth) {
+                            Ok(x) => wr!(dst as usize, x),
+                            Err(message) => {
+                                pc = here;
+                                fault!("{message}");
+                            }
+                        },
                     }
-                },
+                }
                 Op::KernelCall { func, dst, args } => {
                     if let Err(message) = kernel_call(func, dst, args, v, ctx) {
                         pc = here;
@@ -1552,7 +1566,13 @@ fn kernel_call(
     let mut buf = [0.0; 8];
     let values = match v.get(a..a + count) {
         Some(args) if count <= buf.len() => {
-            buf[..count].copy_from_slice(args);
+            // The polled functions take one or two arguments, for which a call to `memcpy`
+            // costs more than the copy.
+            match *args {
+                [x] => buf[0] = x,
+                [x, y] => (buf[0], buf[1]) = (x, y),
+                _ => buf[..count].copy_from_slice(args),
+            }
             &buf[..count]
         }
         _ => &[][..],

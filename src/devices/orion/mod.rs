@@ -322,6 +322,15 @@ impl AxisSet for Orion {
         (n >= 1 && n <= self.count).then(|| self.base + (n - 1) * self.per + member)
     }
 
+    fn layout(&self) -> crate::devices::AxisLayout {
+        crate::devices::AxisLayout {
+            defined: self.defined,
+            base: self.base,
+            per: self.per,
+            count: self.count,
+        }
+    }
+
     /// A program writes a string to a controller variable of axis `n` (`SENS.MODE@`).
     fn write_text(
         &mut self,
