@@ -1275,14 +1275,24 @@ fn subscript(x: f64, len: u32) -> Option<u32> {
 }
 
 /// A string handle in a register, as an index of the string table.
+#[inline(always)]
 fn handle(x: f64, strings: &[String]) -> Result<usize, String> {
-    // A whole number converts back to itself (no `fract`, a library call on x86-64).
-    let i = x as usize;
-    if i as f64 == x && i < strings.len() {
-        Ok(i)
+    // A whole number converts back to itself (no `fract`, a library call on x86-64). Through
+    // `i64`, whose saturating conversion is one instruction and two fix-ups (`usize`'s is
+    // twenty): a negative or NaN `x` fails either test, as it failed through `usize`.
+    let i = x as i64;
+    if i as f64 == x && (i as u64) < strings.len() as u64 {
+        Ok(i as usize)
     } else {
-        Err(format!("internal error: {x} is not a string"))
+        Err(not_a_string(x))
     }
+}
+
+/// [`handle`]'s error, apart: its formatting would otherwise be laid out in every caller.
+#[cold]
+#[inline(never)]
+fn not_a_string(x: f64) -> String {
+    format!("internal error: {x} is not a string")
 }
 
 /// Copy string `src` into `cell`; whether it changed.
@@ -1327,14 +1337,23 @@ fn store_text(slot: usize, src: f64, v: &[f64], ctx: &mut Ctx<'_, '_>) -> Result
 }
 
 /// Put the string in `ctx.scratch` into `cell`; `dst` = the cell.
+#[inline]
 fn give_text(dst: u32, cell: u32, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(), String> {
-    let out = ctx
-        .strings
-        .get_mut(cell as usize)
-        .ok_or("internal error: no such string cell")?;
-    out.clone_from(ctx.scratch);
+    let Some(out) = ctx.strings.get_mut(cell as usize) else {
+        return Err(no_cell());
+    };
+    // The cell takes the built string's buffer and the scratch the cell's old one, which the
+    // next string built empties first: no copy.
+    std::mem::swap(out, ctx.scratch);
     v[dst as usize] = f64::from(cell);
     Ok(())
+}
+
+/// [`give_text`]'s error, apart from the common case.
+#[cold]
+#[inline(never)]
+fn no_cell() -> String {
+    "internal error: no such string cell".into()
 }
 
 /// The instructions of the side table ([`Op::Ext`]): strings, `DATA`, random numbers.
