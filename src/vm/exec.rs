@@ -70,6 +70,10 @@ pub struct Ctx<'a, 'b> {
     /// The tasks other than the one running (those before it and those after): calling a
     /// program on one of their frames is an error the machine's loop reports.
     pub other_tasks: [&'a [super::task::Task]; 2],
+    /// The chunks below 64 on a frame of a busy other task (bit c: chunk c), gathered at the
+    /// turn's first `Call Program` (None before): the other tasks neither run nor change
+    /// while this one runs, so one look at their frames serves every call of the turn.
+    pub elsewhere: Option<u64>,
 }
 
 /// Run `chunk` from `pc` on `v`. `executed` counts instructions against `budget`.
@@ -1233,19 +1237,39 @@ pub fn run<'a>(
 /// no other busy task, and runnable with the loop's unchecked registers (closed, every
 /// register within the `values` values, an instruction to start at).
 #[inline]
-fn call_target<'c>(ctx: &Ctx<'c, '_>, program: u32, values: usize) -> Option<(usize, &'c Chunk)> {
+fn call_target<'c>(
+    ctx: &mut Ctx<'c, '_>,
+    program: u32,
+    values: usize,
+) -> Option<(usize, &'c Chunk)> {
     // A machine has few programs: comparing their numbers is quicker than hashing one.
     let (_, &c) = ctx.programs.iter().find(|(&p, _)| p == program)?;
-    let elsewhere = ctx
-        .other_tasks
-        .iter()
-        .flat_map(|tasks| tasks.iter())
-        .any(|t| t.busy() && t.frames.iter().any(|f| f.chunk == c));
+    let tasks = ctx.other_tasks;
+    let elsewhere = if c < 64 {
+        let mask = *ctx.elsewhere.get_or_insert_with(|| busy_chunks(tasks));
+        mask & (1 << c) != 0
+    } else {
+        tasks
+            .iter()
+            .flat_map(|tasks| tasks.iter())
+            .any(|t| t.busy() && t.frames.iter().any(|f| f.chunk == c))
+    };
     if elsewhere {
         return None;
     }
     let chunk = ctx.chunks.get(c)?;
     (chunk.closed && values >= chunk.regs_end && !chunk.ops.is_empty()).then_some((c, chunk))
+}
+
+/// The chunks below 64 on a frame of a busy task of `tasks`, as a set (bit c: chunk c).
+fn busy_chunks(tasks: [&[super::task::Task]; 2]) -> u64 {
+    tasks
+        .iter()
+        .flat_map(|tasks| tasks.iter())
+        .filter(|t| t.busy())
+        .flat_map(|t| t.frames.iter())
+        .filter(|f| f.chunk < 64)
+        .fold(0, |set, f| set | 1 << f.chunk)
 }
 
 /// The error of subscript `x` outside an array's `len` elements.
