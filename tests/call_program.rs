@@ -169,3 +169,30 @@ fn calls_nested_deeper_than_sixteen_are_refused() {
     assert!(out.contains("× calls nested deeper than 16"), "{out}");
     assert!(out.contains("32 instructions"), "{out}");
 }
+
+#[test]
+fn a_call_after_another_in_the_same_turn_still_sees_the_program_on_another_task() {
+    // The tasks' frames are gathered at a turn's first call: Program.2 runs inside the
+    // interpreter, then Program.1, busy on task 1 since the start, is refused all the same.
+    let m = TWO.replace("file = \"p1.pt\"", "file = \"p1.pt\"\nautostart = true")
+        + "[[program]]\nnumber = 2\nfile = \"p2.pt\"\n";
+    let d = machine(
+        "elsewhere-second",
+        &m.replace("budget = 7", "budget = 1000"),
+        &[
+            "Wait For Time 0.01\nCall Program.2\nCall Program.1\nEnd\n",
+            "Wait For Time 1\nEnd\n",
+            "Var.X = Var.X + 5\nEnd\n",
+        ],
+    );
+    let out = run(&d);
+    assert!(
+        out.contains("p0.pt:3:1: run-time error at t=0.01 s in Program.0 (task 0)"),
+        "{out}"
+    );
+    assert!(
+        out.contains("× Call Program.1: the program is already running"),
+        "{out}"
+    );
+    assert!(out.contains("\"name\":\"Var.X\",\"value\":5"), "{out}");
+}

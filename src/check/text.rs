@@ -278,12 +278,21 @@ fn illegal(what: &str) -> String {
 }
 
 /// A count or position rounded as Microsoft BASIC rounds it (halves to even), within `lo..=hi`.
+#[inline]
 fn whole(x: f64, lo: i64, hi: i64, what: &str, func: TextFunc) -> Result<i64, String> {
     // Already whole and within (the common case): no rounding.
     let i = x as i64;
     if i as f64 == x && (lo..=hi).contains(&i) {
         return Ok(i);
     }
+    rounded(x, lo, hi, what, func)
+}
+
+/// [`whole`] of a fraction or a value out of range: apart, so that the common case has no
+/// frame for the message's formatting.
+#[cold]
+#[inline(never)]
+fn rounded(x: f64, lo: i64, hi: i64, what: &str, func: TextFunc) -> Result<i64, String> {
     let name = func.name();
     let r = x.round_ties_even();
     if !r.is_finite() || r < lo as f64 || r > hi as f64 {

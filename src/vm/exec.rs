@@ -70,6 +70,10 @@ pub struct Ctx<'a, 'b> {
     /// The tasks other than the one running (those before it and those after): calling a
     /// program on one of their frames is an error the machine's loop reports.
     pub other_tasks: [&'a [super::task::Task]; 2],
+    /// The chunks below 64 on a frame of a busy other task (bit c: chunk c), gathered at the
+    /// turn's first `Call Program` (None before): the other tasks neither run nor change
+    /// while this one runs, so one look at their frames serves every call of the turn.
+    pub elsewhere: Option<u64>,
 }
 
 /// Run `chunk` from `pc` on `v`. `executed` counts instructions against `budget`.
@@ -1247,19 +1251,39 @@ pub fn run<'a>(
 /// no other busy task, and runnable with the loop's unchecked registers (closed, every
 /// register within the `values` values, an instruction to start at).
 #[inline]
-fn call_target<'c>(ctx: &Ctx<'c, '_>, program: u32, values: usize) -> Option<(usize, &'c Chunk)> {
+fn call_target<'c>(
+    ctx: &mut Ctx<'c, '_>,
+    program: u32,
+    values: usize,
+) -> Option<(usize, &'c Chunk)> {
     // A machine has few programs: comparing their numbers is quicker than hashing one.
     let (_, &c) = ctx.programs.iter().find(|(&p, _)| p == program)?;
-    let elsewhere = ctx
-        .other_tasks
-        .iter()
-        .flat_map(|tasks| tasks.iter())
-        .any(|t| t.busy() && t.frames.iter().any(|f| f.chunk == c));
+    let tasks = ctx.other_tasks;
+    let elsewhere = if c < 64 {
+        let mask = *ctx.elsewhere.get_or_insert_with(|| busy_chunks(tasks));
+        mask & (1 << c) != 0
+    } else {
+        tasks
+            .iter()
+            .flat_map(|tasks| tasks.iter())
+            .any(|t| t.busy() && t.frames.iter().any(|f| f.chunk == c))
+    };
     if elsewhere {
         return None;
     }
     let chunk = ctx.chunks.get(c)?;
     (chunk.closed && values >= chunk.regs_end && !chunk.ops.is_empty()).then_some((c, chunk))
+}
+
+/// The chunks below 64 on a frame of a busy task of `tasks`, as a set (bit c: chunk c).
+fn busy_chunks(tasks: [&[super::task::Task]; 2]) -> u64 {
+    tasks
+        .iter()
+        .flat_map(|tasks| tasks.iter())
+        .filter(|t| t.busy())
+        .flat_map(|t| t.frames.iter())
+        .filter(|f| f.chunk < 64)
+        .fold(0, |set, f| set | 1 << f.chunk)
 }
 
 /// The error of subscript `x` outside an array's `len` elements.
@@ -1289,14 +1313,24 @@ fn subscript(x: f64, len: u32) -> Option<u32> {
 }
 
 /// A string handle in a register, as an index of the string table.
+#[inline(always)]
 fn handle(x: f64, strings: &[String]) -> Result<usize, String> {
-    // A whole number converts back to itself (no `fract`, a library call on x86-64).
-    let i = x as usize;
-    if i as f64 == x && i < strings.len() {
-        Ok(i)
+    // A whole number converts back to itself (no `fract`, a library call on x86-64). Through
+    // `i64`, whose saturating conversion is one instruction and two fix-ups (`usize`'s is
+    // twenty): a negative or NaN `x` fails either test, as it failed through `usize`.
+    let i = x as i64;
+    if i as f64 == x && (i as u64) < strings.len() as u64 {
+        Ok(i as usize)
     } else {
-        Err(format!("internal error: {x} is not a string"))
+        Err(not_a_string(x))
     }
+}
+
+/// [`handle`]'s error, apart: its formatting would otherwise be laid out in every caller.
+#[cold]
+#[inline(never)]
+fn not_a_string(x: f64) -> String {
+    format!("internal error: {x} is not a string")
 }
 
 /// Copy string `src` into `cell`; whether it changed.
@@ -1341,14 +1375,23 @@ fn store_text(slot: usize, src: f64, v: &[f64], ctx: &mut Ctx<'_, '_>) -> Result
 }
 
 /// Put the string in `ctx.scratch` into `cell`; `dst` = the cell.
+#[inline]
 fn give_text(dst: u32, cell: u32, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(), String> {
-    let out = ctx
-        .strings
-        .get_mut(cell as usize)
-        .ok_or("internal error: no such string cell")?;
-    out.clone_from(ctx.scratch);
+    let Some(out) = ctx.strings.get_mut(cell as usize) else {
+        return Err(no_cell());
+    };
+    // The cell takes the built string's buffer and the scratch the cell's old one, which the
+    // next string built empties first: no copy.
+    std::mem::swap(out, ctx.scratch);
     v[dst as usize] = f64::from(cell);
     Ok(())
+}
+
+/// [`give_text`]'s error, apart from the common case.
+#[cold]
+#[inline(never)]
+fn no_cell() -> String {
+    "internal error: no such string cell".into()
 }
 
 /// The instructions of the side table ([`Op::Ext`]): strings, `DATA`, random numbers.

@@ -886,6 +886,7 @@ impl Machine {
             chunks: &self.image.chunks,
             programs: &self.image.programs,
             other_tasks: [&*before, after],
+            elsewhere: None,
         };
         let mut executed = self.instructions;
         let exit = exec::run(
