@@ -1366,15 +1366,7 @@ impl Module {
                     Some((_, t)) => t,
                     None => params.target,
                 };
-                let goal = Goal::Point {
-                    pose: Pose {
-                        p: [t[0], t[1], t[2]],
-                        ab: start.ab,
-                        c: t[5],
-                        aux: t[6],
-                    },
-                    approach: params.lr_z_target_dist,
-                };
+                let goal = point_goal(&t, params, &start);
                 let then = Then::Begin {
                     purpose,
                     target_out,
@@ -1419,14 +1411,7 @@ impl Module {
                         }
                         Screen::Plan => {}
                     }
-                    let goal = Goal::Workpiece {
-                        belt: i,
-                        id,
-                        approach: bp.lr_z_dist_belt,
-                        aux: bp.lr_aux1_target_pos,
-                        upper: bp.lr_upper_sync_limit,
-                        carry: v * sync,
-                    };
+                    let goal = workpiece_goal(i, id, &bp, v * sync);
                     let then = Then::Workpiece {
                         i,
                         id,
@@ -1581,15 +1566,7 @@ impl Module {
                 } else {
                     params.target
                 };
-                let goal = Goal::Point {
-                    pose: Pose {
-                        p: [t[0], t[1], t[2]],
-                        ab: start.ab,
-                        c: t[5],
-                        aux: t[6],
-                    },
-                    approach: params.lr_z_target_dist,
-                };
+                let goal = point_goal(&t, params, &start);
                 match self.planner.plan(&request(goal), &pp, &self.belts) {
                     Ok(p) => self.begin(p.traj, p.scale, purpose, target_out, None, params, events),
                     Err(e) => self.plan_error(e, events),
@@ -1623,14 +1600,7 @@ impl Module {
                         }
                         Screen::Plan => {}
                     }
-                    let goal = Goal::Workpiece {
-                        belt: i,
-                        id,
-                        approach: bp.lr_z_dist_belt,
-                        aux: bp.lr_aux1_target_pos,
-                        upper: bp.lr_upper_sync_limit,
-                        carry: v * sync,
-                    };
+                    let goal = workpiece_goal(i, id, &bp, v * sync);
                     match self.planner.plan(&request(goal), &pp, &self.belts) {
                         Ok(p) => {
                             let x = p.arrival_x.unwrap_or(0.0);
@@ -2466,6 +2436,33 @@ fn resume(a: &mut Active) {
     a.traj.legs = legs;
     a.traj.duration = t0;
     a.held = false;
+}
+
+/// A static target `t` (X, Y, Z, A, B, C, Aux1) as a goal: the tool's A and B as they are at
+/// `start`, approached from `lrZTargetDist` above.
+fn point_goal(t: &[f64; 7], params: &Params, start: &Pose) -> Goal {
+    Goal::Point {
+        pose: Pose {
+            p: [t[0], t[1], t[2]],
+            ab: start.ab,
+            c: t[5],
+            aux: t[6],
+        },
+        approach: params.lr_z_target_dist,
+    }
+}
+
+/// Workpiece `id` on belt `i` as a goal, met within the belt's operating range, the tool
+/// carried `carry` mm on by the belt during its synchronous travel.
+fn workpiece_goal(i: usize, id: u32, bp: &BeltParams, carry: f64) -> Goal {
+    Goal::Workpiece {
+        belt: i,
+        id,
+        approach: bp.lr_z_dist_belt,
+        aux: bp.lr_aux1_target_pos,
+        upper: bp.lr_upper_sync_limit,
+        carry,
+    }
 }
 
 /// The park position of a belt as a goal: its X, Y, Z and C, the tool's other axes as they are
