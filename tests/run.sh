@@ -23,6 +23,11 @@ if ! PYTHONPATH="$PACER_PYTOOLS" python3 -c \
         --upgrade --target "$PACER_PYTOOLS" pymodbus==3.16.1
 fi
 
+# A clean clone builds once: incremental state would only take disk (1.8 GB of it).
+export CARGO_INCREMENTAL=0
+df -h . | tail -1 | awk '{print "disk before the build: " $4 " free"}'
+
 cargo fmt --all -- --check
 cargo clippy --all-targets --locked -- -D warnings
 cargo test --locked
+du -sh target | awk '{print "build output: " $1}'
