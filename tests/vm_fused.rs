@@ -325,3 +325,57 @@ fn motionbasic_faults_in_an_accumulating_chain_are_those_of_its_instructions() {
     );
     assert_eq!(run.summary.instructions, 7);
 }
+
+const MB_FILTER: &str = "B0 = 0.0675\nB1 = 0.135\nB2 = 0.0675\nA1 = -1.143\nA2 = 0.413\nU1 = 0\nU2 = 0\nY1 = 0\nY2 = 0\nS = 0\nFOR I& = 1 TO 40\n  IF (I& AND 7) < 4 THEN U = 1.5 ELSE U = -0.25\n  Y = B0 * U + B1 * U1 + B2 * U2 - A1 * Y1 - A2 * Y2\n  S = S - Y * 0.5\n  S = 0.25 * Y + S\n  U2 = U1\n  U1 = U\n  Y2 = Y1\n  Y1 = Y\nNEXT\n";
+
+#[test]
+fn real_multiply_accumulate_chains_give_the_values_of_their_instructions() {
+    // A biquad's sum of products (`acc + p * q` and `acc - p * q` through a temporary, the
+    // accumulator on either side): each product is rounded before it is added, as the two
+    // instructions round it; no fused multiply-add.
+    let run = run_mb("fused-mb-filter", MB_FILTER, 10_000);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    let (b0, b1, b2, a1, a2) = (0.0675f64, 0.135f64, 0.0675f64, -1.143f64, 0.413f64);
+    let (mut u1, mut u2, mut y1, mut y2, mut s) = (0.0f64, 0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    for i in 1..=40 {
+        let u = if (i & 7) < 4 { 1.5 } else { -0.25 };
+        let y = b0 * u + b1 * u1 + b2 * u2 - a1 * y1 - a2 * y2;
+        s -= y * 0.5;
+        s += 0.25 * y;
+        (u2, u1, y2, y1) = (u1, u, y1, y);
+    }
+    for (name, v) in [("Y", y1), ("S", s), ("U2", u2), ("Y2", y2)] {
+        let got = val(&run, name);
+        assert_eq!(got.to_bits(), v.to_bits(), "{name}: {got}, want {v}");
+    }
+    assert_eq!(run.summary.instructions, 1016);
+}
+
+#[test]
+fn powertools_multiply_accumulate_chains_give_the_values_of_their_instructions() {
+    let run = run_pt(
+        "fused-pt-mac",
+        "Var.A = 7\nVar.B = -3\nVar.H = 11\nVar.I = 5\nVar.F = 0.25\nFor Var.Z = 1 To 9\n  Var.F = Var.A * 0.13 + Var.F * 0.5 - Var.B * 0.07\n  Var.Y = Var.A * Var.B + Var.H * Var.I\nNext\nEnd\n",
+        10_000,
+    );
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    // Var.F keeps 2 decimals: each pass rounds 0.91 + F / 2 + 0.21 half away from zero, on
+    // the decimal value (1.245 is 1.25): 1.25, 1.75, 2.00, 2.12, 2.18, 2.21, 2.23, 2.24, 2.24.
+    assert_eq!(val(&run, "Var.F"), 2.24);
+    assert_eq!(val(&run, "Var.Y"), 34.0);
+    assert_eq!(run.summary.instructions, 92);
+}
+
+#[test]
+fn a_multiply_accumulate_chain_that_overflows_faults_at_its_store() {
+    let run = run_mb(
+        "fused-mb-mac-inf",
+        "A = 1E200\nB = 3\nY = 1\nY = B * B + A * A\nY = 2\n",
+        10_000,
+    );
+    let (line, message) = error(&run);
+    assert_eq!(line, 4);
+    assert!(message.contains("not a finite number"), "{message}");
+    assert_eq!(val(&run, "Y"), 1.0);
+    assert_eq!(run.summary.instructions, 7);
+}

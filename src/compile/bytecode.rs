@@ -134,6 +134,12 @@ pub enum Op {
     /// `mul t <- a * b` then `add t <- t + c` (no fused multiply-add: the product is rounded
     /// first, as the two instructions round it).
     MulAdd { t: Reg, a: Reg, b: Reg, c: Reg },
+    /// `mul p <- a * b` then `add acc <- acc + p` (or `p + acc`): the next term of a sum of
+    /// products, as a filter or a dot product writes it. The product is rounded first, as the
+    /// two instructions round it; IEEE addition is commutative, so either order is one result.
+    MulAcc { p: Reg, a: Reg, b: Reg, acc: Reg },
+    /// `mul p <- a * b` then `sub acc <- acc - p`.
+    MulDec { p: Reg, a: Reg, b: Reg, acc: Reg },
     /// `jump` to the `for.next` at `at`, and run it there (the two count as two; a fault of the
     /// `for.next` is reported at `at`). Made by [`fuse`] from a `Jump` whose target is a
     /// `ForNext` (its fields copied here); `at` keeps that `ForNext` for a jump to it.
@@ -556,7 +562,7 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
         }
         let mut fused = pair(ops[i], ops[i + 1]);
         // A multiply-add gives way to a fusion of the add with what follows it.
-        if let Some(Op::MulAdd { .. }) = fused {
+        if let Some(Op::MulAdd { .. } | Op::MulAcc { .. } | Op::MulDec { .. }) = fused {
             if ops
                 .get(i + 2)
                 .is_some_and(|&next| pair(ops[i + 1], next).is_some())
@@ -577,6 +583,8 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
                 | Op::OrLong { t, .. }
                 | Op::XorLong { t, .. }
                 | Op::MulAdd { t, .. }
+                | Op::MulAcc { p: t, .. }
+                | Op::MulDec { p: t, .. }
                 | Op::AddModWhole { t, .. }
                 | Op::NotAndWhole { t, .. }
                 | Op::AndOr { t, .. }
@@ -739,6 +747,24 @@ fn pair(first: Op, second: Op) -> Option<Op> {
         (Op::Mul { dst: t, a, b }, Op::Add { dst, a: x, b: c }) if dst == t && x == t => {
             Some(Op::MulAdd { t, a, b, c })
         }
+        (
+            Op::Mul { dst: p, a, b },
+            Op::Add {
+                dst: acc,
+                a: x,
+                b: y,
+            },
+        ) if acc != p && ((x == acc && y == p) || (x == p && y == acc)) => {
+            Some(Op::MulAcc { p, a, b, acc })
+        }
+        (
+            Op::Mul { dst: p, a, b },
+            Op::Sub {
+                dst: acc,
+                a: x,
+                b: y,
+            },
+        ) if acc != p && x == acc && y == p => Some(Op::MulDec { p, a, b, acc }),
         (Op::Add { dst, a, b }, Op::CheckLong { r }) if r == dst => {
             Some(Op::AddCheck { dst, a, b })
         }
@@ -888,6 +914,18 @@ impl Op {
             | Op::OrLong { t, dst, a, b }
             | Op::XorLong { t, dst, a, b }
             | Op::MulAdd { t, c: dst, a, b }
+            | Op::MulAcc {
+                p: t,
+                acc: dst,
+                a,
+                b,
+            }
+            | Op::MulDec {
+                p: t,
+                acc: dst,
+                a,
+                b,
+            }
             | Op::AddReal { t, dst, a, b }
             | Op::SubReal { t, dst, a, b }
             | Op::MulReal { t, dst, a, b } => t.max(dst).max(a).max(b),
@@ -1209,6 +1247,82 @@ mod tests {
                 assert_eq!(f, o, "@{i} stays as it was");
             }
         }
+    }
+
+    #[test]
+    fn fuse_makes_sums_of_products_through_a_temporary_product() {
+        let temps = 100..110;
+        let mul = |dst, a, b| Op::Mul { dst, a, b };
+        let ops = vec![
+            // @0..@2: `t0 = a * b`, then `t0 + c * d` (the accumulator first) and `t0 - e * f`.
+            mul(100, 1, 2),
+            mul(101, 3, 4),
+            Op::Add {
+                dst: 100,
+                a: 100,
+                b: 101,
+            },
+            mul(101, 5, 6),
+            Op::Sub {
+                dst: 100,
+                a: 100,
+                b: 101,
+            },
+            // @5, @6: the product first in the add.
+            mul(101, 1, 3),
+            Op::Add {
+                dst: 100,
+                a: 101,
+                b: 100,
+            },
+            // @7, @8: `p - acc` is not an accumulation: left alone.
+            mul(101, 2, 4),
+            Op::Sub {
+                dst: 100,
+                a: 101,
+                b: 100,
+            },
+            // @9..@11: the last term gives way to the subtraction's fusion with its store.
+            mul(101, 5, 6),
+            Op::Sub {
+                dst: 100,
+                a: 100,
+                b: 101,
+            },
+            Op::StoreReal { dst: 9, src: 100 },
+            // @12, @13: a product in a variable (its write would be traced): not fused.
+            mul(8, 1, 2),
+            Op::Add {
+                dst: 100,
+                a: 100,
+                b: 8,
+            },
+            Op::End,
+        ];
+        let mut fused = ops.clone();
+        fuse(&mut fused, temps);
+        let acc = |p, a, b| Op::MulAcc { p, a, b, acc: 100 };
+        assert_eq!(fused[0], ops[0]);
+        assert_eq!(fused[1], acc(101, 3, 4));
+        assert_eq!(
+            fused[3],
+            Op::MulDec {
+                p: 101,
+                a: 5,
+                b: 6,
+                acc: 100
+            }
+        );
+        assert_eq!(fused[5], acc(101, 1, 3));
+        assert_eq!(fused[7], ops[7]);
+        assert_eq!(fused[9], ops[9]);
+        assert!(matches!(fused[10], Op::SubReal { t: 100, dst: 9, .. }));
+        assert_eq!(fused[12], ops[12]);
+        // The second halves stay in place for a jump to them.
+        for i in [2, 4, 6, 8, 13] {
+            assert_eq!(fused[i], ops[i], "@{i}");
+        }
+        assert_eq!(fused[1].max_register(), Some(101));
     }
 
     #[test]

@@ -95,7 +95,9 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::XorLong { t, a, b, .. } => {
                 format!("bxor      {} <- {} XOR {}", r(t), r(a), r(b))
             }
-            Op::MulAdd { t, a, b, .. } => format!("mul       {} <- {} * {}", r(t), r(a), r(b)),
+            Op::MulAdd { t, a, b, .. }
+            | Op::MulAcc { p: t, a, b, .. }
+            | Op::MulDec { p: t, a, b, .. } => format!("mul       {} <- {} * {}", r(t), r(a), r(b)),
             Op::MulAddCheck { t, a, b, .. } => {
                 format!("mul       {} <- {} * {}", r(t), r(a), r(b))
             }

@@ -643,6 +643,20 @@ pub fn run<'a>(
                     wr!(t as usize, rd!(t as usize) + rd!(c as usize));
                     pc = here + 2;
                 }
+                Op::MulAcc { p, a, b, acc } => {
+                    n += 1;
+                    let product = rd!(a as usize) * rd!(b as usize);
+                    wr!(p as usize, product);
+                    wr!(acc as usize, rd!(acc as usize) + product);
+                    pc = here + 2;
+                }
+                Op::MulDec { p, a, b, acc } => {
+                    n += 1;
+                    let product = rd!(a as usize) * rd!(b as usize);
+                    wr!(p as usize, product);
+                    wr!(acc as usize, rd!(acc as usize) - product);
+                    pc = here + 2;
+                }
                 Op::ModWhole { dst, a, b } => mod_whole!(dst, rd!(a as usize), b, here),
                 Op::AndWhole { dst, a, b } => bitwise_whole!(dst, a, b, &, here),
                 Op::OrWhole { dst, a, b } => bitwise_whole!(dst, a, b, |, here),
