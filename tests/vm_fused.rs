@@ -379,3 +379,24 @@ fn a_multiply_accumulate_chain_that_overflows_faults_at_its_store() {
     assert_eq!(val(&run, "Y"), 1.0);
     assert_eq!(run.summary.instructions, 7);
 }
+
+#[test]
+fn a_multiply_add_with_the_product_second_gives_the_values_of_its_instructions() {
+    // `c + a * b` into a long (`Chk`) and a real (`R`): the product, then the sum, rounded as
+    // the two instructions round them.
+    let run = run_mb(
+        "fused-mb-muladd-commuted",
+        "A& = 46341\nC& = 7\nFOR I& = 1 TO 5\n  C& = (C& + A& * 3) MOD 1000003\n  R = 0.1 + R * 0.7\nNEXT\nQ = 1E308\nQ = -1E308 + Q * 10\n",
+        10_000,
+    );
+    let mut r = 0.0f64;
+    for _ in 0..5 {
+        r = 0.1 + r * 0.7;
+    }
+    assert_eq!(val(&run, "R").to_bits(), r.to_bits());
+    assert_eq!(val(&run, "C&"), 695122.0);
+    let (line, message) = error(&run);
+    assert_eq!(line, 8);
+    assert!(message.contains("not a finite number"), "{message}");
+    assert_eq!(run.summary.instructions, 61);
+}

@@ -131,8 +131,8 @@ pub enum Op {
     OrLong { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// `bxor t <- a XOR b` then `store.l dst <- t`.
     XorLong { t: Reg, dst: Reg, a: Reg, b: Reg },
-    /// `mul t <- a * b` then `add t <- t + c` (no fused multiply-add: the product is rounded
-    /// first, as the two instructions round it).
+    /// `mul t <- a * b` then `add t <- t + c` or `c + t` (no fused multiply-add: the product is
+    /// rounded first, as the two instructions round it).
     MulAdd { t: Reg, a: Reg, b: Reg, c: Reg },
     /// `mul p <- a * b` then `add acc <- acc + p` (or `p + acc`): the next term of a sum of
     /// products, as a filter or a dot product writes it. The product is rounded first, as the
@@ -747,6 +747,10 @@ fn pair(first: Op, second: Op) -> Option<Op> {
         (Op::Mul { dst: t, a, b }, Op::Add { dst, a: x, b: c }) if dst == t && x == t => {
             Some(Op::MulAdd { t, a, b, c })
         }
+        // `c + t` is `t + c` (IEEE addition is commutative).
+        (Op::Mul { dst: t, a, b }, Op::Add { dst, a: c, b: y }) if dst == t && y == t => {
+            Some(Op::MulAdd { t, a, b, c })
+        }
         (
             Op::Mul { dst: p, a, b },
             Op::Add {
@@ -1323,6 +1327,47 @@ mod tests {
             assert_eq!(fused[i], ops[i], "@{i}");
         }
         assert_eq!(fused[1].max_register(), Some(101));
+    }
+
+    #[test]
+    fn fuse_makes_a_multiply_add_with_the_product_on_either_side() {
+        let temps = 100..110;
+        let mul = Op::Mul {
+            dst: 100,
+            a: 1,
+            b: 2,
+        };
+        for (x, y) in [(100, 3), (3, 100)] {
+            let mut ops = vec![
+                mul,
+                Op::Add {
+                    dst: 100,
+                    a: x,
+                    b: y,
+                },
+                Op::End,
+            ];
+            fuse(&mut ops, temps.clone());
+            assert_eq!(
+                ops[0],
+                Op::MulAdd {
+                    t: 100,
+                    a: 1,
+                    b: 2,
+                    c: 3
+                },
+                "{x} + {y}"
+            );
+        }
+        // `c - t` is not `t - c`: left alone.
+        let sub = Op::Sub {
+            dst: 100,
+            a: 3,
+            b: 100,
+        };
+        let mut ops = vec![mul, sub, Op::End];
+        fuse(&mut ops, temps);
+        assert_eq!(ops[..2], [mul, sub]);
     }
 
     #[test]
