@@ -1257,50 +1257,28 @@ mod tests {
     fn fuse_makes_sums_of_products_through_a_temporary_product() {
         let temps = 100..110;
         let mul = |dst, a, b| Op::Mul { dst, a, b };
+        let add = |dst, a, b| Op::Add { dst, a, b };
+        let sub = |dst, a, b| Op::Sub { dst, a, b };
         let ops = vec![
             // @0..@2: `t0 = a * b`, then `t0 + c * d` (the accumulator first) and `t0 - e * f`.
             mul(100, 1, 2),
             mul(101, 3, 4),
-            Op::Add {
-                dst: 100,
-                a: 100,
-                b: 101,
-            },
+            add(100, 100, 101),
             mul(101, 5, 6),
-            Op::Sub {
-                dst: 100,
-                a: 100,
-                b: 101,
-            },
+            sub(100, 100, 101),
             // @5, @6: the product first in the add.
             mul(101, 1, 3),
-            Op::Add {
-                dst: 100,
-                a: 101,
-                b: 100,
-            },
+            add(100, 101, 100),
             // @7, @8: `p - acc` is not an accumulation: left alone.
             mul(101, 2, 4),
-            Op::Sub {
-                dst: 100,
-                a: 101,
-                b: 100,
-            },
+            sub(100, 101, 100),
             // @9..@11: the last term gives way to the subtraction's fusion with its store.
             mul(101, 5, 6),
-            Op::Sub {
-                dst: 100,
-                a: 100,
-                b: 101,
-            },
+            sub(100, 100, 101),
             Op::StoreReal { dst: 9, src: 100 },
             // @12, @13: a product in a variable (its write would be traced): not fused.
             mul(8, 1, 2),
-            Op::Add {
-                dst: 100,
-                a: 100,
-                b: 8,
-            },
+            add(100, 100, 8),
             Op::End,
         ];
         let mut fused = ops.clone();
