@@ -400,3 +400,40 @@ fn a_multiply_add_with_the_product_second_gives_the_values_of_its_instructions()
     assert!(message.contains("not a finite number"), "{message}");
     assert_eq!(run.summary.instructions, 61);
 }
+
+#[test]
+fn chains_of_additions_and_subtractions_give_the_values_of_their_instructions() {
+    // Reals through a temporary (`a + b - c` …, the temporary on either side of an add), each
+    // step rounded as its instruction rounds it; and a PowerTools chain into a whole variable.
+    let run = run_mb(
+        "fused-mb-addsub",
+        "A = 0.1\nB = 0.2\nC = 0.3\nD = 1E16\nFOR I& = 1 TO 7\n  Y = A + B - C\n  Z = A - B + C + D\n  W = D - A - B - C\n  V = C + (A + B)\n  U = A + B - C + D\n  A = A + 0.125\nNEXT\n",
+        10_000,
+    );
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    let (mut a, b, c, d) = (0.1f64, 0.2f64, 0.3f64, 1e16f64);
+    let (mut y, mut z, mut w, mut v, mut u) = (0.0, 0.0, 0.0, 0.0, 0.0);
+    for _ in 0..7 {
+        y = a + b - c;
+        z = a - b + c + d;
+        w = d - a - b - c;
+        v = c + (a + b);
+        u = a + b - c + d;
+        a += 0.125;
+    }
+    for (name, want) in [("Y", y), ("Z", z), ("W", w), ("V", v), ("U", u)] {
+        let got = val(&run, name);
+        assert_eq!(got.to_bits(), want.to_bits(), "{name}: {got}, want {want}");
+    }
+    assert_eq!(run.summary.instructions, 156);
+    let run = run_pt(
+        "fused-pt-addsub",
+        "Var.A = 5\nVar.B = 7\nVar.F = 0.25\nVar.H = Var.A + Var.B + Var.F - 3\nVar.I = Var.A - Var.B - Var.F + 1\nEnd\n",
+        10_000,
+    );
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    // 9.25 and -1.25 rounded half away from zero into whole variables.
+    assert_eq!(val(&run, "Var.H"), 9.0);
+    assert_eq!(val(&run, "Var.I"), -1.0);
+    assert_eq!(run.summary.instructions, 10);
+}

@@ -140,6 +140,16 @@ pub enum Op {
     MulAcc { p: Reg, a: Reg, b: Reg, acc: Reg },
     /// `mul p <- a * b` then `sub acc <- acc - p`.
     MulDec { p: Reg, a: Reg, b: Reg, acc: Reg },
+    // Two additions or subtractions in a row through the temporary `t` (`a + b - c` …): the
+    // first into `t`, then `t` with `c` into `t` (for an add, `c + t` is `t + c`).
+    /// `add t <- a + b` then `add t <- t + c`.
+    AddAdd { t: Reg, a: Reg, b: Reg, c: Reg },
+    /// `add t <- a + b` then `sub t <- t - c`.
+    AddSub { t: Reg, a: Reg, b: Reg, c: Reg },
+    /// `sub t <- a - b` then `add t <- t + c`.
+    SubAdd { t: Reg, a: Reg, b: Reg, c: Reg },
+    /// `sub t <- a - b` then `sub t <- t - c`.
+    SubSub { t: Reg, a: Reg, b: Reg, c: Reg },
     /// `jump` to the `for.next` at `at`, and run it there (the two count as two; a fault of the
     /// `for.next` is reported at `at`). Made by [`fuse`] from a `Jump` whose target is a
     /// `ForNext` (its fields copied here); `at` keeps that `ForNext` for a jump to it.
@@ -544,65 +554,56 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
             _ => cur,
         };
     }
-    let mut i = 0;
-    while i + 1 < ops.len() {
-        // A triple through one temporary first (its last two instructions are fused as a pair
-        // too, for a jump to the second).
-        if let Some(&third) = ops.get(i + 2) {
-            if let Some((op, t)) = triple(ops[i], ops[i + 1], third) {
-                if temps.contains(&t) {
-                    if let Some(second) = pair(ops[i + 1], third) {
-                        ops[i + 1] = second;
-                    }
-                    ops[i] = op;
-                    i += 3;
-                    continue;
+    // Which instructions to fuse: as many dispatches saved as the chunk allows (a pair saves
+    // one, a triple two), chosen from the end: `gain[i]` is the most saved from `i` on. Taking
+    // the first fusion found could spoil a better one (a multiply-add taking the add that would
+    // have fused with the `MOD` after it and the multiply with nothing).
+    let len = ops.len();
+    let mut gain = vec![0u32; len + 3];
+    let mut choice = vec![0u8; len];
+    for i in (0..len).rev() {
+        let (mut best, mut pick) = (gain[i + 1], 0u8);
+        let fused = ops.get(i + 1).and_then(|&second| pair(ops[i], second));
+        if let Some(op) = fused.filter(|&op| joined(op, &temps)) {
+            let g = 1 + gain[i + 2];
+            // On a tie, an arithmetic pair gives way to the fusion of its second instruction
+            // with what follows it (an add with its store: the store's test is the dearer).
+            if g > best || (g == best && !gives_way(op)) {
+                (best, pick) = (g, 2);
+            }
+        }
+        if let (Some(&second), Some(&third)) = (ops.get(i + 1), ops.get(i + 2)) {
+            if let Some((_, t)) = triple(ops[i], second, third) {
+                let g = 2 + gain[i + 3];
+                if temps.contains(&t) && g >= best {
+                    (best, pick) = (g, 3);
                 }
             }
         }
-        let mut fused = pair(ops[i], ops[i + 1]);
-        // A multiply-add gives way to a fusion of the add with what follows it.
-        if let Some(Op::MulAdd { .. } | Op::MulAcc { .. } | Op::MulDec { .. }) = fused {
-            if ops
-                .get(i + 2)
-                .is_some_and(|&next| pair(ops[i + 1], next).is_some())
-            {
-                fused = None;
+        gain[i] = best;
+        choice[i] = pick;
+    }
+    let mut i = 0;
+    while i < len {
+        match choice[i] {
+            3 => {
+                // A triple's last two instructions are fused as a pair too, for a jump to the
+                // second.
+                if let Some((op, _)) = triple(ops[i], ops[i + 1], ops[i + 2]) {
+                    if let Some(second) = pair(ops[i + 1], ops[i + 2]) {
+                        ops[i + 1] = second;
+                    }
+                    ops[i] = op;
+                }
+                i += 3;
             }
-        }
-        // The joining register must be a temporary: a pair through a variable is left alone
-        // (the first half's write would be traced).
-        let joined = match fused {
-            Some(
-                Op::AddLong { t, .. }
-                | Op::SubLong { t, .. }
-                | Op::MulLong { t, .. }
-                | Op::IntLong { t, .. }
-                | Op::ModLong { t, .. }
-                | Op::AndLong { t, .. }
-                | Op::OrLong { t, .. }
-                | Op::XorLong { t, .. }
-                | Op::MulAdd { t, .. }
-                | Op::MulAcc { p: t, .. }
-                | Op::MulDec { p: t, .. }
-                | Op::AddModWhole { t, .. }
-                | Op::NotAndWhole { t, .. }
-                | Op::AndOr { t, .. }
-                | Op::AndXorWhole { t, .. }
-                | Op::AddReal { t, .. }
-                | Op::SubReal { t, .. }
-                | Op::MulReal { t, .. }
-                | Op::AddCheck { dst: t, .. }
-                | Op::SubCheck { dst: t, .. }
-                | Op::MulCheck { dst: t, .. },
-            ) => temps.contains(&t),
-            _ => false,
-        };
-        if let (true, Some(op)) = (joined, fused) {
-            ops[i] = op;
-            i += 2;
-        } else {
-            i += 1;
+            2 => {
+                if let Some(op) = pair(ops[i], ops[i + 1]) {
+                    ops[i] = op;
+                }
+                i += 2;
+            }
+            _ => i += 1,
         }
     }
     // Then a long multiply-add: a `MulCheck` and the `AddCheck` of its product after it.
@@ -623,6 +624,54 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
             }
         }
     }
+}
+
+/// Whether the pair `op` joins its two instructions through a temporary in `temps`: a pair
+/// through a variable is left alone (the first half's write would be traced).
+fn joined(op: Op, temps: &std::ops::Range<Reg>) -> bool {
+    match op {
+        Op::AddLong { t, .. }
+        | Op::SubLong { t, .. }
+        | Op::MulLong { t, .. }
+        | Op::IntLong { t, .. }
+        | Op::ModLong { t, .. }
+        | Op::AndLong { t, .. }
+        | Op::OrLong { t, .. }
+        | Op::XorLong { t, .. }
+        | Op::MulAdd { t, .. }
+        | Op::MulAcc { p: t, .. }
+        | Op::MulDec { p: t, .. }
+        | Op::AddAdd { t, .. }
+        | Op::AddSub { t, .. }
+        | Op::SubAdd { t, .. }
+        | Op::SubSub { t, .. }
+        | Op::AddModWhole { t, .. }
+        | Op::NotAndWhole { t, .. }
+        | Op::AndOr { t, .. }
+        | Op::AndXorWhole { t, .. }
+        | Op::AddReal { t, .. }
+        | Op::SubReal { t, .. }
+        | Op::MulReal { t, .. }
+        | Op::AddCheck { dst: t, .. }
+        | Op::SubCheck { dst: t, .. }
+        | Op::MulCheck { dst: t, .. } => temps.contains(&t),
+        _ => false,
+    }
+}
+
+/// Whether the pair `op` gives way, on a tie, to a fusion of its second instruction with the
+/// one after it.
+fn gives_way(op: Op) -> bool {
+    matches!(
+        op,
+        Op::MulAdd { .. }
+            | Op::MulAcc { .. }
+            | Op::MulDec { .. }
+            | Op::AddAdd { .. }
+            | Op::AddSub { .. }
+            | Op::SubAdd { .. }
+            | Op::SubSub { .. }
+    )
 }
 
 /// The superinstruction doing the work of `first`, `second` and `third`, and the temporary
@@ -769,6 +818,32 @@ fn pair(first: Op, second: Op) -> Option<Op> {
                 b: y,
             },
         ) if acc != p && x == acc && y == p => Some(Op::MulDec { p, a, b, acc }),
+        (Op::Add { dst: t, a, b }, Op::Add { dst, a: x, b: y })
+            if dst == t && (x == t || y == t) =>
+        {
+            Some(Op::AddAdd {
+                t,
+                a,
+                b,
+                c: if x == t { y } else { x },
+            })
+        }
+        (Op::Add { dst: t, a, b }, Op::Sub { dst, a: x, b: c }) if dst == t && x == t => {
+            Some(Op::AddSub { t, a, b, c })
+        }
+        (Op::Sub { dst: t, a, b }, Op::Add { dst, a: x, b: y })
+            if dst == t && (x == t || y == t) =>
+        {
+            Some(Op::SubAdd {
+                t,
+                a,
+                b,
+                c: if x == t { y } else { x },
+            })
+        }
+        (Op::Sub { dst: t, a, b }, Op::Sub { dst, a: x, b: c }) if dst == t && x == t => {
+            Some(Op::SubSub { t, a, b, c })
+        }
         (Op::Add { dst, a, b }, Op::CheckLong { r }) if r == dst => {
             Some(Op::AddCheck { dst, a, b })
         }
@@ -933,7 +1008,11 @@ impl Op {
             | Op::AddReal { t, dst, a, b }
             | Op::SubReal { t, dst, a, b }
             | Op::MulReal { t, dst, a, b } => t.max(dst).max(a).max(b),
-            Op::MulAddCheck { t, a, b, c, .. } => t.max(a).max(b).max(c),
+            Op::MulAddCheck { t, a, b, c, .. }
+            | Op::AddAdd { t, a, b, c }
+            | Op::AddSub { t, a, b, c }
+            | Op::SubAdd { t, a, b, c }
+            | Op::SubSub { t, a, b, c } => t.max(a).max(b).max(c),
             Op::AddModLong { t, x, dst, m, .. } | Op::AddModWhole { t, x, dst, m, .. } => {
                 t.max(x).max(dst).max(m)
             }
@@ -1346,6 +1425,91 @@ mod tests {
         let mut ops = vec![mul, sub, Op::End];
         fuse(&mut ops, temps);
         assert_eq!(ops[..2], [mul, sub]);
+    }
+
+    #[test]
+    fn fuse_makes_chains_of_additions_and_subtractions() {
+        let temps = 100..110;
+        let add = |dst, a, b| Op::Add { dst, a, b };
+        let sub = |dst, a, b| Op::Sub { dst, a, b };
+        let ops = vec![
+            add(100, 1, 2),
+            add(100, 100, 3),
+            add(100, 1, 2),
+            add(100, 3, 100),
+            add(100, 1, 2),
+            sub(100, 100, 3),
+            sub(100, 1, 2),
+            add(100, 3, 100),
+            sub(100, 1, 2),
+            sub(100, 100, 3),
+            // `c - t` is not `t - c`: left alone.
+            add(100, 1, 2),
+            sub(100, 3, 100),
+            Op::End,
+        ];
+        let mut fused = ops.clone();
+        fuse(&mut fused, temps);
+        let (t, a, b, c) = (100, 1, 2, 3);
+        assert_eq!(fused[0], Op::AddAdd { t, a, b, c });
+        assert_eq!(fused[2], Op::AddAdd { t, a, b, c });
+        assert_eq!(fused[4], Op::AddSub { t, a, b, c });
+        assert_eq!(fused[6], Op::SubAdd { t, a, b, c });
+        assert_eq!(fused[8], Op::SubSub { t, a, b, c });
+        assert_eq!(fused[10..], ops[10..]);
+        for i in [1, 3, 5, 7, 9] {
+            assert_eq!(fused[i], ops[i], "@{i}");
+        }
+    }
+
+    #[test]
+    fn fuse_saves_the_most_dispatches_not_the_first_fusion_found() {
+        let temps = 100..110;
+        // `Chk = (Chk + Acc * 3 + I) MOD m` into a whole variable: fusing the first add with
+        // the multiply (`MulAdd`) and the second with the `MOD` (`AddModWhole`) saves two
+        // dispatches; fusing the two adds (`AddAdd`) would save one.
+        let ops = vec![
+            Op::Mul {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::Add {
+                dst: 100,
+                a: 3,
+                b: 100,
+            },
+            Op::Add {
+                dst: 100,
+                a: 100,
+                b: 4,
+            },
+            Op::ArithFixed {
+                op: BinaryOp::Mod,
+                dst: 3,
+                a: 100,
+                b: 5,
+                decimals: 0,
+            },
+            Op::End,
+        ];
+        let mut fused = ops.clone();
+        fuse(&mut fused, temps);
+        assert_eq!(
+            fused[0],
+            Op::MulAdd {
+                t: 100,
+                a: 1,
+                b: 2,
+                c: 3
+            }
+        );
+        assert!(
+            matches!(fused[2], Op::AddModWhole { t: 100, dst: 3, .. }),
+            "{:?}",
+            fused[2]
+        );
+        assert_eq!(fused[1], ops[1]);
     }
 
     #[test]

@@ -72,10 +72,16 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::BitXor { dst, a, b } => format!("bxor      {} <- {} XOR {}", r(dst), r(a), r(b)),
             // A superinstruction is listed as the first of the two instructions it runs; the
             // second follows it.
-            Op::AddLong { t, a, b, .. } | Op::AddReal { t, a, b, .. } => {
+            Op::AddLong { t, a, b, .. }
+            | Op::AddReal { t, a, b, .. }
+            | Op::AddAdd { t, a, b, .. }
+            | Op::AddSub { t, a, b, .. } => {
                 format!("add       {} <- {} + {}", r(t), r(a), r(b))
             }
-            Op::SubLong { t, a, b, .. } | Op::SubReal { t, a, b, .. } => {
+            Op::SubLong { t, a, b, .. }
+            | Op::SubReal { t, a, b, .. }
+            | Op::SubAdd { t, a, b, .. }
+            | Op::SubSub { t, a, b, .. } => {
                 format!("sub       {} <- {} - {}", r(t), r(a), r(b))
             }
             Op::MulLong { t, a, b, .. } | Op::MulReal { t, a, b, .. } => {

@@ -657,6 +657,31 @@ pub fn run<'a>(
                     wr!(acc as usize, rd!(acc as usize) - product);
                     pc = here + 2;
                 }
+                // `c` is read after `t` is written: it may be `t` itself.
+                Op::AddAdd { t, a, b, c } => {
+                    n += 1;
+                    wr!(t as usize, rd!(a as usize) + rd!(b as usize));
+                    wr!(t as usize, rd!(t as usize) + rd!(c as usize));
+                    pc = here + 2;
+                }
+                Op::AddSub { t, a, b, c } => {
+                    n += 1;
+                    wr!(t as usize, rd!(a as usize) + rd!(b as usize));
+                    wr!(t as usize, rd!(t as usize) - rd!(c as usize));
+                    pc = here + 2;
+                }
+                Op::SubAdd { t, a, b, c } => {
+                    n += 1;
+                    wr!(t as usize, rd!(a as usize) - rd!(b as usize));
+                    wr!(t as usize, rd!(t as usize) + rd!(c as usize));
+                    pc = here + 2;
+                }
+                Op::SubSub { t, a, b, c } => {
+                    n += 1;
+                    wr!(t as usize, rd!(a as usize) - rd!(b as usize));
+                    wr!(t as usize, rd!(t as usize) - rd!(c as usize));
+                    pc = here + 2;
+                }
                 Op::ModWhole { dst, a, b } => mod_whole!(dst, rd!(a as usize), b, here),
                 Op::AndWhole { dst, a, b } => bitwise_whole!(dst, a, b, &, here),
                 Op::OrWhole { dst, a, b } => bitwise_whole!(dst, a, b, |, here),
