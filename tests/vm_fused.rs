@@ -382,23 +382,32 @@ fn a_multiply_accumulate_chain_that_overflows_faults_at_its_store() {
 
 #[test]
 fn a_multiply_add_with_the_product_second_gives_the_values_of_its_instructions() {
-    // `c + a * b` into a long (`Chk`) and a real (`R`): the product, then the sum, rounded as
-    // the two instructions round them.
+    // `c + a * b` whose sum is used by another operation (a real `R`, and a PowerTools
+    // `(Chk + Acc * 3 + I) MOD m` into a whole variable, whose second add fuses with the `MOD`):
+    // the product, then the sum, rounded as the two instructions round them.
     let run = run_mb(
         "fused-mb-muladd-commuted",
-        "A& = 46341\nC& = 7\nFOR I& = 1 TO 5\n  C& = (C& + A& * 3) MOD 1000003\n  R = 0.1 + R * 0.7\nNEXT\nQ = 1E308\nQ = -1E308 + Q * 10\n",
+        "FOR I& = 1 TO 5\n  R = (0.1 + R * 0.7) * 2\nNEXT\nQ = 1E308\nQ = (-1E308 + Q * 10) * 1\n",
         10_000,
     );
     let mut r = 0.0f64;
     for _ in 0..5 {
-        r = 0.1 + r * 0.7;
+        r = (0.1 + r * 0.7) * 2.0;
     }
     assert_eq!(val(&run, "R").to_bits(), r.to_bits());
-    assert_eq!(val(&run, "C&"), 695122.0);
     let (line, message) = error(&run);
-    assert_eq!(line, 8);
+    assert_eq!(line, 5);
     assert!(message.contains("not a finite number"), "{message}");
-    assert_eq!(run.summary.instructions, 61);
+    assert_eq!(run.summary.instructions, 35);
+    let run = run_pt(
+        "fused-pt-muladd-commuted",
+        "Var.A = 46341\nVar.H = 7\nFor Var.I = 1 To 5\n  Var.H = (Var.H + Var.A * 3 + Var.I) MOD 1000003\nNext\nEnd\n",
+        10_000,
+    );
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    // 7 + 139023 k + (1 + … + k), below the modulus for k = 5.
+    assert_eq!(val(&run, "Var.H"), 695137.0);
+    assert_eq!(run.summary.instructions, 32);
 }
 
 #[test]
