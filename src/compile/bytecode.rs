@@ -793,11 +793,11 @@ fn pair(first: Op, second: Op) -> Option<Op> {
         (Op::BitXor { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
             Some(Op::XorLong { t, dst, a, b })
         }
-        (Op::Mul { dst: t, a, b }, Op::Add { dst, a: x, b: c }) if dst == t && x == t => {
-            Some(Op::MulAdd { t, a, b, c })
-        }
         // `c + t` is `t + c` (IEEE addition is commutative).
-        (Op::Mul { dst: t, a, b }, Op::Add { dst, a: c, b: y }) if dst == t && y == t => {
+        (Op::Mul { dst: t, a, b }, Op::Add { dst, a: x, b: y })
+            if dst == t && (x == t || y == t) =>
+        {
+            let c = if x == t { y } else { x };
             Some(Op::MulAdd { t, a, b, c })
         }
         (
@@ -818,31 +818,23 @@ fn pair(first: Op, second: Op) -> Option<Op> {
                 b: y,
             },
         ) if acc != p && x == acc && y == p => Some(Op::MulDec { p, a, b, acc }),
-        (Op::Add { dst: t, a, b }, Op::Add { dst, a: x, b: y })
-            if dst == t && (x == t || y == t) =>
-        {
-            Some(Op::AddAdd {
-                t,
-                a,
-                b,
-                c: if x == t { y } else { x },
-            })
-        }
-        (Op::Add { dst: t, a, b }, Op::Sub { dst, a: x, b: c }) if dst == t && x == t => {
-            Some(Op::AddSub { t, a, b, c })
-        }
-        (Op::Sub { dst: t, a, b }, Op::Add { dst, a: x, b: y })
-            if dst == t && (x == t || y == t) =>
-        {
-            Some(Op::SubAdd {
-                t,
-                a,
-                b,
-                c: if x == t { y } else { x },
-            })
-        }
-        (Op::Sub { dst: t, a, b }, Op::Sub { dst, a: x, b: c }) if dst == t && x == t => {
-            Some(Op::SubSub { t, a, b, c })
+        // Two adds or subtracts through `t`; the second takes `t` first (or second, for an add).
+        (
+            first @ (Op::Add { dst: t, a, b } | Op::Sub { dst: t, a, b }),
+            second @ (Op::Add { dst, a: x, b: y } | Op::Sub { dst, a: x, b: y }),
+        ) if dst == t && (x == t || (y == t && matches!(second, Op::Add { .. }))) => {
+            let c = if x == t { y } else { x };
+            Some(
+                match (
+                    matches!(first, Op::Add { .. }),
+                    matches!(second, Op::Add { .. }),
+                ) {
+                    (true, true) => Op::AddAdd { t, a, b, c },
+                    (true, false) => Op::AddSub { t, a, b, c },
+                    (false, true) => Op::SubAdd { t, a, b, c },
+                    (false, false) => Op::SubSub { t, a, b, c },
+                },
+            )
         }
         (Op::Add { dst, a, b }, Op::CheckLong { r }) if r == dst => {
             Some(Op::AddCheck { dst, a, b })
