@@ -40,6 +40,13 @@ cargo build --release --quiet
 
 echo "lua:    $(lua5.4 -v 2>&1 | head -n 1)" >&2
 echo "python: $(python3 --version 2>&1)" >&2
+# The interpreter's dispatch jumps (one per instruction handler when .cargo/config.toml's
+# code generation took effect, a handful without it; docs/decisions.md, "The interpreter").
+if command -v objdump >/dev/null 2>&1; then
+    jumps="$(objdump -d --no-show-raw-insn "$PACER" |
+        awk '/<_ZN5pacer2vm4exec3run/,/^$/' | grep -c 'jmp  *\*' || true)"
+    echo "indirect jumps in the interpreter loop: $jumps" >&2
+fi
 
 # The pacer machine folders of a benchmark, each with its label: `DIR LABEL` lines.
 variants() {
