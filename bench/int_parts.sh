@@ -1,8 +1,9 @@
 #!/usr/bin/env bash
 # The statements of bench/int one at a time, pacer (MotionBASIC) against Lua 5.4: each in a
-# counted loop of N iterations (default 20,000,000), and the empty loop, best of RUNS rounds
-# (default 7), the two timed alternately. Shows which integer operations cost pacer more than
-# Lua (docs/benchmarks.md, the paragraph on `int`).
+# counted loop of N iterations (default 20,000,000), and the empty loop. Both compute the same
+# values (checked first, as bench/run.sh checks its set), then are timed alternately, best of
+# RUNS rounds (default 7). Shows which integer operations cost pacer more than Lua
+# (docs/benchmarks.md, the paragraph on `int`).
 #
 #   bash bench/int_parts.sh
 #   N=4000000 RUNS=3 bash bench/int_parts.sh
@@ -13,9 +14,10 @@ N="${N:-20000000}"
 ROOT="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 cd "$ROOT"
 PACER="${PACER:-${CARGO_TARGET_DIR:-$ROOT/target}/release/pacer}"
-command -v lua5.4 >/dev/null 2>&1 || { echo "lua5.4 is needed (bench/run.sh installs it)" >&2; exit 1; }
-echo "building pacer (release) ..." >&2
-cargo build --release --quiet
+# shellcheck source=bench/common.sh
+source "$ROOT/bench/common.sh"
+need_lua
+build_pacer
 
 WORK="$(mktemp -d)"
 trap 'rm -rf "$WORK"' EXIT
@@ -31,15 +33,7 @@ CASES=(
     "if|IF Q& > 1000000000 THEN Q& = Q& - 1000000000|if q > 1000000000 then q = q - 1000000000 end"
 )
 
-ms() {
-    local start end
-    start=$(date +%s%N)
-    "$@" >/dev/null || { echo "failed: $*" >&2; exit 1; }
-    end=$(date +%s%N)
-    echo $(((end - start) / 1000000))
-}
-
-printf '| %-10s | %9s | %9s | %9s |\n' statement "pacer ms" "Lua ms" pacer/Lua
+printf '| %-10s | %9s | %9s | %9s |\n' statement "pacer s" "Lua s" pacer/Lua
 printf '|%s|%s|%s|%s|\n' ------------ ----------: ----------: ----------:
 for case in "${CASES[@]}"; do
     IFS='|' read -r name mb lua <<<"$case"
@@ -49,16 +43,19 @@ for case in "${CASES[@]}"; do
         >"$dir/machine.toml"
     printf 'N& = %s\nA& = 12345\nQ& = 0\nX& = 0\nH& = 7\nB& = 5\nFOR I& = 1 TO N&\n  %s\nNEXT\n' \
         "$N" "$mb" >"$dir/b.mb"
-    printf 'local n = %s\nlocal a, q, x, h, b = 12345, 0, 0, 7, 5\nfor i = 1, n do\n  %s\nend\nprint(a, q, x, h, b)\n' \
-        "$N" "$lua" >"$dir/b.lua"
-    best_p=""
-    best_l=""
+    printf 'local n = %s\nlocal a, q, x, h, b = 12345, 0, 0, 7, 5\nfor i = 1, n do\n  %s\nend\n%s\n' \
+        "$N" "$lua" 'print(string.format("A=%d Q=%d X=%d H=%d B=%d", a, q, x, h, b))' >"$dir/b.lua"
+    printf 'A A& %%d\nQ Q& %%d\nX X& %%d\nH H& %%d\nB B& %%d\n' >"$dir/results"
+    lua_out="$(lua5.4 "$dir/b.lua")"
+    pacer_out="$(pacer_results "$dir")"
+    if [ "$pacer_out" != "$lua_out" ]; then
+        echo "MISMATCH in $name: pacer $pacer_out, Lua $lua_out" >&2
+        exit 1
+    fi
     for _ in $(seq "$RUNS"); do
-        p=$(ms "$PACER" run -q "$dir")
-        l=$(ms lua5.4 "$dir/b.lua")
-        if [ -z "$best_p" ] || [ "$p" -lt "$best_p" ]; then best_p=$p; fi
-        if [ -z "$best_l" ] || [ "$l" -lt "$best_l" ]; then best_l=$l; fi
+        keep "pacer $name" "$(seconds "$PACER" run -q "$dir")"
+        keep "lua $name" "$(seconds lua5.4 "$dir/b.lua")"
     done
-    ratio=$(awk -v p="$best_p" -v l="$best_l" 'BEGIN { printf "%.2f", (l > 0) ? p / l : 0 }')
-    printf '| %-10s | %9s | %9s | %9s |\n' "$name" "$best_p" "$best_l" "$ratio"
+    awk -v name="$name" -v p="${best[pacer $name]}" -v l="${best[lua $name]}" 'BEGIN {
+        printf "| %-10s | %9.3f | %9.3f | %9.2f |\n", name, p, l, (l > 0) ? p / l : 0 }'
 done

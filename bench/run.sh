@@ -26,27 +26,14 @@ if [ ${#BENCHES[@]} -eq 0 ]; then
 fi
 
 # --- tools ------------------------------------------------------------------------------------
-if ! command -v lua5.4 >/dev/null 2>&1; then
-    echo "installing Lua 5.4 ..." >&2
-    SUDO=""
-    if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
-    $SUDO apt-get update -qq
-    $SUDO apt-get install -y -qq lua5.4 >/dev/null
-fi
+# shellcheck source=bench/common.sh
+source "$ROOT/bench/common.sh"
+need_lua
 command -v python3 >/dev/null 2>&1 || { echo "python3 is needed" >&2; exit 1; }
-
-echo "building pacer (release) ..." >&2
-cargo build --release --quiet
+build_pacer
 
 echo "lua:    $(lua5.4 -v 2>&1 | head -n 1)" >&2
 echo "python: $(python3 --version 2>&1)" >&2
-# The interpreter's dispatch jumps (one per instruction handler when .cargo/config.toml's
-# code generation took effect, a handful without it; docs/decisions.md, "The interpreter").
-if command -v objdump >/dev/null 2>&1; then
-    jumps="$(objdump -d --no-show-raw-insn "$PACER" |
-        awk '/<_ZN5pacer2vm4exec3run/,/^$/' | grep -c 'jmp  *\*' || true)"
-    echo "indirect jumps in the interpreter loop: $jumps" >&2
-fi
 
 # The pacer machine folders of a benchmark, each with its label: `DIR LABEL` lines.
 variants() {
@@ -55,24 +42,6 @@ variants() {
     for d in pt mb; do
         if [ -f "$b/$d/machine.toml" ]; then echo "$b/$d $1 ($d)"; fi
     done
-}
-
-# pacer's results for machine folder $1, formatted as Lua and Python print theirs.
-pacer_results() {
-    local dir="$1" csv signals
-    csv="$(mktemp)"
-    signals="$(awk '{ print $2 }' "$dir/results" | paste -sd, -)"
-    "$PACER" run -q "$dir" --csv "$csv" --signals "$signals" >/dev/null
-    tail -n 1 "$csv" | awk -F, -v spec="$dir/results" '{
-        n = 0
-        while ((getline line < spec) > 0) {
-            split(line, f, " ")
-            n++
-            out = out (n > 1 ? " " : "") f[1] "=" sprintf(f[3], $(n + 2))
-        }
-        print out
-    }'
-    rm -f "$csv"
 }
 
 # --- results ----------------------------------------------------------------------------------
@@ -98,21 +67,6 @@ done
 echo "  all agree"
 
 # --- timing -----------------------------------------------------------------------------------
-# seconds CMD...: the wall clock time of one run, output discarded.
-seconds() {
-    local start end
-    start=$(date +%s.%N)
-    "$@" >/dev/null
-    end=$(date +%s.%N)
-    awk -v s="$start" -v e="$end" 'BEGIN { printf "%.3f", e - s }'
-}
-declare -A best
-keep() { # keep KEY SECONDS: the least so far
-    if [ -z "${best[$1]:-}" ] || awk -v t="$2" -v b="${best[$1]}" 'BEGIN { exit !(t < b) }'; then
-        best[$1]=$2
-    fi
-}
-
 echo
 echo "timing (best of $RUNS, interleaved, wall clock) ..." >&2
 for ((round = 0; round < RUNS; round++)); do
