@@ -5,6 +5,7 @@
 
 pub mod bytecode;
 pub mod disasm;
+pub mod whole;
 
 use crate::check::typed::{
     Element, Expr, ExprKind, Op as TypedOp, Place, PrintItem, Program, Stmt, StmtKind, Ty,
@@ -36,6 +37,9 @@ pub struct Layout {
     text_slots: Vec<(Reg, u32)>,
     /// The literals' indices, by text.
     literal_index: BTreeMap<String, u32>,
+    /// Per registry slot: a variable every store rounds to a whole number within 32 bits (a
+    /// MotionBASIC long or INTEGER, a PowerTools variable without decimals).
+    whole_slots: Vec<bool>,
 }
 
 /// Whether a MotionBASIC variable or array element of this registry name is an INTEGER (`%`,
@@ -63,6 +67,17 @@ impl Layout {
             strings: vec![String::new()],
             text_slots: Vec::new(),
             literal_index: BTreeMap::new(),
+            // A spare slot the REPL may later give any type is left out.
+            whole_slots: registry
+                .slots
+                .iter()
+                .map(|info| {
+                    matches!(info.kind, Kind::Var | Kind::BasicVar)
+                        && matches!(info.ty, ValueType::Fixed(0) | ValueType::Integer)
+                        && !info.name.starts_with(crate::vm::live::SPARE_VARIABLE)
+                        && !is_text_name(&info.name)
+                })
+                .collect(),
         };
         for (i, info) in registry.slots.iter().enumerate() {
             if info.kind == Kind::BasicVar && is_text_name(&info.name) {
@@ -109,6 +124,21 @@ impl Layout {
         self.extra.push(v);
         self.const_index.insert(key, r);
         r
+    }
+
+    /// Whether register `r` always holds a whole number within 32 bits: a variable of
+    /// [`Layout::whole_slots`], or a constant that is one (constants are never written).
+    pub fn is_whole(&self, r: Reg) -> bool {
+        if r < self.slot_count {
+            return self.whole_slots.get(r as usize).copied().unwrap_or(false);
+        }
+        let Some(&v) = r
+            .checked_sub(self.extra_base())
+            .and_then(|k| self.extra.get(k as usize))
+        else {
+            return false;
+        };
+        self.const_index.get(&v.to_bits()) == Some(&r) && f64::from(crate::fixed::trunc_i32(v)) == v
     }
 
     /// A fresh hidden register (loop limits and steps).
@@ -164,6 +194,9 @@ pub struct Chunk {
     pub file: String,
     /// The instructions.
     pub ops: Vec<Op>,
+    /// Per instruction: its integer operands are sure to be whole numbers within 32 bits, so
+    /// the interpreter takes them without testing ([`whole`]).
+    pub sure: Vec<bool>,
     /// One past the largest register the interpreter's loop uses unchecked
     /// ([`Op::max_register`]): the value array must be at least this long.
     pub regs_end: usize,
@@ -281,7 +314,9 @@ impl<'a> Compiler<'a> {
             return Err(self.problems);
         }
         let temps = self.layout.temp_base()..self.layout.temp_base() + MAX_TEMPS;
+        let sure = whole::operands(&self.ops, &temps, &|r| self.layout.is_whole(r));
         bytecode::fuse(&mut self.ops, temps);
+        let sure = whole::per_instruction(&self.ops, &sure);
         let regs_end = self
             .ops
             .iter()
@@ -303,6 +338,7 @@ impl<'a> Compiler<'a> {
             program,
             file: file.to_string(),
             ops: self.ops,
+            sure,
             lines: self.lines,
             spans: self.spans,
             source: SourceFile::new(file, src),

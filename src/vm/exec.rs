@@ -243,10 +243,11 @@ pub fn run<'a>(
     // `band`/`bor`/`bxor` (`$op`) straight into the whole fixed-point slot `$dst`: two whole
     // 32-bit operands give a 32-bit result stored as it is; anything else is rounded first.
     macro_rules! bitwise_whole {
-        ($dst:expr, $a:expr, $b:expr, $op:tt, $here:expr) => {{
+        ($dst:expr, $a:expr, $b:expr, $op:tt, $here:expr, $sure:expr) => {{
             let (x, y) = (rd!($a as usize), rd!($b as usize));
             let (i, j) = (trunc_i32(x), trunc_i32(y));
-            if f64::from(i) == x && f64::from(j) == y {
+            if $sure || (f64::from(i) == x && f64::from(j) == y) {
+                debug_assert!(f64::from(i) == x && f64::from(j) == y, "{x}, {y} not sure");
                 store_whole!($dst, f64::from(i $op j));
             } else {
                 whole_of_int!($dst, int(x) $op int(y), $here);
@@ -256,11 +257,12 @@ pub fn run<'a>(
     // `band`/`bor`/`bxor` (`$op`) into `$t`, then `store.l $dst`: two whole 32-bit operands give
     // a 32-bit result stored as it is; anything else is rounded first, as the two instructions do.
     macro_rules! bitwise_long {
-        ($t:expr, $dst:expr, $a:expr, $b:expr, $op:tt, $here:expr) => {{
+        ($t:expr, $dst:expr, $a:expr, $b:expr, $op:tt, $here:expr, $sure:expr) => {{
             n += 1;
             let (x, y) = (rd!($a as usize), rd!($b as usize));
             let (i, j) = (trunc_i32(x), trunc_i32(y));
-            if f64::from(i) == x && f64::from(j) == y {
+            if $sure || (f64::from(i) == x && f64::from(j) == y) {
+                debug_assert!(f64::from(i) == x && f64::from(j) == y, "{x}, {y} not sure");
                 let r = f64::from(i $op j);
                 wr!($t as usize, r);
                 store_whole!($dst, r);
@@ -284,11 +286,12 @@ pub fn run<'a>(
     // The `imod t <- x MOD v[b]` at `$here` (`$x` its first operand's value) and the
     // `store.l $dst <- t` after it, counted (but for the first instruction) by the caller.
     macro_rules! mod_long {
-        ($t:expr, $dst:expr, $x:expr, $b:expr, $here:expr) => {{
+        ($t:expr, $dst:expr, $x:expr, $b:expr, $here:expr, $sure:expr) => {{
             let (t, dst, x, y): (u32, u32, f64, f64) = ($t, $dst, $x, rd!($b as usize));
             let (i, j) = (trunc_i32(x), trunc_i32(y));
-            if f64::from(i) == x && f64::from(j) == y && j != 0 {
-                // As `basic_mod`: the remainder has the sign of x, a zero one included
+            if ($sure || (f64::from(i) == x && f64::from(j) == y)) && j != 0 {
+                debug_assert!(f64::from(i) == x && f64::from(j) == y, "{x}, {y} not sure");
+                // As `basic_mod_of`: the remainder has the sign of x, a zero one included
                 // (the temporary's); the long stores it with a zero made 0.
                 let r = f64::from(i.wrapping_rem(j));
                 wr!(t as usize, r.copysign(x));
@@ -313,10 +316,11 @@ pub fn run<'a>(
     // The PowerTools `MOD` at `$here` of `$x` by `v[$b]` into the whole fixed-point slot `$dst`
     // (`Op::ModWhole`).
     macro_rules! mod_whole {
-        ($dst:expr, $x:expr, $b:expr, $here:expr) => {{
+        ($dst:expr, $x:expr, $b:expr, $here:expr, $sure:expr) => {{
             let (dst, x, y): (u32, f64, f64) = ($dst, $x, rd!($b as usize));
             let (i, j) = (trunc_i32(x), trunc_i32(y));
-            if f64::from(i) == x && f64::from(j) == y && j != 0 {
+            if ($sure || (f64::from(i) == x && f64::from(j) == y)) && j != 0 {
+                debug_assert!(f64::from(i) == x && f64::from(j) == y, "{x}, {y} not sure");
                 // As `int_rem`, whose remainder a whole fixed-point slot keeps as it is.
                 store_whole!(dst, f64::from(i.wrapping_rem(j)));
             } else {
@@ -381,6 +385,14 @@ pub fn run<'a>(
     // fixed slice, which keeps them in registers.
     'chunks: loop {
         let ops = &chunk.ops[..];
+        let sures = &chunk.sure[..];
+        // Whether the integer operands of the instruction at `$here` are sure to be whole numbers
+        // within 32 bits (`Chunk::sure`): then they are taken without the test.
+        macro_rules! sure {
+            ($here:expr) => {
+                sures.get($here as usize).copied().unwrap_or(false)
+            };
+        }
         loop {
             debug_assert!((pc as usize) < ops.len());
             // SAFETY: pc is inside the chunk: it was on entry (checked above) and every way it
@@ -411,38 +423,45 @@ pub fn run<'a>(
                         pc = here;
                         fault!("MOD by zero");
                     }
-                    wr!(dst as usize, int_rem(rd!(a as usize), y));
+                    wr!(dst as usize, int_rem_of(rd!(a as usize), y, sure!(here)));
                 }
-                Op::IMod { dst, a, b } => match basic_mod(rd!(a as usize), rd!(b as usize)) {
-                    Ok(r) => wr!(dst as usize, r),
-                    Err(message) => {
-                        pc = here;
-                        fault!("{message}");
+                Op::IMod { dst, a, b } => {
+                    match basic_mod_of(rd!(a as usize), rd!(b as usize), sure!(here)) {
+                        Ok(r) => wr!(dst as usize, r),
+                        Err(message) => {
+                            pc = here;
+                            fault!("{message}");
+                        }
                     }
-                },
-                Op::IDiv { dst, a, b } => match basic_div(rd!(a as usize), rd!(b as usize)) {
-                    Ok(r) => wr!(dst as usize, r),
-                    Err(message) => {
-                        pc = here;
-                        fault!("{message}");
+                }
+                Op::IDiv { dst, a, b } => {
+                    match basic_div_of(rd!(a as usize), rd!(b as usize), sure!(here)) {
+                        Ok(r) => wr!(dst as usize, r),
+                        Err(message) => {
+                            pc = here;
+                            fault!("{message}");
+                        }
                     }
-                },
+                }
                 Op::BitAnd { dst, a, b } => {
+                    let sure = sure!(here);
                     wr!(
                         dst as usize,
-                        (int(rd!(a as usize)) & int(rd!(b as usize))) as f64
+                        (int_of(rd!(a as usize), sure) & int_of(rd!(b as usize), sure)) as f64
                     )
                 }
                 Op::BitOr { dst, a, b } => {
+                    let sure = sure!(here);
                     wr!(
                         dst as usize,
-                        (int(rd!(a as usize)) | int(rd!(b as usize))) as f64
+                        (int_of(rd!(a as usize), sure) | int_of(rd!(b as usize), sure)) as f64
                     )
                 }
                 Op::BitXor { dst, a, b } => {
+                    let sure = sure!(here);
                     wr!(
                         dst as usize,
-                        (int(rd!(a as usize)) ^ int(rd!(b as usize))) as f64
+                        (int_of(rd!(a as usize), sure) ^ int_of(rd!(b as usize), sure)) as f64
                     )
                 }
                 // Superinstructions: the work of this instruction and the next, which is skipped;
@@ -470,7 +489,7 @@ pub fn run<'a>(
                 }
                 Op::IntLong { op, t, dst, a, b } => {
                     n += 1;
-                    match integer(op, rd!(a as usize), rd!(b as usize)) {
+                    match integer(op, rd!(a as usize), rd!(b as usize), sure!(here)) {
                         Ok(x) => {
                             wr!(t as usize, x);
                             store_long!(dst, x, here + 1);
@@ -486,7 +505,7 @@ pub fn run<'a>(
                 }
                 Op::ModLong { t, dst, a, b } => {
                     n += 1;
-                    mod_long!(t, dst, rd!(a as usize), b, here);
+                    mod_long!(t, dst, rd!(a as usize), b, here, sure!(here));
                 }
                 Op::AddModLong {
                     t,
@@ -500,7 +519,8 @@ pub fn run<'a>(
                     let (p, q) = if t_first { (t, x) } else { (x, t) };
                     let s = rd!(p as usize) + rd!(q as usize);
                     wr!(t as usize, s);
-                    mod_long!(t, dst, s, m, here + 1);
+                    // The sum is not known to be within 32 bits.
+                    mod_long!(t, dst, s, m, here + 1, false);
                 }
                 Op::AddModWhole {
                     t,
@@ -514,7 +534,7 @@ pub fn run<'a>(
                     let (p, q) = if t_first { (t, x) } else { (x, t) };
                     let s = rd!(p as usize) + rd!(q as usize);
                     wr!(t as usize, s);
-                    mod_whole!(dst, s, m, here + 1);
+                    mod_whole!(dst, s, m, here + 1, false);
                     pc = here + 2;
                 }
                 Op::NotAndLong {
@@ -526,9 +546,11 @@ pub fn run<'a>(
                 } => {
                     // `bnot` (here), then the `band` and `store.l` of an `AndLong` (here + 1).
                     n += 1;
-                    wr!(t as usize, !int(rd!(a as usize)) as f64);
+                    // Every instruction it runs (`Chunk::sure` of a superinstruction).
+                    let sure = sure!(here);
+                    wr!(t as usize, !int_of(rd!(a as usize), sure) as f64);
                     let (p, q) = if t_first { (t, b) } else { (b, t) };
-                    bitwise_long!(t, dst, p, q, &, here + 1);
+                    bitwise_long!(t, dst, p, q, &, here + 1, sure);
                 }
                 Op::NotAndWhole {
                     t,
@@ -539,9 +561,11 @@ pub fn run<'a>(
                 } => {
                     // `bnot` (here), then an `AndWhole` (here + 1).
                     n += 1;
-                    wr!(t as usize, !int(rd!(a as usize)) as f64);
+                    // Every instruction it runs (`Chunk::sure` of a superinstruction).
+                    let sure = sure!(here);
+                    wr!(t as usize, !int_of(rd!(a as usize), sure) as f64);
                     let (p, q) = if t_first { (t, b) } else { (b, t) };
-                    bitwise_whole!(dst, p, q, &, here + 1);
+                    bitwise_whole!(dst, p, q, &, here + 1, sure);
                     pc = here + 2;
                 }
                 Op::AndOr {
@@ -553,14 +577,16 @@ pub fn run<'a>(
                 } => {
                     // `band` (here), then `bor` (here + 1).
                     n += 1;
+                    // Every instruction it runs (`Chunk::sure` of a superinstruction).
+                    let sure = sure!(here);
                     wr!(
                         t as usize,
-                        (int(rd!(a as usize)) & int(rd!(b as usize))) as f64
+                        (int_of(rd!(a as usize), sure) & int_of(rd!(b as usize), sure)) as f64
                     );
                     let (p, q) = if t_first { (t, x) } else { (x, t) };
                     wr!(
                         t as usize,
-                        (int(rd!(p as usize)) | int(rd!(q as usize))) as f64
+                        (int_of(rd!(p as usize), sure) | int_of(rd!(q as usize), sure)) as f64
                     );
                     pc = here + 2;
                 }
@@ -573,12 +599,14 @@ pub fn run<'a>(
                 } => {
                     // `band` (here), then the `bxor` and `store.l` of a `XorLong` (here + 1).
                     n += 1;
+                    // Every instruction it runs (`Chunk::sure` of a superinstruction).
+                    let sure = sure!(here);
                     wr!(
                         t as usize,
-                        (int(rd!(a as usize)) & int(rd!(b as usize))) as f64
+                        (int_of(rd!(a as usize), sure) & int_of(rd!(b as usize), sure)) as f64
                     );
                     let (p, q) = if t_first { (t, dst) } else { (dst, t) };
-                    bitwise_long!(t, dst, p, q, ^, here + 1);
+                    bitwise_long!(t, dst, p, q, ^, here + 1, sure);
                 }
                 Op::AndXorWhole {
                     t,
@@ -589,12 +617,14 @@ pub fn run<'a>(
                 } => {
                     // `band` (here), then a `XorWhole` (here + 1).
                     n += 1;
+                    // Every instruction it runs (`Chunk::sure` of a superinstruction).
+                    let sure = sure!(here);
                     wr!(
                         t as usize,
-                        (int(rd!(a as usize)) & int(rd!(b as usize))) as f64
+                        (int_of(rd!(a as usize), sure) & int_of(rd!(b as usize), sure)) as f64
                     );
                     let (p, q) = if t_first { (t, dst) } else { (dst, t) };
-                    bitwise_whole!(dst, p, q, ^, here + 1);
+                    bitwise_whole!(dst, p, q, ^, here + 1, sure);
                     pc = here + 2;
                 }
                 Op::DivAddLong {
@@ -605,7 +635,7 @@ pub fn run<'a>(
                     t_first,
                 } => {
                     // `idiv` (here), then the `add` and `store.l` of an `AddLong` (here + 1).
-                    match basic_div(rd!(a as usize), rd!(b as usize)) {
+                    match basic_div_of(rd!(a as usize), rd!(b as usize), sure!(here)) {
                         Ok(q) => wr!(t as usize, q),
                         Err(message) => {
                             pc = here;
@@ -634,9 +664,9 @@ pub fn run<'a>(
                     check_long!(t, rd!(p as usize) + rd!(q as usize), here + 3);
                     pc = here + 4;
                 }
-                Op::AndLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, &, here),
-                Op::OrLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, |, here),
-                Op::XorLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, ^, here),
+                Op::AndLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, &, here, sure!(here)),
+                Op::OrLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, |, here, sure!(here)),
+                Op::XorLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, ^, here, sure!(here)),
                 Op::MulAdd { t, a, b, c } => {
                     n += 1;
                     wr!(t as usize, rd!(a as usize) * rd!(b as usize));
@@ -682,10 +712,12 @@ pub fn run<'a>(
                     wr!(t as usize, rd!(t as usize) - rd!(c as usize));
                     pc = here + 2;
                 }
-                Op::ModWhole { dst, a, b } => mod_whole!(dst, rd!(a as usize), b, here),
-                Op::AndWhole { dst, a, b } => bitwise_whole!(dst, a, b, &, here),
-                Op::OrWhole { dst, a, b } => bitwise_whole!(dst, a, b, |, here),
-                Op::XorWhole { dst, a, b } => bitwise_whole!(dst, a, b, ^, here),
+                Op::ModWhole { dst, a, b } => {
+                    mod_whole!(dst, rd!(a as usize), b, here, sure!(here))
+                }
+                Op::AndWhole { dst, a, b } => bitwise_whole!(dst, a, b, &, here, sure!(here)),
+                Op::OrWhole { dst, a, b } => bitwise_whole!(dst, a, b, |, here, sure!(here)),
+                Op::XorWhole { dst, a, b } => bitwise_whole!(dst, a, b, ^, here, sure!(here)),
                 Op::AddCheck { dst, a, b } => {
                     n += 1;
                     check_long!(dst, rd!(a as usize) + rd!(b as usize), here + 1);
@@ -786,7 +818,9 @@ pub fn run<'a>(
                 }
                 Op::Neg { dst, a } => wr!(dst as usize, -rd!(a as usize)),
                 Op::Not { dst, a } => wr!(dst as usize, f64::from(rd!(a as usize) == 0.0)),
-                Op::BitNot { dst, a } => wr!(dst as usize, !int(rd!(a as usize)) as f64),
+                Op::BitNot { dst, a } => {
+                    wr!(dst as usize, !int_of(rd!(a as usize), sure!(here)) as f64)
+                }
                 Op::Call { func, dst, a, b } => {
                     wr!(dst as usize, func.apply(rd!(a as usize), rd!(b as usize)))
                 }
@@ -1826,11 +1860,14 @@ fn basic_integer(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
 /// MotionBASIC `MOD`. Whole operands within 32 bits (every long is one) take the integer
 /// remainder: exactly what rounding them and `fmod` give, sign of a zero included, without
 /// libm. Anything else goes the general way ([`basic_integer`]).
+///
+/// `sure`: both are whole numbers within 32 bits (not tested again).
 #[inline(always)]
-fn basic_mod(x: f64, y: f64) -> Result<f64, &'static str> {
+fn basic_mod_of(x: f64, y: f64, sure: bool) -> Result<f64, &'static str> {
     let (i, j) = (trunc_i32(x), trunc_i32(y));
     // An out-of-range or NaN operand does not convert back to itself ([`trunc_i32`]).
-    if f64::from(i) == x && f64::from(j) == y && j != 0 {
+    if (sure || (f64::from(i) == x && f64::from(j) == y)) && j != 0 {
+        debug_assert!(f64::from(i) == x && f64::from(j) == y, "{x}, {y} not sure");
         // The remainder has the sign of x, a zero one included.
         Ok(f64::from(i.wrapping_rem(j)).copysign(x))
     } else {
@@ -1838,13 +1875,16 @@ fn basic_mod(x: f64, y: f64) -> Result<f64, &'static str> {
     }
 }
 
-/// MotionBASIC `\`, with the integer path of [`basic_mod`]: the quotient truncated toward
+/// MotionBASIC `\`, with the integer path of [`basic_mod_of`]: the quotient truncated toward
 /// zero, as `(x / y).trunc()` gives it (a float quotient of two 32-bit integers is never
 /// rounded across an integer).
+///
+/// `sure`: as [`basic_mod_of`].
 #[inline(always)]
-fn basic_div(x: f64, y: f64) -> Result<f64, &'static str> {
+fn basic_div_of(x: f64, y: f64, sure: bool) -> Result<f64, &'static str> {
     let (i, j) = (trunc_i32(x), trunc_i32(y));
-    if f64::from(i) == x && f64::from(j) == y && j != 0 && !(i == i32::MIN && j == -1) {
+    if (sure || (f64::from(i) == x && f64::from(j) == y)) && j != 0 && !(i == i32::MIN && j == -1) {
+        debug_assert!(f64::from(i) == x && f64::from(j) == y, "{x}, {y} not sure");
         let q = i / j;
         // A zero quotient has the sign of x / y.
         Ok(if q == 0 && x.is_sign_negative() != y.is_sign_negative() {
@@ -1858,14 +1898,16 @@ fn basic_div(x: f64, y: f64) -> Result<f64, &'static str> {
 }
 
 /// The integer operators a superinstruction stores into a long.
+///
+/// `sure`: both operands are whole numbers within 32 bits (untested).
 #[inline(always)]
-fn integer(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
+fn integer(op: BinaryOp, x: f64, y: f64, sure: bool) -> Result<f64, &'static str> {
     match op {
-        BinaryOp::BasicMod => basic_mod(x, y),
-        BinaryOp::IntDiv => basic_div(x, y),
-        BinaryOp::BitAnd => Ok((int(x) & int(y)) as f64),
-        BinaryOp::BitOr => Ok((int(x) | int(y)) as f64),
-        BinaryOp::BitXor => Ok((int(x) ^ int(y)) as f64),
+        BinaryOp::BasicMod => basic_mod_of(x, y, sure),
+        BinaryOp::IntDiv => basic_div_of(x, y, sure),
+        BinaryOp::BitAnd => Ok((int_of(x, sure) & int_of(y, sure)) as f64),
+        BinaryOp::BitOr => Ok((int_of(x, sure) | int_of(y, sure)) as f64),
+        BinaryOp::BitXor => Ok((int_of(x, sure) ^ int_of(y, sure)) as f64),
         _ => binary(op, x, y),
     }
 }
@@ -1896,6 +1938,17 @@ fn int(x: f64) -> i64 {
         i
     } else {
         x.round_ties_even() as i64
+    }
+}
+
+/// [`int`] of `x`, which is, when `sure`, a whole number within 32 bits (untested).
+#[inline(always)]
+fn int_of(x: f64, sure: bool) -> i64 {
+    if sure {
+        debug_assert!(f64::from(trunc_i32(x)) == x, "{x} not sure");
+        i64::from(trunc_i32(x))
+    } else {
+        int(x)
     }
 }
 
@@ -1996,10 +2049,17 @@ fn int16(x: f64) -> Option<f64> {
 /// `x MOD y` with the sign of `x`; exact and fast (no libm `fmod`) when both are whole numbers.
 #[inline(always)]
 fn int_rem(x: f64, y: f64) -> f64 {
+    int_rem_of(x, y, false)
+}
+
+/// [`int_rem`] of operands that are, when `sure`, whole numbers within 32 bits (untested).
+#[inline(always)]
+fn int_rem_of(x: f64, y: f64, sure: bool) -> f64 {
     // Within 32 bits (every integer variable) a 32-bit division, quicker than a 64-bit one;
     // both give the same remainder, a zero one as 0.
     let (i, j) = (trunc_i32(x), trunc_i32(y));
-    if f64::from(i) == x && f64::from(j) == y && j != 0 {
+    if (sure || (f64::from(i) == x && f64::from(j) == y)) && j != 0 {
+        debug_assert!(f64::from(i) == x && f64::from(j) == y, "{x}, {y} not sure");
         return f64::from(i.wrapping_rem(j));
     }
     let (a, b) = (x as i64, y as i64);
@@ -2049,7 +2109,9 @@ fn sync_snapshot(ctx: &mut Ctx<'_, '_>, v: &[f64]) {
 
 #[cfg(test)]
 mod tests {
-    use super::{basic_div, basic_integer, basic_mod, int_rem, BinaryOp};
+    use super::{
+        basic_div_of, basic_integer, basic_mod_of, int, int_of, int_rem, int_rem_of, BinaryOp,
+    };
 
     /// The integer paths of MOD and `\` give exactly (bit for bit, the sign of zero and every
     /// error included) what rounding both operands and dividing as reals gives.
@@ -2090,15 +2152,29 @@ mod tests {
         for &x in &values {
             for &y in &values {
                 assert_eq!(
-                    bits(basic_mod(x, y)),
+                    bits(basic_mod_of(x, y, false)),
                     bits(basic_integer(BinaryOp::BasicMod, x, y)),
                     "{x} MOD {y}"
                 );
                 assert_eq!(
-                    bits(basic_div(x, y)),
+                    bits(basic_div_of(x, y, false)),
                     bits(basic_integer(BinaryOp::IntDiv, x, y)),
                     "{x} \\ {y}"
                 );
+                // Operands known whole within 32 bits, taken untested, give the same.
+                let whole = |v: f64| f64::from(crate::fixed::trunc_i32(v)) == v;
+                if whole(x) && whole(y) {
+                    assert_eq!(
+                        bits(basic_mod_of(x, y, true)),
+                        bits(basic_mod_of(x, y, false))
+                    );
+                    assert_eq!(
+                        bits(basic_div_of(x, y, true)),
+                        bits(basic_div_of(x, y, false))
+                    );
+                    assert_eq!(int_rem_of(x, y, true).to_bits(), int_rem(x, y).to_bits());
+                    assert_eq!(int_of(x, true), int(x));
+                }
             }
         }
     }

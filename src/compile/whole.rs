@@ -1,0 +1,298 @@
+//! Which integer operators are sure to get whole operands within 32 bits.
+//!
+//! Every value is an `f64`, so an integer operator (`MOD`, `\`, `AND`, `OR`, `XOR`, `NOT`)
+//! first tests each operand: a whole number within 32 bits takes the integer instruction, any
+//! other is rounded first. The test costs two conversions and a comparison per operand, more
+//! than the operation. It always passes for a long, an INTEGER or a PowerTools variable without
+//! decimals (every store rounds into them), for a whole constant, and for a temporary an
+//! integer operator or a long's overflow check has just written. This finds the instructions
+//! whose integer operands are all of those, before fusion; [`per_instruction`] then gives each
+//! instruction of the fused chunk a flag the interpreter reads to skip the tests. The result is
+//! the same either way: the test only chooses between two ways to the same value.
+
+use super::bytecode::{BinaryOp, Op, Reg};
+use std::collections::BTreeMap;
+use std::ops::Range;
+
+/// What is known of a temporary's value at a point of the program.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+enum Known {
+    /// A whole number, perhaps outside 32 bits (a sum or product of wholes).
+    Whole,
+    /// A whole number within 32 bits.
+    Sure,
+}
+
+/// For each instruction of the unfused `ops`: true when every integer operand it reads is
+/// sure to be a whole number within 32 bits (vacuously true for an instruction without
+/// integer operands). `sure_reg` says which registers always are (variables, constants);
+/// temporaries (`temps`) are followed through straight-line code, and forgotten where control
+/// may arrive from elsewhere and after any instruction this does not follow.
+pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) -> Vec<bool> {
+    let mut entered = vec![false; ops.len() + 1];
+    for (i, op) in ops.iter().enumerate() {
+        if let Some(t) = op.target() {
+            if let Some(e) = entered.get_mut(t as usize) {
+                *e = true;
+            }
+        }
+        // A subroutine comes back to the instruction after its `GOSUB`.
+        if matches!(op, Op::Gosub { .. }) {
+            entered[i + 1] = true;
+        }
+    }
+    let mut known: BTreeMap<Reg, Known> = BTreeMap::new();
+    let mut out = Vec::with_capacity(ops.len());
+    for (i, &op) in ops.iter().enumerate() {
+        if entered[i] {
+            known.clear();
+        }
+        let level = |r: Reg| -> Option<Known> {
+            if temps.contains(&r) {
+                known.get(&r).copied()
+            } else if sure_reg(r) {
+                Some(Known::Sure)
+            } else {
+                None
+            }
+        };
+        let sure = |r: Reg| level(r) == Some(Known::Sure);
+        let whole = |r: Reg| level(r).is_some();
+        out.push(match op {
+            Op::IMod { a, b, .. }
+            | Op::IDiv { a, b, .. }
+            | Op::Mod { a, b, .. }
+            | Op::BitAnd { a, b, .. }
+            | Op::BitOr { a, b, .. }
+            | Op::BitXor { a, b, .. } => sure(a) && sure(b),
+            Op::ArithFixed {
+                op: BinaryOp::Mod | BinaryOp::BitAnd | BinaryOp::BitOr | BinaryOp::BitXor,
+                a,
+                b,
+                decimals: 0,
+                ..
+            } => sure(a) && sure(b),
+            Op::BitNot { a, .. } => sure(a),
+            _ => true,
+        });
+        // What the instruction leaves in a temporary it writes.
+        let wrote: Option<(Reg, Option<Known>)> = match op {
+            Op::Move { dst, src } => Some((dst, level(src))),
+            Op::Add { dst, a, b } | Op::Sub { dst, a, b } | Op::Mul { dst, a, b } => {
+                Some((dst, (whole(a) && whole(b)).then_some(Known::Whole)))
+            }
+            Op::CheckLong { r } | Op::CheckInt { r } => Some((r, whole(r).then_some(Known::Sure))),
+            // A quotient is checked within 32 bits whatever its operands.
+            Op::IDiv { dst, .. } | Op::Compare { dst, .. } => Some((dst, Some(Known::Sure))),
+            Op::IMod { dst, a, b }
+            | Op::Mod { dst, a, b }
+            | Op::BitAnd { dst, a, b }
+            | Op::BitOr { dst, a, b }
+            | Op::BitXor { dst, a, b } => Some((dst, (sure(a) && sure(b)).then_some(Known::Sure))),
+            Op::BitNot { dst, a } => Some((dst, sure(a).then_some(Known::Sure))),
+            // Stores into variables, and jumps that fall through, leave temporaries alone.
+            Op::StoreLong { dst, .. }
+            | Op::StoreInt { dst, .. }
+            | Op::StoreFixed { dst, .. }
+            | Op::StoreReal { dst, .. }
+            | Op::StoreBit { dst, .. }
+            | Op::ArithFixed { dst, .. } => Some((dst, None)),
+            Op::JumpIfFalse { .. }
+            | Op::JumpIfTrue { .. }
+            | Op::JumpUnlessLt { .. }
+            | Op::JumpUnlessLe { .. }
+            | Op::JumpUnlessEq { .. }
+            | Op::JumpUnlessNe { .. }
+            | Op::JumpWhenLt { .. }
+            | Op::JumpWhenLe { .. }
+            | Op::JumpWhenEq { .. }
+            | Op::JumpWhenNe { .. } => None,
+            _ => {
+                known.clear();
+                None
+            }
+        };
+        if let Some((dst, what)) = wrote {
+            if temps.contains(&dst) {
+                match what {
+                    Some(k) => known.insert(dst, k),
+                    None => known.remove(&dst),
+                };
+            }
+        }
+    }
+    out
+}
+
+/// The flag of each instruction of the fused `ops`: for a superinstruction, whether every
+/// instruction it does the work of has sure operands (`base`, from [`operands`] before
+/// fusion); an instruction left as it was keeps its own.
+pub fn per_instruction(ops: &[Op], base: &[bool]) -> Vec<bool> {
+    (0..ops.len())
+        .map(|i| {
+            let span = covers(ops[i]);
+            base.get(i..i + span)
+                .is_some_and(|halves| halves.iter().all(|&s| s))
+        })
+        .collect()
+}
+
+/// How many adjacent instructions `op` does the work of, for the superinstructions whose
+/// integer operands the interpreter may take without the test.
+fn covers(op: Op) -> usize {
+    match op {
+        Op::ModLong { .. }
+        | Op::IntLong { .. }
+        | Op::AndLong { .. }
+        | Op::OrLong { .. }
+        | Op::XorLong { .. }
+        | Op::NotAndWhole { .. }
+        | Op::AndOr { .. }
+        | Op::AndXorWhole { .. } => 2,
+        Op::NotAndLong { .. } | Op::AndXorLong { .. } | Op::DivAddLong { .. } => 3,
+        _ => 1,
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const T: Reg = 100;
+
+    fn temps() -> Range<Reg> {
+        T..T + 8
+    }
+
+    /// Registers below 10 are long variables, 50 a whole constant; others are reals.
+    fn sure_reg(r: Reg) -> bool {
+        r < 10 || r == 50
+    }
+
+    #[test]
+    fn variables_constants_and_checked_temporaries_are_sure() {
+        let ops = [
+            // A& * 75 + 74, checked, MOD 65537 (constant), stored.
+            Op::Mul {
+                dst: T,
+                a: 1,
+                b: 50,
+            },
+            Op::CheckLong { r: T },
+            Op::Add {
+                dst: T,
+                a: T,
+                b: 50,
+            },
+            Op::CheckLong { r: T },
+            Op::IMod {
+                dst: T,
+                a: T,
+                b: 50,
+            },
+            Op::StoreLong { dst: 1, src: T },
+            // A real variable (20) is not sure, nor what it makes.
+            Op::BitAnd {
+                dst: T,
+                a: 20,
+                b: 1,
+            },
+            Op::BitOr { dst: T, a: T, b: 2 },
+            // A sum not checked may be past 32 bits.
+            Op::Add {
+                dst: T + 1,
+                a: 1,
+                b: 2,
+            },
+            Op::IMod {
+                dst: T + 1,
+                a: T + 1,
+                b: 50,
+            },
+            // NOT of a long is sure, and so is the AND of it.
+            Op::BitNot { dst: T + 2, a: 3 },
+            Op::BitAnd {
+                dst: T + 2,
+                a: T + 2,
+                b: 50,
+            },
+            Op::End,
+        ];
+        let sure = operands(&ops, &temps(), &sure_reg);
+        assert_eq!(
+            sure,
+            [true, true, true, true, true, true, false, false, true, false, true, true, true]
+        );
+    }
+
+    #[test]
+    fn temporaries_are_forgotten_where_control_arrives_and_after_other_instructions() {
+        let ops = [
+            Op::IMod { dst: T, a: 1, b: 2 },
+            // A jump lands on the next instruction: t may come from elsewhere.
+            Op::BitAnd {
+                dst: T + 1,
+                a: T,
+                b: 1,
+            },
+            Op::Jump { target: 1 },
+            Op::IMod { dst: T, a: 1, b: 2 },
+            // A division (a real result) forgets t.
+            Op::Div { dst: T, a: 1, b: 2 },
+            Op::BitAnd {
+                dst: T + 1,
+                a: T,
+                b: 1,
+            },
+            Op::IMod { dst: T, a: 1, b: 2 },
+            // Any instruction not followed forgets every temporary.
+            Op::PrintLine,
+            Op::BitAnd {
+                dst: T + 1,
+                a: T,
+                b: 1,
+            },
+            Op::IMod { dst: T, a: 1, b: 2 },
+            Op::Gosub { target: 11 },
+            // The subroutine comes back here.
+            Op::BitAnd {
+                dst: T + 1,
+                a: T,
+                b: 1,
+            },
+            Op::End,
+        ];
+        let sure = operands(&ops, &temps(), &sure_reg);
+        assert_eq!(
+            sure,
+            [true, false, true, true, true, false, true, true, false, true, true, false, true]
+        );
+    }
+
+    #[test]
+    fn a_superinstruction_is_sure_when_every_instruction_it_runs_is() {
+        let fused = [
+            Op::ModLong {
+                t: T,
+                dst: 1,
+                a: 1,
+                b: 50,
+            },
+            Op::StoreLong { dst: 1, src: T },
+            Op::AndLong {
+                t: T,
+                dst: 1,
+                a: 20,
+                b: 50,
+            },
+            Op::StoreLong { dst: 1, src: T },
+        ];
+        let base = [true, true, false, true];
+        assert_eq!(per_instruction(&fused, &base), [true, true, false, true]);
+        // The last instruction's halves run past the end: not sure.
+        assert_eq!(
+            per_instruction(&fused[..3], &base[..3]),
+            [true, true, false]
+        );
+    }
+}
