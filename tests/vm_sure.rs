@@ -226,3 +226,108 @@ fn integer_reading(op: &Op) -> bool {
             | Op::DivAddLong { .. }
     )
 }
+
+/// The error a MotionBASIC program ends with: its line and message.
+fn mb_error(name: &str, program: &str) -> (u32, String) {
+    let run = match load_memory(
+        name,
+        &[("x.mb", program), ("machine.toml", &machine("x.mb", ""))],
+    ) {
+        Ok(l) => run_loaded(l),
+        Err(d) => panic!("{}", d.render_plain()),
+    };
+    let e = run
+        .summary
+        .error
+        .as_ref()
+        .expect("the run ends with an error");
+    (e.line, e.message.clone())
+}
+
+#[test]
+fn whole_stores_and_loops_overflow_as_tested_ones_do() {
+    // A sum of longs past 32 bits, stored untested (only its range) and tested (through a
+    // real zero).
+    let sure = mb_error("sure-sum", "A& = 2147483646\nA& = A& + 1\nA& = A& + 1\n");
+    let tested = mb_error(
+        "tested-sum",
+        "R = 0\nA& = 2147483646\nA& = A& + R + 1\nA& = A& + R + 1\n",
+    );
+    assert_eq!(sure.0, 3);
+    assert_eq!(tested.0, 4);
+    assert_eq!(sure.1, tested.1);
+    assert!(sure.1.to_lowercase().contains("overflow"), "{}", sure.1);
+    // A FOR of an INTEGER past 16 bits, by a whole step and by a real one.
+    let sure = mb_error(
+        "sure-for",
+        "N& = 0\nFOR I% = 32760 TO 32767\n  N& = N& + 1\nNEXT\n",
+    );
+    let tested = mb_error(
+        "tested-for",
+        "N& = 0\nS = 1\nFOR I% = 32760 TO 32767 STEP S\n  N& = N& + 1\nNEXT\n",
+    );
+    assert_eq!(sure.1, tested.1);
+    assert!(sure.1.to_lowercase().contains("overflow"), "{}", sure.1);
+    // And of a long past 32 bits.
+    let sure = mb_error(
+        "sure-for-long",
+        "FOR I& = 2147483640 TO 2147483647 STEP 4\nNEXT\n",
+    );
+    let tested = mb_error(
+        "tested-for-long",
+        "S = 4\nFOR I& = 2147483640 TO 2147483647 STEP S\nNEXT\n",
+    );
+    assert_eq!(sure.1, tested.1);
+    assert!(sure.1.to_lowercase().contains("overflow"), "{}", sure.1);
+}
+
+#[test]
+fn whole_loops_and_stores_count_as_tested_ones_do() {
+    let program = "T& = 0\nK% = 0\nFOR I& = -5 TO 20 STEP 3\n  T& = T& + I& * 2 - 1\n  K% = K% + 1\nNEXT\nFOR J% = 10 TO -10 STEP -4\n  T& = T& - J%\n  K% = K% - 1\nNEXT\nDIM E&(3)\nE&(1) = T& + K%\n";
+    let loaded = match load_memory(
+        "sure-loops",
+        &[("x.mb", program), ("machine.toml", &machine("x.mb", ""))],
+    ) {
+        Ok(l) => l,
+        Err(d) => panic!("{}", d.render_plain()),
+    };
+    // Both loops count untested; every long and INTEGER store of a sum is range-tested only.
+    let chunk = &loaded.image.chunks[0];
+    let flagged = |want: fn(&Op) -> bool| {
+        chunk
+            .ops
+            .iter()
+            .zip(&chunk.sure)
+            .filter(|(op, _)| want(op))
+            .map(|(_, &s)| s)
+            .collect::<Vec<bool>>()
+    };
+    assert_eq!(flagged(|op| matches!(op, Op::ForNext { .. })), [true, true]);
+    let stores = flagged(|op| {
+        matches!(
+            op,
+            Op::AddLong { .. } | Op::SubLong { .. } | Op::StoreLong { .. } | Op::StoreInt { .. }
+        )
+    });
+    assert!(stores.len() >= 4 && stores.iter().all(|&s| s), "{stores:?}");
+    let run = run_loaded(loaded);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    // I& = -5, -2, …, 19 (9 values, sum 63): T& = 2·63 − 9 = 117; J% = 10, 6, …, -10 (6
+    // values, sum 0); K% = 9 − 6 = 3; past their ends I& = 22 and J% = -14.
+    for (name, want) in [
+        ("T&", 117.0),
+        ("K%", 3.0),
+        ("I&", 22.0),
+        ("J%", -14.0),
+        ("E&(1)", 120.0),
+    ] {
+        let slot = run
+            .machine
+            .registry()
+            .slots
+            .iter()
+            .position(|s| s.name.eq_ignore_ascii_case(name));
+        let got = slot.map(|s| run.machine.values()[s]);
+        assert_eq!(got, Some(want), "{name}");
+    }
+}

@@ -1,16 +1,20 @@
-//! Which integer operators are sure to get whole operands within 32 bits.
+//! Which integer operators are sure to get whole operands within 32 bits, and which stores
+//! into integer variables whole values.
 //!
 //! Every value is an `f64`, so an integer operator (`MOD`, `\`, `AND`, `OR`, `XOR`, `NOT`)
 //! first tests each operand: a whole number within 32 bits takes the integer instruction, any
 //! other is rounded first. The test costs two conversions and a comparison per operand, more
 //! than the operation. It always passes for a long, an INTEGER or a PowerTools variable without
 //! decimals (every store rounds into them), for a whole constant, and for a temporary an
-//! integer operator or a long's overflow check has just written. This finds the instructions
-//! whose integer operands are all of those, before fusion; [`per_instruction`] then gives each
-//! instruction of the fused chunk a flag the interpreter reads to skip the tests. The result is
-//! the same either way: the test only chooses between two ways to the same value.
+//! integer operator or a long's overflow check has just written. A store into such a variable
+//! tests its value the same way, then rounds it; a value known whole (a sum, difference or
+//! product of those) needs only its range checked, and a `FOR` counting a long by a whole step
+//! neither. This finds the instructions whose operands are all of those, before fusion;
+//! [`per_instruction`] then gives each instruction of the fused chunk a flag the interpreter
+//! reads to skip the tests. The result is the same either way: the test only chooses between
+//! two ways to the same value.
 
-use super::bytecode::{BinaryOp, Op, Reg};
+use super::bytecode::{BinaryOp, Op, Reg, INT_STORE};
 use std::collections::BTreeMap;
 use std::ops::Range;
 
@@ -24,10 +28,14 @@ enum Known {
 }
 
 /// For each instruction of the unfused `ops`: true when every integer operand it reads is
-/// sure to be a whole number within 32 bits (vacuously true for an instruction without
-/// integer operands). `sure_reg` says which registers always are (variables, constants);
+/// sure to be a whole number within 32 bits, when the value a store into a long, an INTEGER
+/// or a whole fixed-point slot stores is whole (within 32 bits or not: it is checked), and
+/// when a `for.next` adds a whole step to a sure variable; vacuously true for any other
+/// instruction. `sure_reg` says which registers always are sure (variables, constants);
 /// temporaries (`temps`) are followed through straight-line code, and forgotten where control
-/// may arrive from elsewhere and after any instruction this does not follow.
+/// may arrive from elsewhere and after any instruction this does not follow; the registers of
+/// a `FOR`'s limit and step (neither temporaries nor `sure_reg`'s) are written only by the
+/// `move` before the loop, and are whole when each such `move` copies a whole value.
 pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) -> Vec<bool> {
     let mut entered = vec![false; ops.len() + 1];
     for (i, op) in ops.iter().enumerate() {
@@ -42,6 +50,9 @@ pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) 
         }
     }
     let mut known: BTreeMap<Reg, Known> = BTreeMap::new();
+    // Per register outside the temporaries and `sure_reg`'s that a `move` writes: whether
+    // every such `move` copies a whole value.
+    let mut moved: BTreeMap<Reg, bool> = BTreeMap::new();
     let mut out = Vec::with_capacity(ops.len());
     for (i, &op) in ops.iter().enumerate() {
         if entered[i] {
@@ -73,14 +84,45 @@ pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) 
                 ..
             } => sure(a) && sure(b),
             Op::BitNot { a, .. } => sure(a),
+            Op::StoreLong { src, .. }
+            | Op::StoreInt { src, .. }
+            | Op::StoreFixed {
+                src, decimals: 0, ..
+            }
+            | Op::StoreIdx { src, .. }
+            | Op::StoreAt { src, .. } => whole(src),
+            Op::AddFixed {
+                a, b, decimals: 0, ..
+            }
+            | Op::SubFixed {
+                a, b, decimals: 0, ..
+            }
+            | Op::MulFixed {
+                a, b, decimals: 0, ..
+            } => whole(a) && whole(b),
+            // With decimals, a store rounds.
+            Op::StoreFixed { .. }
+            | Op::AddFixed { .. }
+            | Op::SubFixed { .. }
+            | Op::MulFixed { .. } => false,
+            // Decided below, once every `move` is seen.
+            Op::ForNext { .. } => false,
             _ => true,
         });
+        if let Op::Move { dst, src } = op {
+            if !temps.contains(&dst) && !sure_reg(dst) {
+                let w = whole(src);
+                moved.entry(dst).and_modify(|m| *m &= w).or_insert(w);
+            }
+        }
         // What the instruction leaves in a temporary it writes.
         let wrote: Option<(Reg, Option<Known>)> = match op {
             Op::Move { dst, src } => Some((dst, level(src))),
             Op::Add { dst, a, b } | Op::Sub { dst, a, b } | Op::Mul { dst, a, b } => {
                 Some((dst, (whole(a) && whole(b)).then_some(Known::Whole)))
             }
+            // -(-2147483648) is past 32 bits.
+            Op::Neg { dst, a } => Some((dst, whole(a).then_some(Known::Whole))),
             Op::CheckLong { r } | Op::CheckInt { r } => Some((r, whole(r).then_some(Known::Sure))),
             // A quotient is checked within 32 bits whatever its operands.
             Op::IDiv { dst, .. } | Op::Compare { dst, .. } => Some((dst, Some(Known::Sure))),
@@ -121,6 +163,21 @@ pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) 
             }
         }
     }
+    // A `for.next` of a whole variable (a long, an INTEGER, a PowerTools variable without
+    // decimals) by a whole step: the sum is whole, and never -0 (the variable never is).
+    for (i, &op) in ops.iter().enumerate() {
+        if let Op::ForNext {
+            var,
+            limit,
+            decimals: 0 | INT_STORE,
+            ..
+        } = op
+        {
+            let step = limit.checked_add(1);
+            out[i] = sure_reg(var)
+                && step.is_some_and(|s| !temps.contains(&s) && moved.get(&s) == Some(&true));
+        }
+    }
     out
 }
 
@@ -138,10 +195,13 @@ pub fn per_instruction(ops: &[Op], base: &[bool]) -> Vec<bool> {
 }
 
 /// How many adjacent instructions `op` does the work of, for the superinstructions whose
-/// integer operands the interpreter may take without the test.
+/// operands the interpreter may take without the test.
 fn covers(op: Op) -> usize {
     match op {
-        Op::ModLong { .. }
+        Op::AddLong { .. }
+        | Op::SubLong { .. }
+        | Op::MulLong { .. }
+        | Op::ModLong { .. }
         | Op::IntLong { .. }
         | Op::AndLong { .. }
         | Op::OrLong { .. }
@@ -157,6 +217,7 @@ fn covers(op: Op) -> usize {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::compile::bytecode::REAL_STORE;
 
     const T: Reg = 100;
 
@@ -266,6 +327,80 @@ mod tests {
         assert_eq!(
             sure,
             [true, false, true, true, true, false, true, true, false, true, true, false, true]
+        );
+    }
+
+    #[test]
+    fn stores_of_whole_values_and_loops_of_whole_steps_are_flagged() {
+        let (limit, step) = (60, 61);
+        let ops = [
+            // FOR with a whole step (a constant) into a long.
+            Op::Move { dst: limit, src: 1 },
+            Op::Move { dst: step, src: 50 },
+            Op::ForCheck {
+                var: 2,
+                limit,
+                exit: 9,
+            },
+            // A sum of longs, stored: whole, perhaps past 32 bits.
+            Op::Add { dst: T, a: 1, b: 2 },
+            Op::StoreLong { dst: 3, src: T },
+            // A sum with a real is not.
+            Op::Add {
+                dst: T,
+                a: 1,
+                b: 20,
+            },
+            Op::StoreLong { dst: 3, src: T },
+            // Into a whole fixed-point slot, and into one with decimals (which rounds).
+            Op::AddFixed {
+                dst: 4,
+                a: 1,
+                b: 50,
+                decimals: 0,
+            },
+            Op::AddFixed {
+                dst: 4,
+                a: 1,
+                b: 50,
+                decimals: 2,
+            },
+            Op::ForNext {
+                var: 2,
+                limit,
+                body: 3,
+                decimals: 0,
+            },
+            // The same loop by a real step, and a loop of a real variable.
+            Op::Move {
+                dst: step + 2,
+                src: 20,
+            },
+            Op::ForNext {
+                var: 2,
+                limit: step + 1,
+                body: 3,
+                decimals: 0,
+            },
+            Op::Move {
+                dst: step + 4,
+                src: 50,
+            },
+            Op::ForNext {
+                var: 20,
+                limit: step + 3,
+                body: 3,
+                decimals: REAL_STORE,
+            },
+            Op::End,
+        ];
+        let sure = operands(&ops, &temps(), &sure_reg);
+        assert_eq!(
+            sure,
+            [
+                true, true, true, true, true, true, false, true, false, true, true, false, true,
+                false, true
+            ]
         );
     }
 

@@ -144,10 +144,18 @@ pub fn run<'a>(
     }
     // Store `$x` into the fixed-point slot `$dst`, faulting at this instruction when it does
     // not fit, and trace the write.
+    // `$whole`: `$x` is a whole number (or not finite) and `$decimals` 0, so only its range
+    // is tested (`Chunk::sure`).
     macro_rules! store_fixed {
-        ($dst:expr, $x:expr, $decimals:expr, $here:expr) => {{
+        ($dst:expr, $x:expr, $decimals:expr, $here:expr, $whole:expr) => {{
             let (dst, x, decimals) = ($dst, $x, $decimals);
-            let Some(val) = fixed(x, decimals) else {
+            let quick = if $whole {
+                debug_assert!(decimals == 0 && (!x.is_finite() || x.fract() == 0.0), "{x}");
+                whole_in_range(x)
+            } else {
+                None
+            };
+            let Some(val) = quick.or_else(|| fixed(x, decimals)) else {
                 return cold_overflow(ctx, dst, x, decimals, $here, executed, n);
             };
             wr!(dst as usize, val);
@@ -159,13 +167,19 @@ pub fn run<'a>(
     // Store `$x` into the MotionBASIC long `$dst`: a whole number within 32 bits as it is (one
     // conversion each way, no libm), anything else rounded half to even; an Overflow at this
     // instruction outside 32 bits.
+    // `$whole`: `$x` is known to be a whole number (or not finite): only its range is tested.
     macro_rules! store_long {
-        ($dst:expr, $x:expr, $here:expr) => {{
+        ($dst:expr, $x:expr, $here:expr, $whole:expr) => {{
             let (dst, x) = ($dst, $x);
-            let i = trunc_i32(x);
+            let fits = if $whole {
+                debug_assert!(!x.is_finite() || x.fract() == 0.0, "{x} not whole");
+                (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x)
+            } else {
+                f64::from(trunc_i32(x)) == x
+            };
             // `x + 0.0` is x with a -0 made 0, as `f64::from(i)` would be, but does not wait
             // for the conversions (the comparison only steers a predicted branch).
-            let val = if f64::from(i) == x {
+            let val = if fits {
                 x + 0.0
             } else {
                 match round_long(x) {
@@ -199,9 +213,15 @@ pub fn run<'a>(
     // Store `$x` into the MotionBASIC INTEGER `$dst`: rounded as a long is, an Overflow outside
     // 16 bits.
     macro_rules! store_int {
-        ($dst:expr, $x:expr, $here:expr) => {{
+        ($dst:expr, $x:expr, $here:expr, $whole:expr) => {{
             let (dst, x) = ($dst, $x);
-            match int16(x) {
+            let quick = if $whole {
+                debug_assert!(!x.is_finite() || x.fract() == 0.0, "{x} not whole");
+                Some(x + 0.0).filter(|x| (-32768.0..=32767.0).contains(x))
+            } else {
+                None
+            };
+            match quick.or_else(|| int16(x)) {
                 Some(val) => {
                     wr!(dst as usize, val);
                     if dst < trace_below {
@@ -236,7 +256,7 @@ pub fn run<'a>(
             wr!($t as usize, r as f64);
             match i32::try_from(r) {
                 Ok(r) => store_whole!($dst, f64::from(r)),
-                Err(_) => store_long!($dst, r as f64, $here + 1),
+                Err(_) => store_long!($dst, r as f64, $here + 1, false),
             }
         }};
     }
@@ -279,7 +299,7 @@ pub fn run<'a>(
             let r: i64 = $r;
             match i32::try_from(r) {
                 Ok(r) => store_whole!($dst, f64::from(r)),
-                Err(_) => store_fixed!($dst, r as f64, 0, $here),
+                Err(_) => store_fixed!($dst, r as f64, 0, $here, false),
             }
         }};
     }
@@ -300,7 +320,7 @@ pub fn run<'a>(
                 match basic_integer(BinaryOp::BasicMod, x, y) {
                     Ok(x) => {
                         wr!(t as usize, x);
-                        store_long!(dst, x, $here + 1);
+                        store_long!(dst, x, $here + 1, false);
                     }
                     Err(message) => {
                         // The `imod` failed: the store was not reached.
@@ -325,7 +345,7 @@ pub fn run<'a>(
                 store_whole!(dst, f64::from(i.wrapping_rem(j)));
             } else {
                 match binary(BinaryOp::Mod, x, y) {
-                    Ok(x) => store_fixed!(dst, x, 0, $here),
+                    Ok(x) => store_fixed!(dst, x, 0, $here, false),
                     Err(message) => {
                         pc = $here;
                         fault!("{message}");
@@ -335,12 +355,32 @@ pub fn run<'a>(
         }};
     }
     // The end of a `For` body at instruction `$here` (see `Op::ForNext`).
+    // `$sure`: a whole variable (a long, an INTEGER, a PowerTools variable without decimals)
+    // and a step known to be whole (`Chunk::sure`): their sum is whole (or not finite), and
+    // not -0 (the variable never is), so it is stored as it is when within range.
     macro_rules! for_next {
-        ($var:expr, $limit:expr, $body:expr, $decimals:expr, $here:expr) => {{
+        ($var:expr, $limit:expr, $body:expr, $decimals:expr, $here:expr, $sure:expr) => {{
             let (var, limit, body, decimals) = ($var, $limit, $body, $decimals);
             let s = rd!(limit as usize + 1);
-            let x = rd!(var as usize) + s;
-            let val = if decimals == REAL_STORE {
+            let v = rd!(var as usize);
+            let x = v + s;
+            let val = if $sure {
+                debug_assert!(
+                    f64::from(trunc_i32(v)) == v && (!s.is_finite() || s.fract() == 0.0),
+                    "{v}, {s} not sure"
+                );
+                let low = if decimals == INT_STORE {
+                    -32768.0
+                } else {
+                    f64::from(i32::MIN)
+                };
+                let high = if decimals == INT_STORE {
+                    32767.0
+                } else {
+                    f64::from(i32::MAX)
+                };
+                Some(x).filter(|x| (low..=high).contains(x))
+            } else if decimals == REAL_STORE {
                 Some(x).filter(|x| x.is_finite())
             } else if decimals == INT_STORE {
                 int16(x)
@@ -470,21 +510,21 @@ pub fn run<'a>(
                     n += 1;
                     let x = rd!(a as usize) + rd!(b as usize);
                     wr!(t as usize, x);
-                    store_long!(dst, x, here + 1);
+                    store_long!(dst, x, here + 1, sure!(here));
                     pc = here + 2;
                 }
                 Op::SubLong { t, dst, a, b } => {
                     n += 1;
                     let x = rd!(a as usize) - rd!(b as usize);
                     wr!(t as usize, x);
-                    store_long!(dst, x, here + 1);
+                    store_long!(dst, x, here + 1, sure!(here));
                     pc = here + 2;
                 }
                 Op::MulLong { t, dst, a, b } => {
                     n += 1;
                     let x = rd!(a as usize) * rd!(b as usize);
                     wr!(t as usize, x);
-                    store_long!(dst, x, here + 1);
+                    store_long!(dst, x, here + 1, sure!(here));
                     pc = here + 2;
                 }
                 Op::IntLong { op, t, dst, a, b } => {
@@ -492,7 +532,7 @@ pub fn run<'a>(
                     match integer(op, rd!(a as usize), rd!(b as usize), sure!(here)) {
                         Ok(x) => {
                             wr!(t as usize, x);
-                            store_long!(dst, x, here + 1);
+                            store_long!(dst, x, here + 1, sure!(here));
                             pc = here + 2;
                         }
                         Err(message) => {
@@ -646,7 +686,7 @@ pub fn run<'a>(
                     let (p, q) = if t_first { (t, dst) } else { (dst, t) };
                     let x = rd!(p as usize) + rd!(q as usize);
                     wr!(t as usize, x);
-                    store_long!(dst, x, here + 2);
+                    store_long!(dst, x, here + 2, sure!(here));
                     pc = here + 3;
                 }
                 Op::MulAddCheck {
@@ -754,8 +794,10 @@ pub fn run<'a>(
                     store_real!(dst, x, here + 1);
                     pc = here + 2;
                 }
-                Op::StoreLong { dst, src } => store_long!(dst, rd!(src as usize), here),
-                Op::StoreInt { dst, src } => store_int!(dst, rd!(src as usize), here),
+                Op::StoreLong { dst, src } => {
+                    store_long!(dst, rd!(src as usize), here, sure!(here))
+                }
+                Op::StoreInt { dst, src } => store_int!(dst, rd!(src as usize), here, sure!(here)),
                 Op::CheckLong { r } => check_long!(r, rd!(r as usize), here),
                 Op::CheckInt { r } => {
                     let x = rd!(r as usize);
@@ -779,7 +821,13 @@ pub fn run<'a>(
                     b,
                     decimals,
                 } => {
-                    store_fixed!(dst, rd!(a as usize) + rd!(b as usize), decimals, here)
+                    store_fixed!(
+                        dst,
+                        rd!(a as usize) + rd!(b as usize),
+                        decimals,
+                        here,
+                        sure!(here) && decimals == 0
+                    )
                 }
                 Op::SubFixed {
                     dst,
@@ -787,7 +835,13 @@ pub fn run<'a>(
                     b,
                     decimals,
                 } => {
-                    store_fixed!(dst, rd!(a as usize) - rd!(b as usize), decimals, here)
+                    store_fixed!(
+                        dst,
+                        rd!(a as usize) - rd!(b as usize),
+                        decimals,
+                        here,
+                        sure!(here) && decimals == 0
+                    )
                 }
                 Op::MulFixed {
                     dst,
@@ -795,7 +849,13 @@ pub fn run<'a>(
                     b,
                     decimals,
                 } => {
-                    store_fixed!(dst, rd!(a as usize) * rd!(b as usize), decimals, here)
+                    store_fixed!(
+                        dst,
+                        rd!(a as usize) * rd!(b as usize),
+                        decimals,
+                        here,
+                        sure!(here) && decimals == 0
+                    )
                 }
                 Op::ArithFixed {
                     op,
@@ -804,7 +864,7 @@ pub fn run<'a>(
                     b,
                     decimals,
                 } => match binary(op, rd!(a as usize), rd!(b as usize)) {
-                    Ok(x) => store_fixed!(dst, x, decimals, here),
+                    Ok(x) => store_fixed!(dst, x, decimals, here, false),
                     Err(message) => {
                         pc = here;
                         fault!("{message}");
@@ -825,7 +885,13 @@ pub fn run<'a>(
                     wr!(dst as usize, func.apply(rd!(a as usize), rd!(b as usize)))
                 }
                 Op::StoreFixed { dst, src, decimals } => {
-                    store_fixed!(dst, rd!(src as usize), decimals, here)
+                    store_fixed!(
+                        dst,
+                        rd!(src as usize),
+                        decimals,
+                        here,
+                        sure!(here) && decimals == 0
+                    )
                 }
                 Op::StoreReal { dst, src } => store_real!(dst, rd!(src as usize), here),
                 Op::StoreBit { dst, src } => {
@@ -980,7 +1046,7 @@ pub fn run<'a>(
                     limit,
                     body,
                     decimals,
-                } => for_next!(var, limit, body, decimals, here),
+                } => for_next!(var, limit, body, decimals, here, sure!(here)),
                 Op::JumpNext {
                     var,
                     limit,
@@ -991,7 +1057,7 @@ pub fn run<'a>(
                     // The jump, then the `for.next` at `at`.
                     n += 1;
                     pc = at + 1;
-                    for_next!(var, limit, body, decimals, at);
+                    for_next!(var, limit, body, decimals, at, sure!(at));
                 }
                 Op::WaitUntil { cond, retry } => {
                     let value = rd!(cond as usize) != 0.0;
@@ -1225,13 +1291,13 @@ pub fn run<'a>(
                     let dst = base + i;
                     let x = rd!(src as usize);
                     if decimals == 0 {
-                        store_long!(dst, x, here)
+                        store_long!(dst, x, here, sure!(here))
                     } else if decimals == REAL_STORE {
                         store_real!(dst, x, here)
                     } else if decimals == INT_STORE {
-                        store_int!(dst, x, here)
+                        store_int!(dst, x, here, sure!(here))
                     } else {
-                        store_fixed!(dst, x, decimals, here)
+                        store_fixed!(dst, x, decimals, here, false)
                     }
                 }
                 Op::Subscript { dst, src, len } => {
@@ -1271,13 +1337,13 @@ pub fn run<'a>(
                     let dst = base + o as u32;
                     let x = rd!(src as usize);
                     if decimals == INT_STORE {
-                        store_int!(dst, x, here)
+                        store_int!(dst, x, here, sure!(here))
                     } else if decimals == 0 {
-                        store_long!(dst, x, here)
+                        store_long!(dst, x, here, sure!(here))
                     } else if decimals == REAL_STORE {
                         store_real!(dst, x, here)
                     } else {
-                        store_fixed!(dst, x, decimals, here)
+                        store_fixed!(dst, x, decimals, here, false)
                     }
                 }
                 Op::Ext { at } => {
@@ -2042,8 +2108,23 @@ fn overflow_message(ctx: &Ctx<'_, '_>, slot: u32, x: f64, decimals: u8) -> Strin
 /// `x` as a MotionBASIC INTEGER: rounded to the nearest whole number (halves to even), `None`
 /// outside 16 bits.
 fn int16(x: f64) -> Option<f64> {
-    let r = x.round_ties_even();
+    // A whole number (the common case) needs no rounding: `round_ties_even` is a library call
+    // on the x86-64 baseline.
+    let r = if f64::from(trunc_i32(x)) == x {
+        x
+    } else {
+        x.round_ties_even()
+    };
     (-32768.0..=32767.0).contains(&r).then_some(r + 0.0)
+}
+
+/// The whole number `x` (or a non-finite one) as a long or a whole fixed-point slot stores it
+/// (a -0 made 0), `None` outside 32 bits or not finite: only its range is tested.
+#[inline(always)]
+fn whole_in_range(x: f64) -> Option<f64> {
+    (f64::from(i32::MIN)..=f64::from(i32::MAX))
+        .contains(&x)
+        .then_some(x + 0.0)
 }
 
 /// `x MOD y` with the sign of `x`; exact and fast (no libm `fmod`) when both are whole numbers.
