@@ -194,14 +194,16 @@ pub struct Chunk {
     pub file: String,
     /// The instructions.
     pub ops: Vec<Op>,
-    /// Per instruction: its integer operands are sure to be whole numbers within 32 bits, so
-    /// the interpreter takes them without testing ([`whole`]).
-    pub sure: Vec<bool>,
+    /// Per instruction, what the compiler knows of its operands ([`whole::SURE`],
+    /// [`whole::WIDE`]: whole numbers, within 32 bits or not), which the interpreter then takes
+    /// without testing ([`whole`]).
+    pub sure: Vec<u8>,
     /// One past the largest register the interpreter's loop uses unchecked
     /// ([`Op::max_register`]): the value array must be at least this long.
     pub regs_end: usize,
-    /// The chunk ends with `End` and every jump stays inside it, so the interpreter fetches
-    /// instructions without a bounds check (it refuses a chunk that is not closed).
+    /// The chunk ends with `End`, every jump stays inside it and every instruction has its
+    /// [`Chunk::sure`] flag, so the interpreter fetches instructions and flags without a bounds
+    /// check (it refuses a chunk that is not closed).
     pub closed: bool,
     /// Source line of each instruction.
     pub lines: Vec<u32>,
@@ -325,9 +327,11 @@ impl<'a> Compiler<'a> {
             .max()
             .unwrap_or(0);
         // Every instruction the interpreter can reach is inside the chunk: it ends with `End`
-        // (so running on from any other instruction stays inside), and every target is inside.
+        // (so running on from any other instruction stays inside), and every target is inside;
+        // each has its flag.
         let len = self.ops.len();
         let closed = matches!(self.ops.last(), Some(Op::End))
+            && sure.len() == len
             && self
                 .ops
                 .iter()

@@ -18,6 +18,15 @@ use super::bytecode::{BinaryOp, Op, Reg, INT_STORE};
 use std::collections::BTreeMap;
 use std::ops::Range;
 
+/// Flag of [`per_instruction`]: the instruction's integer operands are whole numbers within 32
+/// bits; the value a store stores is whole; a `for.next` adds a whole step to a whole variable.
+pub const SURE: u8 = 1;
+
+/// Flag of [`per_instruction`]: a `MOD`'s first operand is whole (within 32 bits or not) and
+/// its second within 32 bits, so only the first's range is tested. Set with [`SURE`] on every
+/// instruction that is not a `MOD`.
+pub const WIDE: u8 = 2;
+
 /// What is known of a temporary's value at a point of the program.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 enum Known {
@@ -36,7 +45,7 @@ enum Known {
 /// may arrive from elsewhere and after any instruction this does not follow; the registers of
 /// a `FOR`'s limit and step (neither temporaries nor `sure_reg`'s) are written only by the
 /// `move` before the loop, and are whole when each such `move` copies a whole value.
-pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) -> Vec<bool> {
+pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) -> Vec<u8> {
     let mut entered = vec![false; ops.len() + 1];
     for (i, op) in ops.iter().enumerate() {
         if let Some(t) = op.target() {
@@ -69,7 +78,19 @@ pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) 
         };
         let sure = |r: Reg| level(r) == Some(Known::Sure);
         let whole = |r: Reg| level(r).is_some();
-        out.push(match op {
+        let wide = match op {
+            Op::IMod { a, b, .. }
+            | Op::Mod { a, b, .. }
+            | Op::ArithFixed {
+                op: BinaryOp::Mod,
+                a,
+                b,
+                decimals: 0,
+                ..
+            } => Some(whole(a) && sure(b)),
+            _ => None,
+        };
+        let flag = match op {
             Op::IMod { a, b, .. }
             | Op::IDiv { a, b, .. }
             | Op::Mod { a, b, .. }
@@ -108,7 +129,10 @@ pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) 
             // Decided below, once every `move` is seen.
             Op::ForNext { .. } => false,
             _ => true,
-        });
+        };
+        // Every instruction that is not a `MOD` has `WIDE` as it has `SURE`.
+        let wide = wide.unwrap_or(flag);
+        out.push((u8::from(flag) * SURE) | (u8::from(wide) * WIDE));
         if let Op::Move { dst, src } = op {
             if !temps.contains(&dst) && !sure_reg(dst) {
                 let w = whole(src);
@@ -126,11 +150,13 @@ pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) 
             Op::CheckLong { r } | Op::CheckInt { r } => Some((r, whole(r).then_some(Known::Sure))),
             // A quotient is checked within 32 bits whatever its operands.
             Op::IDiv { dst, .. } | Op::Compare { dst, .. } => Some((dst, Some(Known::Sure))),
-            Op::IMod { dst, a, b }
-            | Op::Mod { dst, a, b }
-            | Op::BitAnd { dst, a, b }
-            | Op::BitOr { dst, a, b }
-            | Op::BitXor { dst, a, b } => Some((dst, (sure(a) && sure(b)).then_some(Known::Sure))),
+            // A remainder is smaller than its divisor.
+            Op::IMod { dst, a, b } | Op::Mod { dst, a, b } => {
+                Some((dst, (whole(a) && sure(b)).then_some(Known::Sure)))
+            }
+            Op::BitAnd { dst, a, b } | Op::BitOr { dst, a, b } | Op::BitXor { dst, a, b } => {
+                Some((dst, (sure(a) && sure(b)).then_some(Known::Sure)))
+            }
             Op::BitNot { dst, a } => Some((dst, sure(a).then_some(Known::Sure))),
             // Stores into variables, and jumps that fall through, leave temporaries alone.
             Op::StoreLong { dst, .. }
@@ -174,22 +200,24 @@ pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) 
         } = op
         {
             let step = limit.checked_add(1);
-            out[i] = sure_reg(var)
+            let sure = sure_reg(var)
                 && step.is_some_and(|s| !temps.contains(&s) && moved.get(&s) == Some(&true));
+            out[i] = u8::from(sure) * (SURE | WIDE);
         }
     }
     out
 }
 
-/// The flag of each instruction of the fused `ops`: for a superinstruction, whether every
-/// instruction it does the work of has sure operands (`base`, from [`operands`] before
-/// fusion); an instruction left as it was keeps its own.
-pub fn per_instruction(ops: &[Op], base: &[bool]) -> Vec<bool> {
+/// The flags ([`SURE`], [`WIDE`]) of each instruction of the fused `ops`: for a
+/// superinstruction, those every instruction it does the work of has (`base`, from
+/// [`operands`] before fusion); an instruction left as it was keeps its own.
+pub fn per_instruction(ops: &[Op], base: &[u8]) -> Vec<u8> {
     (0..ops.len())
         .map(|i| {
             let span = covers(ops[i]);
-            base.get(i..i + span)
-                .is_some_and(|halves| halves.iter().all(|&s| s))
+            base.get(i..i + span).map_or(0, |halves| {
+                halves.iter().fold(SURE | WIDE, |all, &f| all & f)
+            })
         })
         .collect()
 }
@@ -209,7 +237,11 @@ fn covers(op: Op) -> usize {
         | Op::NotAndWhole { .. }
         | Op::AndOr { .. }
         | Op::AndXorWhole { .. } => 2,
-        Op::NotAndLong { .. } | Op::AndXorLong { .. } | Op::DivAddLong { .. } => 3,
+        Op::AddModWhole { .. } => 2,
+        Op::NotAndLong { .. }
+        | Op::AndXorLong { .. }
+        | Op::DivAddLong { .. }
+        | Op::AddModLong { .. } => 3,
         _ => 1,
     }
 }
@@ -223,6 +255,10 @@ mod tests {
 
     fn temps() -> Range<Reg> {
         T..T + 8
+    }
+
+    fn sure_bits(flags: &[u8]) -> Vec<bool> {
+        flags.iter().map(|f| f & SURE != 0).collect()
     }
 
     /// Registers below 10 are long variables, 50 a whole constant; others are reals.
@@ -279,7 +315,7 @@ mod tests {
             },
             Op::End,
         ];
-        let sure = operands(&ops, &temps(), &sure_reg);
+        let sure = sure_bits(&operands(&ops, &temps(), &sure_reg));
         assert_eq!(
             sure,
             [true, true, true, true, true, true, false, false, true, false, true, true, true]
@@ -323,7 +359,7 @@ mod tests {
             },
             Op::End,
         ];
-        let sure = operands(&ops, &temps(), &sure_reg);
+        let sure = sure_bits(&operands(&ops, &temps(), &sure_reg));
         assert_eq!(
             sure,
             [true, false, true, true, true, false, true, true, false, true, true, false, true]
@@ -394,7 +430,7 @@ mod tests {
             },
             Op::End,
         ];
-        let sure = operands(&ops, &temps(), &sure_reg);
+        let sure = sure_bits(&operands(&ops, &temps(), &sure_reg));
         assert_eq!(
             sure,
             [
@@ -422,12 +458,49 @@ mod tests {
             },
             Op::StoreLong { dst: 1, src: T },
         ];
-        let base = [true, true, false, true];
-        assert_eq!(per_instruction(&fused, &base), [true, true, false, true]);
+        const ALL: u8 = SURE | WIDE;
+        let base = [ALL, ALL, 0, ALL];
+        assert_eq!(per_instruction(&fused, &base), [ALL, ALL, 0, ALL]);
         // The last instruction's halves run past the end: not sure.
-        assert_eq!(
-            per_instruction(&fused[..3], &base[..3]),
-            [true, true, false]
-        );
+        assert_eq!(per_instruction(&fused[..3], &base[..3]), [ALL, ALL, 0]);
+    }
+
+    #[test]
+    fn a_mod_of_a_whole_sum_by_a_sure_divisor_is_wide() {
+        let ops = [
+            // (H& + B&) MOD 7: the sum is whole, perhaps past 32 bits.
+            Op::Add { dst: T, a: 1, b: 2 },
+            Op::IMod {
+                dst: T,
+                a: T,
+                b: 50,
+            },
+            Op::StoreLong { dst: 3, src: T },
+            // A MOD of the sum by a real is neither; its remainder is not known whole.
+            Op::Add { dst: T, a: 1, b: 2 },
+            Op::IMod {
+                dst: T,
+                a: T,
+                b: 20,
+            },
+            Op::StoreLong { dst: 3, src: T },
+            Op::End,
+        ];
+        let flags = operands(&ops, &temps(), &sure_reg);
+        const ALL: u8 = SURE | WIDE;
+        assert_eq!(flags, [ALL, WIDE, ALL, ALL, 0, 0, ALL]);
+        // Fused as `AddModLong` (add, imod, store): WIDE only.
+        let fused = [
+            Op::AddModLong {
+                t: T,
+                x: 2,
+                dst: 3,
+                m: 50,
+                t_first: true,
+            },
+            ops[1],
+            ops[2],
+        ];
+        assert_eq!(per_instruction(&fused, &flags[..3]), [WIDE, WIDE, ALL]);
     }
 }

@@ -305,11 +305,21 @@ pub fn run<'a>(
     }
     // The `imod t <- x MOD v[b]` at `$here` (`$x` its first operand's value) and the
     // `store.l $dst <- t` after it, counted (but for the first instruction) by the caller.
+    // `$sure`: both operands are whole numbers within 32 bits; `$wide`: `$x` is whole and
+    // `v[$b]` within 32 bits (only `$x`'s range is tested).
     macro_rules! mod_long {
-        ($t:expr, $dst:expr, $x:expr, $b:expr, $here:expr, $sure:expr) => {{
+        ($t:expr, $dst:expr, $x:expr, $b:expr, $here:expr, $sure:expr, $wide:expr) => {{
             let (t, dst, x, y): (u32, u32, f64, f64) = ($t, $dst, $x, rd!($b as usize));
             let (i, j) = (trunc_i32(x), trunc_i32(y));
-            if ($sure || (f64::from(i) == x && f64::from(j) == y)) && j != 0 {
+            let quick = if $sure {
+                true
+            } else if $wide {
+                debug_assert!(!x.is_finite() || x.fract() == 0.0, "{x} not whole");
+                (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x)
+            } else {
+                f64::from(i) == x && f64::from(j) == y
+            };
+            if quick && j != 0 {
                 debug_assert!(f64::from(i) == x && f64::from(j) == y, "{x}, {y} not sure");
                 // As `basic_mod_of`: the remainder has the sign of x, a zero one included
                 // (the temporary's); the long stores it with a zero made 0.
@@ -336,10 +346,18 @@ pub fn run<'a>(
     // The PowerTools `MOD` at `$here` of `$x` by `v[$b]` into the whole fixed-point slot `$dst`
     // (`Op::ModWhole`).
     macro_rules! mod_whole {
-        ($dst:expr, $x:expr, $b:expr, $here:expr, $sure:expr) => {{
+        ($dst:expr, $x:expr, $b:expr, $here:expr, $sure:expr, $wide:expr) => {{
             let (dst, x, y): (u32, f64, f64) = ($dst, $x, rd!($b as usize));
             let (i, j) = (trunc_i32(x), trunc_i32(y));
-            if ($sure || (f64::from(i) == x && f64::from(j) == y)) && j != 0 {
+            let quick = if $sure {
+                true
+            } else if $wide {
+                debug_assert!(!x.is_finite() || x.fract() == 0.0, "{x} not whole");
+                (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x)
+            } else {
+                f64::from(i) == x && f64::from(j) == y
+            };
+            if quick && j != 0 {
                 debug_assert!(f64::from(i) == x && f64::from(j) == y, "{x}, {y} not sure");
                 // As `int_rem`, whose remainder a whole fixed-point slot keeps as it is.
                 store_whole!(dst, f64::from(i.wrapping_rem(j)));
@@ -426,11 +444,27 @@ pub fn run<'a>(
     'chunks: loop {
         let ops = &chunk.ops[..];
         let sures = &chunk.sure[..];
-        // Whether the integer operands of the instruction at `$here` are sure to be whole numbers
-        // within 32 bits (`Chunk::sure`): then they are taken without the test.
+        // The flag of the instruction at `$here` (`Chunk::sure`): its integer operands are
+        // whole numbers within 32 bits, the value it stores is whole, its loop counts by a whole
+        // step; then they are taken without the test.
+        macro_rules! flags {
+            ($here:expr) => {{
+                debug_assert!(($here as usize) < sures.len());
+                // SAFETY: `$here` is an instruction of the chunk (the one running, or the
+                // `for.next` a `JumpNext` runs, inside the chunk as its target is), and a
+                // closed chunk has flags for each instruction.
+                *unsafe { sures.get_unchecked($here as usize) }
+            }};
+        }
         macro_rules! sure {
             ($here:expr) => {
-                sures.get($here as usize).copied().unwrap_or(false)
+                flags!($here) & SURE != 0
+            };
+        }
+        // A `MOD`'s first operand is whole, its second within 32 bits (`whole::WIDE`).
+        macro_rules! wide {
+            ($here:expr) => {
+                flags!($here) & WIDE != 0
             };
         }
         loop {
@@ -545,36 +579,38 @@ pub fn run<'a>(
                 }
                 Op::ModLong { t, dst, a, b } => {
                     n += 1;
-                    mod_long!(t, dst, rd!(a as usize), b, here, sure!(here));
+                    mod_long!(t, dst, rd!(a as usize), b, here, sure!(here), wide!(here));
                 }
                 Op::AddModLong {
                     t,
                     x,
                     dst,
                     m,
-                    t_first,
+                    t_first: _,
                 } => {
                     // `add` (here), then the `imod` and `store.l` of a `ModLong` (here + 1).
                     n += 2;
-                    let (p, q) = if t_first { (t, x) } else { (x, t) };
+                    // The operator commutes (IEEE addition too): `t_first` is for the listing only.
+                    let (p, q) = (t, x);
                     let s = rd!(p as usize) + rd!(q as usize);
                     wr!(t as usize, s);
-                    // The sum is not known to be within 32 bits.
-                    mod_long!(t, dst, s, m, here + 1, false);
+                    // The sum is not known to be within 32 bits: never `SURE`.
+                    mod_long!(t, dst, s, m, here + 1, false, wide!(here));
                 }
                 Op::AddModWhole {
                     t,
                     x,
                     dst,
                     m,
-                    t_first,
+                    t_first: _,
                 } => {
                     // `add` (here), then a `ModWhole` (here + 1).
                     n += 1;
-                    let (p, q) = if t_first { (t, x) } else { (x, t) };
+                    // The operator commutes (IEEE addition too): `t_first` is for the listing only.
+                    let (p, q) = (t, x);
                     let s = rd!(p as usize) + rd!(q as usize);
                     wr!(t as usize, s);
-                    mod_whole!(dst, s, m, here + 1, false);
+                    mod_whole!(dst, s, m, here + 1, false, wide!(here));
                     pc = here + 2;
                 }
                 Op::NotAndLong {
@@ -582,14 +618,15 @@ pub fn run<'a>(
                     a,
                     b,
                     dst,
-                    t_first,
+                    t_first: _,
                 } => {
                     // `bnot` (here), then the `band` and `store.l` of an `AndLong` (here + 1).
                     n += 1;
                     // Every instruction it runs (`Chunk::sure` of a superinstruction).
                     let sure = sure!(here);
                     wr!(t as usize, !int_of(rd!(a as usize), sure) as f64);
-                    let (p, q) = if t_first { (t, b) } else { (b, t) };
+                    // The operator commutes (IEEE addition too): `t_first` is for the listing only.
+                    let (p, q) = (t, b);
                     bitwise_long!(t, dst, p, q, &, here + 1, sure);
                 }
                 Op::NotAndWhole {
@@ -597,14 +634,15 @@ pub fn run<'a>(
                     a,
                     b,
                     dst,
-                    t_first,
+                    t_first: _,
                 } => {
                     // `bnot` (here), then an `AndWhole` (here + 1).
                     n += 1;
                     // Every instruction it runs (`Chunk::sure` of a superinstruction).
                     let sure = sure!(here);
                     wr!(t as usize, !int_of(rd!(a as usize), sure) as f64);
-                    let (p, q) = if t_first { (t, b) } else { (b, t) };
+                    // The operator commutes (IEEE addition too): `t_first` is for the listing only.
+                    let (p, q) = (t, b);
                     bitwise_whole!(dst, p, q, &, here + 1, sure);
                     pc = here + 2;
                 }
@@ -613,7 +651,7 @@ pub fn run<'a>(
                     a,
                     b,
                     x,
-                    t_first,
+                    t_first: _,
                 } => {
                     // `band` (here), then `bor` (here + 1).
                     n += 1;
@@ -623,7 +661,8 @@ pub fn run<'a>(
                         t as usize,
                         (int_of(rd!(a as usize), sure) & int_of(rd!(b as usize), sure)) as f64
                     );
-                    let (p, q) = if t_first { (t, x) } else { (x, t) };
+                    // The operator commutes (IEEE addition too): `t_first` is for the listing only.
+                    let (p, q) = (t, x);
                     wr!(
                         t as usize,
                         (int_of(rd!(p as usize), sure) | int_of(rd!(q as usize), sure)) as f64
@@ -635,7 +674,7 @@ pub fn run<'a>(
                     a,
                     b,
                     dst,
-                    t_first,
+                    t_first: _,
                 } => {
                     // `band` (here), then the `bxor` and `store.l` of a `XorLong` (here + 1).
                     n += 1;
@@ -645,7 +684,8 @@ pub fn run<'a>(
                         t as usize,
                         (int_of(rd!(a as usize), sure) & int_of(rd!(b as usize), sure)) as f64
                     );
-                    let (p, q) = if t_first { (t, dst) } else { (dst, t) };
+                    // The operator commutes (IEEE addition too): `t_first` is for the listing only.
+                    let (p, q) = (t, dst);
                     bitwise_long!(t, dst, p, q, ^, here + 1, sure);
                 }
                 Op::AndXorWhole {
@@ -653,7 +693,7 @@ pub fn run<'a>(
                     a,
                     b,
                     dst,
-                    t_first,
+                    t_first: _,
                 } => {
                     // `band` (here), then a `XorWhole` (here + 1).
                     n += 1;
@@ -663,7 +703,8 @@ pub fn run<'a>(
                         t as usize,
                         (int_of(rd!(a as usize), sure) & int_of(rd!(b as usize), sure)) as f64
                     );
-                    let (p, q) = if t_first { (t, dst) } else { (dst, t) };
+                    // The operator commutes (IEEE addition too): `t_first` is for the listing only.
+                    let (p, q) = (t, dst);
                     bitwise_whole!(dst, p, q, ^, here + 1, sure);
                     pc = here + 2;
                 }
@@ -672,7 +713,7 @@ pub fn run<'a>(
                     a,
                     b,
                     dst,
-                    t_first,
+                    t_first: _,
                 } => {
                     // `idiv` (here), then the `add` and `store.l` of an `AddLong` (here + 1).
                     match basic_div_of(rd!(a as usize), rd!(b as usize), sure!(here)) {
@@ -683,7 +724,8 @@ pub fn run<'a>(
                         }
                     }
                     n += 2;
-                    let (p, q) = if t_first { (t, dst) } else { (dst, t) };
+                    // The operator commutes (IEEE addition too): `t_first` is for the listing only.
+                    let (p, q) = (t, dst);
                     let x = rd!(p as usize) + rd!(q as usize);
                     wr!(t as usize, x);
                     store_long!(dst, x, here + 2, sure!(here));
@@ -694,13 +736,14 @@ pub fn run<'a>(
                     a,
                     b,
                     c,
-                    t_first,
+                    t_first: _,
                 } => {
                     // A `MulCheck` (here, here + 1), then an `AddCheck` (here + 2, here + 3).
                     n += 1;
                     check_long!(t, rd!(a as usize) * rd!(b as usize), here + 1);
                     n += 2;
-                    let (p, q) = if t_first { (t, c) } else { (c, t) };
+                    // The operator commutes (IEEE addition too): `t_first` is for the listing only.
+                    let (p, q) = (t, c);
                     check_long!(t, rd!(p as usize) + rd!(q as usize), here + 3);
                     pc = here + 4;
                 }
@@ -753,7 +796,7 @@ pub fn run<'a>(
                     pc = here + 2;
                 }
                 Op::ModWhole { dst, a, b } => {
-                    mod_whole!(dst, rd!(a as usize), b, here, sure!(here))
+                    mod_whole!(dst, rd!(a as usize), b, here, sure!(here), wide!(here))
                 }
                 Op::AndWhole { dst, a, b } => bitwise_whole!(dst, a, b, &, here, sure!(here)),
                 Op::OrWhole { dst, a, b } => bitwise_whole!(dst, a, b, |, here, sure!(here)),
@@ -2082,6 +2125,7 @@ fn axis_write(
     Ok(())
 }
 
+use crate::compile::whole::{SURE, WIDE};
 use crate::fixed::to_fixed as fixed;
 use crate::fixed::trunc_i32;
 
