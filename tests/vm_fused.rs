@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{load_memory, run_loaded, Run};
+use common::{load_memory, run_loaded, slot_value, Run};
 
 /// Run a MotionBASIC program `x.mb` (program 0) with the instruction budget `budget`.
 fn run_mb(name: &str, program: &str, budget: u32) -> Run {
@@ -37,17 +37,10 @@ fn run_pt(name: &str, program: &str, budget: u32) -> Run {
 /// The value of a variable after the run (by its slot name; `Var.A` for PowerTools).
 #[track_caller]
 fn val(run: &Run, name: &str) -> f64 {
-    if let Some(v) = run.machine.value_of(name) {
-        return v;
-    }
-    let slot = run
-        .machine
-        .registry()
-        .slots
-        .iter()
-        .position(|s| s.name.eq_ignore_ascii_case(name))
-        .unwrap_or_else(|| panic!("no `{name}`"));
-    run.machine.values()[slot]
+    run.machine
+        .value_of(name)
+        .or_else(|| slot_value(&run.machine, name))
+        .unwrap_or_else(|| panic!("no `{name}`"))
 }
 
 /// The error a run ended with: its line and message.

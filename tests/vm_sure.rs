@@ -10,7 +10,7 @@
 
 mod common;
 
-use common::{load_memory, run_loaded};
+use common::{load_memory, run_loaded, slot_value};
 use pacer::compile::bytecode::Op;
 use pacer::compile::whole::{SURE, WIDE};
 
@@ -339,13 +339,6 @@ fn whole_loops_and_stores_count_as_tested_ones_do() {
         ("J%", -14.0),
         ("E&(1)", 120.0),
     ] {
-        let slot = run
-            .machine
-            .registry()
-            .slots
-            .iter()
-            .position(|s| s.name.eq_ignore_ascii_case(name));
-        let got = slot.map(|s| run.machine.values()[s]);
-        assert_eq!(got, Some(want), "{name}");
+        assert_eq!(slot_value(&run.machine, name), Some(want), "{name}");
     }
 }

@@ -311,15 +311,7 @@ pub fn run<'a>(
         ($t:expr, $dst:expr, $x:expr, $b:expr, $here:expr, $sure:expr, $wide:expr) => {{
             let (t, dst, x, y): (u32, u32, f64, f64) = ($t, $dst, $x, rd!($b as usize));
             let (i, j) = (trunc_i32(x), trunc_i32(y));
-            let quick = if $sure {
-                true
-            } else if $wide {
-                debug_assert!(!x.is_finite() || x.fract() == 0.0, "{x} not whole");
-                (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x)
-            } else {
-                f64::from(i) == x && f64::from(j) == y
-            };
-            if quick && j != 0 {
+            if mod_int_path(x, y, $sure, $wide) && j != 0 {
                 debug_assert!(f64::from(i) == x && f64::from(j) == y, "{x}, {y} not sure");
                 // As `basic_mod_of`: the remainder has the sign of x, a zero one included
                 // (the temporary's); the long stores it with a zero made 0.
@@ -349,15 +341,7 @@ pub fn run<'a>(
         ($dst:expr, $x:expr, $b:expr, $here:expr, $sure:expr, $wide:expr) => {{
             let (dst, x, y): (u32, f64, f64) = ($dst, $x, rd!($b as usize));
             let (i, j) = (trunc_i32(x), trunc_i32(y));
-            let quick = if $sure {
-                true
-            } else if $wide {
-                debug_assert!(!x.is_finite() || x.fract() == 0.0, "{x} not whole");
-                (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x)
-            } else {
-                f64::from(i) == x && f64::from(j) == y
-            };
-            if quick && j != 0 {
+            if mod_int_path(x, y, $sure, $wide) && j != 0 {
                 debug_assert!(f64::from(i) == x && f64::from(j) == y, "{x}, {y} not sure");
                 // As `int_rem`, whose remainder a whole fixed-point slot keeps as it is.
                 store_whole!(dst, f64::from(i.wrapping_rem(j)));
@@ -2047,6 +2031,21 @@ fn int(x: f64) -> i64 {
         i
     } else {
         x.round_ties_even() as i64
+    }
+}
+
+/// Whether a `MOD`'s operands `x` and `y` take the integer path (both whole within 32 bits):
+/// when `sure` they are known to be; when `wide`, `x` is known whole and `y` within 32 bits,
+/// so only `x`'s range is tested; otherwise both are tested.
+#[inline(always)]
+fn mod_int_path(x: f64, y: f64, sure: bool, wide: bool) -> bool {
+    if sure {
+        true
+    } else if wide {
+        debug_assert!(!x.is_finite() || x.fract() == 0.0, "{x} not whole");
+        (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x)
+    } else {
+        f64::from(trunc_i32(x)) == x && f64::from(trunc_i32(y)) == y
     }
 }
 

@@ -45,6 +45,17 @@ pub struct Run {
     pub events: Vec<Value>,
 }
 
+/// The value of the registry slot named `name` (an array element as `E&(1)`, a PowerTools
+/// variable's slot by its registry name) after a run, if there is one.
+pub fn slot_value(machine: &Machine, name: &str) -> Option<f64> {
+    let slot = machine
+        .registry()
+        .slots
+        .iter()
+        .position(|s| s.name.eq_ignore_ascii_case(name))?;
+    machine.values().get(slot).copied()
+}
+
 /// Run a loaded machine with its own duration, tracing to memory (changes only, as `pacer run`).
 pub fn run_loaded(loaded: Loaded) -> Run {
     run_traced(loaded, false)
