@@ -30,7 +30,8 @@ pub const WIDE: u8 = 2;
 /// What is known of a temporary's value at a point of the program.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 enum Known {
-    /// A whole number, perhaps outside 32 bits (a sum or product of wholes).
+    /// A whole number, perhaps outside 32 bits (a sum or product of wholes), or one past
+    /// `f64`'s range (infinite, or not a number): what only range tests take.
     Whole,
     /// A whole number within 32 bits.
     Sure,
@@ -150,9 +151,15 @@ pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) 
             Op::CheckLong { r } | Op::CheckInt { r } => Some((r, whole(r).then_some(Known::Sure))),
             // A quotient is checked within 32 bits whatever its operands.
             Op::IDiv { dst, .. } | Op::Compare { dst, .. } => Some((dst, Some(Known::Sure))),
-            // A remainder is smaller than its divisor.
+            // A remainder is smaller than its divisor (but a whole dividend may be infinite,
+            // and its remainder not a number).
             Op::IMod { dst, a, b } | Op::Mod { dst, a, b } => {
-                Some((dst, (whole(a) && sure(b)).then_some(Known::Sure)))
+                let known = if sure(a) && sure(b) {
+                    Some(Known::Sure)
+                } else {
+                    (whole(a) && sure(b)).then_some(Known::Whole)
+                };
+                Some((dst, known))
             }
             Op::BitAnd { dst, a, b } | Op::BitOr { dst, a, b } | Op::BitXor { dst, a, b } => {
                 Some((dst, (sure(a) && sure(b)).then_some(Known::Sure)))
