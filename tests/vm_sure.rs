@@ -12,7 +12,7 @@ mod common;
 
 use common::{load_memory, run_loaded, slot_value};
 use pacer::compile::bytecode::Op;
-use pacer::compile::whole::{SURE, WIDE};
+use pacer::compile::whole::{PLAIN, SURE, WIDE};
 
 /// Edge operands: zero, small, the 16-bit and 32-bit edges, the MOD constants of real
 /// programs.
@@ -340,5 +340,43 @@ fn whole_loops_and_stores_count_as_tested_ones_do() {
         ("E&(1)", 120.0),
     ] {
         assert_eq!(slot_value(&run.machine, name), Some(want), "{name}");
+    }
+}
+
+#[test]
+fn copies_of_longs_are_stored_as_they_are() {
+    // Euclid's GCD (1071, 462) = 21 by copies of longs; a copy of the most negative long; a
+    // copy of a zero stays +0.
+    let program = "X& = 1071\nY& = 462\nWHILE Y& <> 0\n  T& = X& MOD Y&\n  X& = Y&\n  Y& = T&\nWEND\nG& = X&\nA& = -2147483648\nB& = A&\nC& = -0\nD& = C&\nE& = 7\n";
+    let loaded = match load_memory(
+        "sure-copies",
+        &[("x.mb", program), ("machine.toml", &machine("x.mb", ""))],
+    ) {
+        Ok(l) => l,
+        Err(d) => panic!("{}", d.render_plain()),
+    };
+    let chunk = &loaded.image.chunks[0];
+    let plain = chunk
+        .ops
+        .iter()
+        .zip(&chunk.sure)
+        .filter(|(op, &f)| matches!(op, Op::StoreLong { .. }) && f & PLAIN != 0)
+        .count();
+    // X& <- Y&, Y& <- T&, G& <- X&, B& <- A&, D& <- C&, and the constants' stores.
+    assert!(plain >= 5, "{plain}");
+    let run = run_loaded(loaded);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    for (name, want) in [
+        ("G&", 21.0_f64),
+        ("B&", -2147483648.0),
+        ("D&", 0.0),
+        ("E&", 7.0),
+    ] {
+        let got = run.machine.value_of(name);
+        assert_eq!(
+            got.map(f64::to_bits),
+            Some(want.to_bits()),
+            "{name}: {got:?}"
+        );
     }
 }

@@ -126,8 +126,9 @@ impl Layout {
         r
     }
 
-    /// Whether register `r` always holds a whole number within 32 bits: a variable of
-    /// [`Layout::whole_slots`], or a constant that is one (constants are never written).
+    /// Whether register `r` always holds a whole number within 32 bits, never -0: a variable
+    /// of [`Layout::whole_slots`] (every store makes a zero +0), or a constant that is one
+    /// (constants are never written).
     pub fn is_whole(&self, r: Reg) -> bool {
         if r < self.slot_count {
             return self.whole_slots.get(r as usize).copied().unwrap_or(false);
@@ -138,7 +139,10 @@ impl Layout {
         else {
             return false;
         };
-        self.const_index.get(&v.to_bits()) == Some(&r) && f64::from(crate::fixed::trunc_i32(v)) == v
+        // A -0 is left out: a sure variable or constant is never -0 (`whole::PLAIN`).
+        self.const_index.get(&v.to_bits()) == Some(&r)
+            && f64::from(crate::fixed::trunc_i32(v)) == v
+            && v.to_bits() != (-0.0f64).to_bits()
     }
 
     /// A fresh hidden register (loop limits and steps).

@@ -27,6 +27,11 @@ pub const SURE: u8 = 1;
 /// instruction that is not a `MOD`.
 pub const WIDE: u8 = 2;
 
+/// Flag of [`per_instruction`]: a long or whole fixed-point store copies a variable that is
+/// sure (or a sure constant), never -0: it stores the value as it is, untested. Set with
+/// [`SURE`] on every instruction that is not such a store.
+pub const PLAIN: u8 = 4;
+
 /// What is known of a temporary's value at a point of the program.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
 enum Known {
@@ -133,7 +138,15 @@ pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) 
         };
         // Every instruction that is not a `MOD` has `WIDE` as it has `SURE`.
         let wide = wide.unwrap_or(flag);
-        out.push((u8::from(flag) * SURE) | (u8::from(wide) * WIDE));
+        // A sure register that is not a temporary (a variable, a constant) is never -0.
+        let plain = match op {
+            Op::StoreLong { src, .. }
+            | Op::StoreFixed {
+                src, decimals: 0, ..
+            } => !temps.contains(&src) && sure_reg(src),
+            _ => flag,
+        };
+        out.push((u8::from(flag) * SURE) | (u8::from(wide) * WIDE) | (u8::from(plain) * PLAIN));
         if let Op::Move { dst, src } = op {
             if !temps.contains(&dst) && !sure_reg(dst) {
                 let w = whole(src);
@@ -209,7 +222,7 @@ pub fn operands(ops: &[Op], temps: &Range<Reg>, sure_reg: &dyn Fn(Reg) -> bool) 
             let step = limit.checked_add(1);
             let sure = sure_reg(var)
                 && step.is_some_and(|s| !temps.contains(&s) && moved.get(&s) == Some(&true));
-            out[i] = u8::from(sure) * (SURE | WIDE);
+            out[i] = u8::from(sure) * (SURE | WIDE | PLAIN);
         }
     }
     out
@@ -223,7 +236,7 @@ pub fn per_instruction(ops: &[Op], base: &[u8]) -> Vec<u8> {
         .map(|i| {
             let span = covers(ops[i]);
             base.get(i..i + span).map_or(0, |halves| {
-                halves.iter().fold(SURE | WIDE, |all, &f| all & f)
+                halves.iter().fold(SURE | WIDE | PLAIN, |all, &f| all & f)
             })
         })
         .collect()
@@ -465,7 +478,7 @@ mod tests {
             },
             Op::StoreLong { dst: 1, src: T },
         ];
-        const ALL: u8 = SURE | WIDE;
+        const ALL: u8 = SURE | WIDE | PLAIN;
         let base = [ALL, ALL, 0, ALL];
         assert_eq!(per_instruction(&fused, &base), [ALL, ALL, 0, ALL]);
         // The last instruction's halves run past the end: not sure.
@@ -494,8 +507,9 @@ mod tests {
             Op::End,
         ];
         let flags = operands(&ops, &temps(), &sure_reg);
-        const ALL: u8 = SURE | WIDE;
-        assert_eq!(flags, [ALL, WIDE, ALL, ALL, 0, 0, ALL]);
+        const ALL: u8 = SURE | WIDE | PLAIN;
+        // A store of a temporary is never `PLAIN` (a temporary may be -0).
+        assert_eq!(flags, [ALL, WIDE, SURE | WIDE, ALL, 0, 0, ALL]);
         // Fused as `AddModLong` (add, imod, store): WIDE only.
         let fused = [
             Op::AddModLong {
@@ -508,6 +522,37 @@ mod tests {
             ops[1],
             ops[2],
         ];
-        assert_eq!(per_instruction(&fused, &flags[..3]), [WIDE, WIDE, ALL]);
+        assert_eq!(
+            per_instruction(&fused, &flags[..3]),
+            [WIDE, WIDE, SURE | WIDE]
+        );
+    }
+
+    #[test]
+    fn a_copy_of_a_sure_variable_or_constant_is_plain() {
+        let ops = [
+            Op::StoreLong { dst: 3, src: 1 },
+            Op::StoreLong { dst: 3, src: 50 },
+            Op::StoreFixed {
+                dst: 3,
+                src: 2,
+                decimals: 0,
+            },
+            // A real, a sure temporary, a store with decimals: not plain.
+            Op::StoreLong { dst: 3, src: 20 },
+            Op::IMod { dst: T, a: 1, b: 2 },
+            Op::StoreLong { dst: 3, src: T },
+            Op::StoreFixed {
+                dst: 3,
+                src: 2,
+                decimals: 2,
+            },
+            Op::End,
+        ];
+        let plain: Vec<bool> = operands(&ops, &temps(), &sure_reg)
+            .iter()
+            .map(|f| f & PLAIN != 0)
+            .collect();
+        assert_eq!(plain, [true, true, true, false, true, false, false, true]);
     }
 }

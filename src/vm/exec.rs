@@ -445,6 +445,18 @@ pub fn run<'a>(
                 flags!($here) & SURE != 0
             };
         }
+        // A copy of a sure variable or constant (`whole::PLAIN`): whole within 32 bits, not -0,
+        // stored as it is.
+        macro_rules! plain_store {
+            ($dst:expr, $x:expr) => {{
+                let x: f64 = $x;
+                debug_assert!(
+                    f64::from(trunc_i32(x)) == x && x.to_bits() != (-0.0f64).to_bits(),
+                    "{x} not plain"
+                );
+                store_whole!($dst, x);
+            }};
+        }
         // A `MOD`'s first operand is whole, its second within 32 bits (`whole::WIDE`).
         macro_rules! wide {
             ($here:expr) => {
@@ -822,7 +834,12 @@ pub fn run<'a>(
                     pc = here + 2;
                 }
                 Op::StoreLong { dst, src } => {
-                    store_long!(dst, rd!(src as usize), here, sure!(here))
+                    let x = rd!(src as usize);
+                    if flags!(here) & PLAIN != 0 {
+                        plain_store!(dst, x);
+                    } else {
+                        store_long!(dst, x, here, sure!(here))
+                    }
                 }
                 Op::StoreInt { dst, src } => store_int!(dst, rd!(src as usize), here, sure!(here)),
                 Op::CheckLong { r } => check_long!(r, rd!(r as usize), here),
@@ -912,13 +929,12 @@ pub fn run<'a>(
                     wr!(dst as usize, func.apply(rd!(a as usize), rd!(b as usize)))
                 }
                 Op::StoreFixed { dst, src, decimals } => {
-                    store_fixed!(
-                        dst,
-                        rd!(src as usize),
-                        decimals,
-                        here,
-                        sure!(here) && decimals == 0
-                    )
+                    let x = rd!(src as usize);
+                    if decimals == 0 && flags!(here) & PLAIN != 0 {
+                        plain_store!(dst, x);
+                    } else {
+                        store_fixed!(dst, x, decimals, here, sure!(here) && decimals == 0)
+                    }
                 }
                 Op::StoreReal { dst, src } => store_real!(dst, rd!(src as usize), here),
                 Op::StoreBit { dst, src } => {
@@ -2124,7 +2140,7 @@ fn axis_write(
     Ok(())
 }
 
-use crate::compile::whole::{SURE, WIDE};
+use crate::compile::whole::{PLAIN, SURE, WIDE};
 use crate::fixed::to_fixed as fixed;
 use crate::fixed::trunc_i32;
 
