@@ -6,7 +6,7 @@
 
 mod common;
 
-use common::{load_memory, run_loaded, slot_value, Run};
+use common::{load_memory, run_error, run_loaded, slot_value, Run};
 
 /// Run a MotionBASIC program `x.mb` (program 0) with the instruction budget `budget`.
 fn run_mb(name: &str, program: &str, budget: u32) -> Run {
@@ -41,17 +41,6 @@ fn val(run: &Run, name: &str) -> f64 {
         .value_of(name)
         .or_else(|| slot_value(&run.machine, name))
         .unwrap_or_else(|| panic!("no `{name}`"))
-}
-
-/// The error a run ended with: its line and message.
-#[track_caller]
-fn error(run: &Run) -> (u32, String) {
-    let e = run
-        .summary
-        .error
-        .as_ref()
-        .expect("the run ends with an error");
-    (e.line, e.message.clone())
 }
 
 const MB_LOOP: &str = "A& = 12345\nH& = 7\nB& = 0\nR = 0\nFOR I& = 1 TO 20\n  A& = (A& * 75 + 74) MOD 65537\n  B& = (NOT A&) AND 65535\n  C& = 65535 AND NOT A&\n  H& = (H& + (B& OR (I& AND 1023))) MOD 1000003\n  G& = (A& + H&) MOD 7\n  K& = (-A& - 3) MOD 5\n  M& = (A& * -3 + -7) MOD 10\nNEXT\nR = -0.0\nZ& = (R + 0) MOD 3\nZ2& = (0 + R) MOD 3\nF = 2.5\nY& = (F + 1) MOD 3\nY2& = (1 + F) MOD 2\nP = 4294967296.0\nW& = (P + 1) MOD 7\nV& = (NOT F) AND 255\nV2& = (NOT P) AND 255\nN& = -5\nN2& = (N& * 3 + 2) MOD 4\n";
@@ -96,7 +85,7 @@ fn motionbasic_faults_in_a_chain_are_those_of_its_instructions() {
         "A& = 5\nB& = 0\nC& = 1\nC& = (A& + 1) MOD B&\nC& = 9\n",
         10_000,
     );
-    assert_eq!(error(&run), (4, "MOD by zero".to_string()));
+    assert_eq!(run_error(&run), (4, "MOD by zero".to_string()));
     assert_eq!(val(&run, "C&"), 1.0);
     assert_eq!(run.summary.instructions, 6);
     // The multiply half of `x * k + c` overflows.
@@ -105,7 +94,7 @@ fn motionbasic_faults_in_a_chain_are_those_of_its_instructions() {
         "A& = 100000\nC& = 1\nC& = A& * A& + 1\nC& = 9\n",
         10_000,
     );
-    let (line, message) = error(&run);
+    let (line, message) = run_error(&run);
     assert_eq!(line, 3);
     assert!(
         message.starts_with("Overflow: 10000000000 does not fit a long"),
@@ -118,7 +107,7 @@ fn motionbasic_faults_in_a_chain_are_those_of_its_instructions() {
         "A& = 2147483647\nC& = 1\nC& = A& * 1 + 1\nC& = 9\n",
         10_000,
     );
-    let (line, message) = error(&run);
+    let (line, message) = run_error(&run);
     assert_eq!(line, 3);
     assert!(
         message.starts_with("Overflow: 2147483648 does not fit"),
@@ -132,7 +121,7 @@ fn motionbasic_faults_in_a_chain_are_those_of_its_instructions() {
         "P = 4294967296.0\nC& = 1\nC& = (P + 0.5) MOD 4294967297.0\nC& = (P + 1) MOD 8589934592.0\n",
         10_000,
     );
-    let (line, message) = error(&run);
+    let (line, message) = run_error(&run);
     assert_eq!(line, 3);
     assert!(
         message.starts_with("Overflow: 4294967296 does not fit C&"),
@@ -145,7 +134,7 @@ fn motionbasic_faults_in_a_chain_are_those_of_its_instructions() {
         "P = 4294967296.0\nC& = 1\nC& = (NOT P) AND -1\n",
         10_000,
     );
-    let (line, message) = error(&run);
+    let (line, message) = run_error(&run);
     assert_eq!(line, 3);
     assert!(
         message.starts_with("Overflow: -4294967297 does not fit C&"),
@@ -203,7 +192,7 @@ fn powertools_faults_in_a_chain_are_those_of_its_instructions() {
         "Var.A = 5\nVar.B = 0\nVar.H = 1\nVar.H = (Var.A + 1) MOD Var.B\nVar.H = 9\nEnd\n",
         10_000,
     );
-    assert_eq!(error(&run), (4, "MOD by zero".to_string()));
+    assert_eq!(run_error(&run), (4, "MOD by zero".to_string()));
     assert_eq!(val(&run, "Var.H"), 1.0);
     assert_eq!(run.summary.instructions, 5);
     let run = run_pt(
@@ -211,7 +200,7 @@ fn powertools_faults_in_a_chain_are_those_of_its_instructions() {
         "Var.A = 2000000000\nVar.H = 1\nVar.H = (Var.A + Var.A) MOD 4000000001\nVar.H = 9\nEnd\n",
         10_000,
     );
-    let (line, message) = error(&run);
+    let (line, message) = run_error(&run);
     assert_eq!(line, 3);
     assert!(
         message.starts_with("overflow: 4000000000 does not fit Var.H"),
@@ -260,7 +249,7 @@ fn motionbasic_faults_in_an_accumulating_chain_are_those_of_its_instructions() {
         "A& = 5\nB& = 0\nQ& = 1\nQ& = Q& + A& \\ B&\nQ& = 9\n",
         10_000,
     );
-    assert_eq!(error(&run), (4, "division by zero".to_string()));
+    assert_eq!(run_error(&run), (4, "division by zero".to_string()));
     assert_eq!(val(&run, "Q&"), 1.0);
     assert_eq!(run.summary.instructions, 4);
     // The sum does not fit the long it is stored into.
@@ -269,7 +258,7 @@ fn motionbasic_faults_in_an_accumulating_chain_are_those_of_its_instructions() {
         "A& = 2147483647\nQ& = 2147483647\nQ& = Q& + A& \\ 1\n",
         10_000,
     );
-    let (line, message) = error(&run);
+    let (line, message) = run_error(&run);
     assert_eq!(line, 3);
     assert!(
         message.starts_with("Overflow: 4294967294 does not fit Q&"),
@@ -284,7 +273,7 @@ fn motionbasic_faults_in_an_accumulating_chain_are_those_of_its_instructions() {
         10_000,
     );
     assert_eq!(
-        error(&run),
+        run_error(&run),
         (
             3,
             "Overflow: the quotient does not fit a long integer".to_string()
@@ -297,7 +286,7 @@ fn motionbasic_faults_in_an_accumulating_chain_are_those_of_its_instructions() {
         10_000,
     );
     assert_eq!(
-        error(&run),
+        run_error(&run),
         (
             3,
             "Overflow: an operand of \\ does not fit a long integer".to_string()
@@ -310,7 +299,7 @@ fn motionbasic_faults_in_an_accumulating_chain_are_those_of_its_instructions() {
         "P = 4294967296.0\nX& = 0\nX& = X& XOR (P AND -1)\n",
         10_000,
     );
-    let (line, message) = error(&run);
+    let (line, message) = run_error(&run);
     assert_eq!(line, 3);
     assert!(
         message.starts_with("Overflow: 4294967296 does not fit X&"),
@@ -366,7 +355,7 @@ fn a_multiply_accumulate_chain_that_overflows_faults_at_its_store() {
         "A = 1E200\nB = 3\nY = 1\nY = B * B + A * A\nY = 2\n",
         10_000,
     );
-    let (line, message) = error(&run);
+    let (line, message) = run_error(&run);
     assert_eq!(line, 4);
     assert!(message.contains("not a finite number"), "{message}");
     assert_eq!(val(&run, "Y"), 1.0);
@@ -388,7 +377,7 @@ fn a_multiply_add_with_the_product_second_gives_the_values_of_its_instructions()
         r = (0.1 + r * 0.7) * 2.0;
     }
     assert_eq!(val(&run, "R").to_bits(), r.to_bits());
-    let (line, message) = error(&run);
+    let (line, message) = run_error(&run);
     assert_eq!(line, 5);
     assert!(message.contains("not a finite number"), "{message}");
     assert_eq!(run.summary.instructions, 35);

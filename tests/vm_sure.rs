@@ -10,9 +10,10 @@
 
 mod common;
 
-use common::{load_memory, run_loaded, slot_value};
+use common::{load_memory, run_error, run_loaded, slot_value};
 use pacer::compile::bytecode::Op;
 use pacer::compile::whole::{PLAIN, SURE, WIDE};
+use pacer::load::Loaded;
 
 /// Edge operands: zero, small, the 16-bit and 32-bit edges, the MOD constants of real
 /// programs.
@@ -21,6 +22,17 @@ const EDGE_COUNT: u32 = 21;
 
 fn machine(file: &str, extra: &str) -> String {
     format!("[machine]\nname = \"sure\"\nbudget = 100000\n\n[[program]]\nnumber = 0\nfile = \"{file}\"\n{extra}")
+}
+
+/// A MotionBASIC program `x.mb`, loaded.
+fn load_mb(name: &str, program: &str) -> Loaded {
+    match load_memory(
+        name,
+        &[("x.mb", program), ("machine.toml", &machine("x.mb", ""))],
+    ) {
+        Ok(l) => l,
+        Err(d) => panic!("{}", d.render_plain()),
+    }
 }
 
 #[test]
@@ -81,13 +93,7 @@ NEXT
 ",
         n = EDGE_COUNT
     );
-    let loaded = match load_memory(
-        "sure-mb",
-        &[("x.mb", &program), ("machine.toml", &machine("x.mb", ""))],
-    ) {
-        Ok(l) => l,
-        Err(d) => panic!("{}", d.render_plain()),
-    };
+    let loaded = load_mb("sure-mb", &program);
     // Both ways are there: some integer instructions untested, some tested.
     let chunk = &loaded.image.chunks[0];
     let flags: Vec<u8> = chunk
@@ -120,13 +126,7 @@ fn known_values_of_the_untested_way() {
     // MOD keeps the sign of the dividend, `\` truncates toward zero (MotionBASIC manual,
     // "Arithmetic operators"; Microsoft BASIC), NOT is the 32-bit complement.
     let program = "A& = -7\nB& = 3\nM& = A& MOD B&\nQ& = A& \\ B&\nN& = NOT A&\nC& = -2147483648\nE& = C& MOD -1\nF& = (C& AND 65535) OR 7\nG& = 7 MOD -2147483648\nH& = -1 \\ 2\n";
-    let run = match load_memory(
-        "sure-known",
-        &[("x.mb", program), ("machine.toml", &machine("x.mb", ""))],
-    ) {
-        Ok(l) => run_loaded(l),
-        Err(d) => panic!("{}", d.render_plain()),
-    };
+    let run = run_loaded(load_mb("sure-known", program));
     assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
     for (name, want) in [
         ("M&", -1.0_f64),
@@ -149,13 +149,7 @@ fn known_values_of_the_untested_way() {
 #[test]
 fn an_untested_division_by_zero_still_fails_at_its_line() {
     let program = "A& = 7\nB& = 0\nC& = A& MOD B&\n";
-    let run = match load_memory(
-        "sure-zero",
-        &[("x.mb", program), ("machine.toml", &machine("x.mb", ""))],
-    ) {
-        Ok(l) => run_loaded(l),
-        Err(d) => panic!("{}", d.render_plain()),
-    };
+    let run = run_loaded(load_mb("sure-zero", program));
     let e = run.summary.error.as_ref().expect("MOD by zero fails");
     assert_eq!(e.line, 3);
     assert!(e.message.contains("MOD by zero"), "{}", e.message);
@@ -247,19 +241,8 @@ fn integer_reading(op: &Op) -> bool {
 
 /// The error a MotionBASIC program ends with: its line and message.
 fn mb_error(name: &str, program: &str) -> (u32, String) {
-    let run = match load_memory(
-        name,
-        &[("x.mb", program), ("machine.toml", &machine("x.mb", ""))],
-    ) {
-        Ok(l) => run_loaded(l),
-        Err(d) => panic!("{}", d.render_plain()),
-    };
-    let e = run
-        .summary
-        .error
-        .as_ref()
-        .expect("the run ends with an error");
-    (e.line, e.message.clone())
+    let run = run_loaded(load_mb(name, program));
+    run_error(&run)
 }
 
 #[test]
@@ -302,13 +285,7 @@ fn whole_stores_and_loops_overflow_as_tested_ones_do() {
 #[test]
 fn whole_loops_and_stores_count_as_tested_ones_do() {
     let program = "T& = 0\nK% = 0\nFOR I& = -5 TO 20 STEP 3\n  T& = T& + I& * 2 - 1\n  K% = K% + 1\nNEXT\nFOR J% = 10 TO -10 STEP -4\n  T& = T& - J%\n  K% = K% - 1\nNEXT\nDIM E&(3)\nE&(1) = T& + K%\n";
-    let loaded = match load_memory(
-        "sure-loops",
-        &[("x.mb", program), ("machine.toml", &machine("x.mb", ""))],
-    ) {
-        Ok(l) => l,
-        Err(d) => panic!("{}", d.render_plain()),
-    };
+    let loaded = load_mb("sure-loops", program);
     // Both loops count untested; every long and INTEGER store of a sum is range-tested only.
     let chunk = &loaded.image.chunks[0];
     let flagged = |want: fn(&Op) -> bool| {
@@ -348,13 +325,7 @@ fn copies_of_longs_are_stored_as_they_are() {
     // Euclid's GCD (1071, 462) = 21 by copies of longs; a copy of the most negative long; a
     // copy of a zero stays +0.
     let program = "X& = 1071\nY& = 462\nWHILE Y& <> 0\n  T& = X& MOD Y&\n  X& = Y&\n  Y& = T&\nWEND\nG& = X&\nA& = -2147483648\nB& = A&\nC& = -0\nD& = C&\nE& = 7\n";
-    let loaded = match load_memory(
-        "sure-copies",
-        &[("x.mb", program), ("machine.toml", &machine("x.mb", ""))],
-    ) {
-        Ok(l) => l,
-        Err(d) => panic!("{}", d.render_plain()),
-    };
+    let loaded = load_mb("sure-copies", program);
     let chunk = &loaded.image.chunks[0];
     let plain = chunk
         .ops

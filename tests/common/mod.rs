@@ -56,6 +56,17 @@ pub fn slot_value(machine: &Machine, name: &str) -> Option<f64> {
     machine.values().get(slot).copied()
 }
 
+/// The error a run ended with: its line and message.
+#[track_caller]
+pub fn run_error(run: &Run) -> (u32, String) {
+    let e = run
+        .summary
+        .error
+        .as_ref()
+        .expect("the run ends with an error");
+    (e.line, e.message.clone())
+}
+
 /// Run a loaded machine with its own duration, tracing to memory (changes only, as `pacer run`).
 pub fn run_loaded(loaded: Loaded) -> Run {
     run_traced(loaded, false)
