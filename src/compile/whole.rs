@@ -42,11 +42,12 @@ enum Known {
     Sure,
 }
 
-/// For each instruction of the unfused `ops`: true when every integer operand it reads is
-/// sure to be a whole number within 32 bits, when the value a store into a long, an INTEGER
-/// or a whole fixed-point slot stores is whole (within 32 bits or not: it is checked), and
-/// when a `for.next` adds a whole step to a sure variable; vacuously true for any other
-/// instruction. `sure_reg` says which registers always are sure (variables, constants);
+/// For each instruction of the unfused `ops`, its flags: [`SURE`] when every integer operand
+/// it reads is sure to be a whole number within 32 bits, when the value a store into a long,
+/// an INTEGER or a whole fixed-point slot stores is whole (within 32 bits or not: it is
+/// checked), and when a `for.next` adds a whole step to a sure variable; [`WIDE`] and
+/// [`PLAIN`] as they say; all of them for any other instruction. `sure_reg` says which
+/// registers always hold a whole number within 32 bits, never -0 (variables, constants);
 /// temporaries (`temps`) are followed through straight-line code, and forgotten where control
 /// may arrive from elsewhere and after any instruction this does not follow; the registers of
 /// a `FOR`'s limit and step (neither temporaries nor `sure_reg`'s) are written only by the
