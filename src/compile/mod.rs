@@ -199,8 +199,8 @@ pub struct Chunk {
     /// The instructions.
     pub ops: Vec<Op>,
     /// Per instruction, what the compiler knows of its operands ([`whole::SURE`],
-    /// [`whole::WIDE`]: whole numbers, within 32 bits or not), which the interpreter then takes
-    /// without testing ([`whole`]).
+    /// [`whole::WIDE`], [`whole::PLAIN`]: whole numbers, within 32 bits or not, never -0),
+    /// which the interpreter then takes without testing ([`whole`]).
     pub sure: Vec<u8>,
     /// One past the largest register the interpreter's loop uses unchecked
     /// ([`Op::max_register`]): the value array must be at least this long.

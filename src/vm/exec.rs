@@ -173,7 +173,7 @@ pub fn run<'a>(
             let (dst, x) = ($dst, $x);
             let fits = if $whole {
                 debug_assert!(!x.is_finite() || x.fract() == 0.0, "{x} not whole");
-                (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x)
+                fits_i32(x)
             } else {
                 f64::from(trunc_i32(x)) == x
             };
@@ -203,7 +203,7 @@ pub fn run<'a>(
     macro_rules! check_long {
         ($dst:expr, $x:expr, $here:expr) => {{
             let x = $x;
-            if !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x) {
+            if !fits_i32(x) {
                 pc = $here;
                 fault!("Overflow: {x} does not fit a long integer (-2147483648 to 2147483647)");
             }
@@ -217,7 +217,7 @@ pub fn run<'a>(
             let (dst, x) = ($dst, $x);
             let quick = if $whole {
                 debug_assert!(!x.is_finite() || x.fract() == 0.0, "{x} not whole");
-                Some(x + 0.0).filter(|x| (-32768.0..=32767.0).contains(x))
+                Some(x + 0.0).filter(|&x| fits_i16(x))
             } else {
                 None
             };
@@ -371,17 +371,12 @@ pub fn run<'a>(
                     f64::from(trunc_i32(v)) == v && (!s.is_finite() || s.fract() == 0.0),
                     "{v}, {s} not sure"
                 );
-                let low = if decimals == INT_STORE {
-                    -32768.0
+                let fits = if decimals == INT_STORE {
+                    fits_i16(x)
                 } else {
-                    f64::from(i32::MIN)
+                    fits_i32(x)
                 };
-                let high = if decimals == INT_STORE {
-                    32767.0
-                } else {
-                    f64::from(i32::MAX)
-                };
-                Some(x).filter(|x| (low..=high).contains(x))
+                Some(x).filter(|_| fits)
             } else if decimals == REAL_STORE {
                 Some(x).filter(|x| x.is_finite())
             } else if decimals == INT_STORE {
@@ -845,7 +840,7 @@ pub fn run<'a>(
                 Op::CheckLong { r } => check_long!(r, rd!(r as usize), here),
                 Op::CheckInt { r } => {
                     let x = rd!(r as usize);
-                    if !(-32768.0..=32767.0).contains(&x) {
+                    if !fits_i16(x) {
                         pc = here;
                         fault!("Overflow: {x} does not fit an integer (-32768 to 32767): INTEGER (%) arithmetic is 16-bit; make an operand long (CLNG, a & variable)");
                     }
@@ -958,10 +953,7 @@ pub fn run<'a>(
                         crate::registry::ValueType::Fixed(d) => crate::registry::round_to(raw, d),
                         crate::registry::ValueType::Real => raw,
                     };
-                    if !x.is_finite()
-                        || (ty != crate::registry::ValueType::Real
-                            && !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x))
-                    {
+                    if !x.is_finite() || (ty != crate::registry::ValueType::Real && !fits_i32(x)) {
                         pc = here;
                         let name = name_of(ctx, slot);
                         fault!("{name} cannot take {raw}: out of range");
@@ -1946,21 +1938,20 @@ fn binary(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
 #[inline(never)]
 fn basic_integer(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
     let (a, b) = (x.round_ties_even(), y.round_ties_even());
-    let range = f64::from(i32::MIN)..=f64::from(i32::MAX);
     if op == BinaryOp::BasicMod {
         if b == 0.0 {
             return Err("MOD by zero");
         }
         return Ok(a % b);
     }
-    if !range.contains(&a) || !range.contains(&b) {
+    if !fits_i32(a) || !fits_i32(b) {
         return Err("Overflow: an operand of \\ does not fit a long integer");
     }
     if b == 0.0 {
         return Err("division by zero");
     }
     let q = (a / b).trunc();
-    if !range.contains(&q) {
+    if !fits_i32(q) {
         return Err("Overflow: the quotient does not fit a long integer");
     }
     Ok(q)
@@ -2028,9 +2019,7 @@ fn integer(op: BinaryOp, x: f64, y: f64, sure: bool) -> Result<f64, &'static str
 fn round_long(raw: f64) -> Option<f64> {
     // `+ 0.0` turns a rounded -0.0 into 0.
     let x = raw.round_ties_even() + 0.0;
-    (f64::from(i32::MIN)..=f64::from(i32::MAX))
-        .contains(&x)
-        .then_some(x)
+    fits_i32(x).then_some(x)
 }
 
 /// The integer a bitwise operator works on: halves rounded to even, as Microsoft BASIC does.
@@ -2059,7 +2048,7 @@ fn mod_int_path(x: f64, y: f64, sure: bool, wide: bool) -> bool {
         true
     } else if wide {
         debug_assert!(!x.is_finite() || x.fract() == 0.0, "{x} not whole");
-        (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x)
+        fits_i32(x)
     } else {
         f64::from(trunc_i32(x)) == x && f64::from(trunc_i32(y)) == y
     }
@@ -2174,16 +2163,26 @@ fn int16(x: f64) -> Option<f64> {
     } else {
         x.round_ties_even()
     };
-    (-32768.0..=32767.0).contains(&r).then_some(r + 0.0)
+    fits_i16(r).then_some(r + 0.0)
 }
 
 /// The whole number `x` (or a non-finite one) as a long or a whole fixed-point slot stores it
 /// (a -0 made 0), `None` outside 32 bits or not finite: only its range is tested.
 #[inline(always)]
 fn whole_in_range(x: f64) -> Option<f64> {
-    (f64::from(i32::MIN)..=f64::from(i32::MAX))
-        .contains(&x)
-        .then_some(x + 0.0)
+    fits_i32(x).then_some(x + 0.0)
+}
+
+/// Whether `x` is within a long's 32 bits (NaN is not).
+#[inline(always)]
+fn fits_i32(x: f64) -> bool {
+    (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x)
+}
+
+/// Whether `x` is within a MotionBASIC INTEGER's 16 bits (NaN is not).
+#[inline(always)]
+fn fits_i16(x: f64) -> bool {
+    (-32768.0..=32767.0).contains(&x)
 }
 
 /// `x MOD y` with the sign of `x`; exact and fast (no libm `fmod`) when both are whole numbers.
