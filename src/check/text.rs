@@ -264,13 +264,6 @@ impl Value<'_> {
             Value::Text(_) => 0.0,
         }
     }
-
-    fn text(&self) -> &str {
-        match self {
-            Value::Text(s) => s,
-            Value::Num(_) => "",
-        }
-    }
 }
 
 fn illegal(what: &str) -> String {
@@ -323,80 +316,94 @@ fn count(s: &str) -> usize {
     }
 }
 
+/// A string function's arguments, read where they are when the function needs them (the
+/// interpreter's registers, or a slice of [`Value`]s): no array of values is built first.
+pub trait Args {
+    /// How many arguments were given.
+    fn count(&self) -> usize;
+    /// Argument `i` is a string.
+    fn is_text(&self, i: usize) -> bool;
+    /// Argument `i` as a number (0 for a string).
+    fn num(&self, i: usize) -> f64;
+    /// Argument `i` as a string ("" for a number). Err: it names no string.
+    fn text(&self, i: usize) -> Result<&str, String>;
+}
+
+impl Args for [Value<'_>] {
+    fn count(&self) -> usize {
+        self.len()
+    }
+
+    fn is_text(&self, i: usize) -> bool {
+        matches!(self.get(i), Some(Value::Text(_)))
+    }
+
+    fn num(&self, i: usize) -> f64 {
+        self.get(i).map_or(0.0, |v| v.num())
+    }
+
+    fn text(&self, i: usize) -> Result<&str, String> {
+        Ok(match self.get(i) {
+            Some(Value::Text(s)) => s,
+            _ => "",
+        })
+    }
+}
+
 /// Apply `func` to `args`: a string result is written to `out` (emptied first) and `None`
 /// returned; a number result is returned. Err: an "Illegal function call" or "String too long".
-pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Option<f64>, String> {
+#[inline]
+pub fn apply<A: Args + ?Sized>(
+    func: TextFunc,
+    args: &A,
+    out: &mut String,
+) -> Result<Option<f64>, String> {
     out.clear();
-    let arg = |i: usize| args.get(i).copied().unwrap_or(Value::Num(0.0));
-    let len = |v: Value<'_>| count(v.text());
     match func {
-        TextFunc::Len => return Ok(Some(len(arg(0)) as f64)),
-        TextFunc::Val => return Ok(Some(val(arg(0).text()))),
+        TextFunc::Len => return Ok(Some(count(args.text(0)?) as f64)),
+        TextFunc::Val => return Ok(Some(val(args.text(0)?))),
         TextFunc::Asc => {
-            let Some(c) = arg(0).text().chars().next() else {
+            let Some(c) = args.text(0)?.chars().next() else {
                 return Err(illegal("ASC of an empty string"));
             };
             return Ok(Some(f64::from(u32::from(c))));
         }
         TextFunc::Instr => {
-            let (start, hay, needle) = if args.len() == 3 {
+            let (start, hay, needle) = if args.count() == 3 {
                 (
-                    whole(arg(0).num(), 1, 255, "a start", func)?,
-                    arg(1),
-                    arg(2),
+                    whole(args.num(0), 1, 255, "a start", func)?,
+                    args.text(1)?,
+                    args.text(2)?,
                 )
             } else {
-                (1, arg(0), arg(1))
+                (1, args.text(0)?, args.text(1)?)
             };
-            let (hay, needle) = (hay.text(), needle.text());
-            let from = start as usize - 1;
-            if from >= count(hay) {
-                return Ok(Some(0.0));
-            }
-            if needle.is_empty() {
-                return Ok(Some(start as f64));
-            }
-            if hay.is_ascii() {
-                // Byte positions are character positions: a substring search, no copies.
-                let at = if let [byte] = needle.as_bytes() {
-                    hay.as_bytes()[from..].iter().position(|b| b == byte)
-                } else {
-                    hay[from..].find(needle)
-                };
-                return Ok(Some(at.map_or(0.0, |i| (from + i + 1) as f64)));
-            }
-            let hay_chars: Vec<char> = hay.chars().collect();
-            let needle_chars: Vec<char> = needle.chars().collect();
-            let found = (from..hay_chars.len())
-                .find(|&i| hay_chars[i..].starts_with(&needle_chars))
-                .map_or(0.0, |i| (i + 1) as f64);
-            return Ok(Some(found));
+            return Ok(Some(instr(start as usize, hay, needle)));
         }
         TextFunc::Left => {
-            let n = whole(arg(1).num(), 0, 255, "a count", func)?;
-            chars(arg(0).text(), 0, n as usize, out);
+            let n = whole(args.num(1), 0, 255, "a count", func)?;
+            chars(args.text(0)?, 0, n as usize, out);
         }
         TextFunc::Right => {
-            let n = whole(arg(1).num(), 0, 255, "a count", func)? as usize;
-            let l = len(arg(0));
-            chars(arg(0).text(), l.saturating_sub(n), n, out);
+            let n = whole(args.num(1), 0, 255, "a count", func)? as usize;
+            let s = args.text(0)?;
+            chars(s, count(s).saturating_sub(n), n, out);
         }
         TextFunc::Mid => {
-            let start = whole(arg(1).num(), 1, 255, "a start", func)? as usize;
-            let n = if args.len() > 2 {
-                whole(arg(2).num(), 0, 255, "a count", func)? as usize
+            let start = whole(args.num(1), 1, 255, "a start", func)? as usize;
+            let n = if args.count() > 2 {
+                whole(args.num(2), 0, 255, "a count", func)? as usize
             } else {
                 MAX_LEN
             };
-            chars(arg(0).text(), start - 1, n, out);
+            chars(args.text(0)?, start - 1, n, out);
         }
         TextFunc::MidSet => {
-            let (target, replacement) = (arg(0), arg(2));
-            let (target, replacement) = (target.text(), replacement.text());
+            let (target, replacement) = (args.text(0)?, args.text(2)?);
             let l = count(target);
-            let start = whole(arg(1).num(), 1, 255, "a start", func)? as usize;
-            let n = if args.len() > 3 {
-                whole(arg(3).num(), 0, 255, "a count", func)? as usize
+            let start = whole(args.num(1), 1, 255, "a start", func)? as usize;
+            let n = if args.count() > 3 {
+                whole(args.num(3), 0, 255, "a count", func)? as usize
             } else {
                 MAX_LEN
             };
@@ -412,36 +419,37 @@ pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Opt
             chars(target, start - 1 + n, MAX_LEN, out);
         }
         TextFunc::Str(how) => {
-            crate::vm::print::push_number(arg(0).num(), how, out);
+            crate::vm::print::push_number(args.num(0), how, out);
             out.truncate(out.trim_end_matches(' ').len());
         }
         TextFunc::Chr => {
-            let code = whole(arg(0).num(), 0, 255, "a code", func)?;
+            let code = whole(args.num(0), 0, 255, "a code", func)?;
             // Codes 128–255 are Latin-1 here (what pacer reads Windows-1252 programs as is
             // the same for letters such as `°` and `µ`).
             out.push(char::from(code as u8));
         }
         TextFunc::Space => {
-            let n = whole(arg(0).num(), 0, 255, "a count", func)?;
+            let n = whole(args.num(0), 0, 255, "a count", func)?;
             out.extend(std::iter::repeat_n(' ', n as usize));
         }
         TextFunc::Repeat => {
-            let n = whole(arg(0).num(), 0, 255, "a count", func)?;
-            let c = match arg(1) {
-                Value::Num(x) => char::from(whole(x, 0, 255, "a code", func)? as u8),
-                Value::Text(s) => s
+            let n = whole(args.num(0), 0, 255, "a count", func)?;
+            let c = if args.is_text(1) {
+                args.text(1)?
                     .chars()
                     .next()
-                    .ok_or_else(|| illegal("STRING$ of an empty string"))?,
+                    .ok_or_else(|| illegal("STRING$ of an empty string"))?
+            } else {
+                char::from(whole(args.num(1), 0, 255, "a code", func)? as u8)
             };
             out.extend(std::iter::repeat_n(c, n as usize));
         }
-        TextFunc::Upper => out.push_str(&arg(0).text().to_ascii_uppercase()),
-        TextFunc::Lower => out.push_str(&arg(0).text().to_ascii_lowercase()),
-        TextFunc::TrimStart => out.push_str(arg(0).text().trim_start_matches(' ')),
-        TextFunc::TrimEnd => out.push_str(arg(0).text().trim_end_matches(' ')),
+        TextFunc::Upper => out.push_str(&args.text(0)?.to_ascii_uppercase()),
+        TextFunc::Lower => out.push_str(&args.text(0)?.to_ascii_lowercase()),
+        TextFunc::TrimStart => out.push_str(args.text(0)?.trim_start_matches(' ')),
+        TextFunc::TrimEnd => out.push_str(args.text(0)?.trim_end_matches(' ')),
         TextFunc::Hex | TextFunc::Oct => {
-            let x = arg(0).num().round_ties_even();
+            let x = args.num(0).round_ties_even();
             // Within -32768..65535 an INTEGER's 16 bits (GW-BASIC); a long's 32 beyond.
             let bits: u64 = if (-32768.0..=65535.0).contains(&x) {
                 (x as i64 as u64) & 0xFFFF
@@ -464,6 +472,32 @@ pub fn apply(func: TextFunc, args: &[Value<'_>], out: &mut String) -> Result<Opt
     Ok(None)
 }
 
+/// INSTR from character `start` (1-based, at least 1): where `needle` first occurs in `hay`,
+/// from 1; 0 when nowhere.
+fn instr(start: usize, hay: &str, needle: &str) -> f64 {
+    let from = start - 1;
+    if from >= count(hay) {
+        return 0.0;
+    }
+    if needle.is_empty() {
+        return start as f64;
+    }
+    if hay.is_ascii() {
+        // Byte positions are character positions: a substring search, no copies.
+        let at = if let [byte] = needle.as_bytes() {
+            hay.as_bytes()[from..].iter().position(|b| b == byte)
+        } else {
+            hay[from..].find(needle)
+        };
+        return at.map_or(0.0, |i| (from + i + 1) as f64);
+    }
+    let hay_chars: Vec<char> = hay.chars().collect();
+    let needle_chars: Vec<char> = needle.chars().collect();
+    (from..hay_chars.len())
+        .find(|&i| hay_chars[i..].starts_with(&needle_chars))
+        .map_or(0.0, |i| (i + 1) as f64)
+}
+
 /// Join `a` and `b` into `out`.
 pub fn concat(a: &str, b: &str, out: &mut String) -> Result<(), String> {
     out.clear();
@@ -473,6 +507,15 @@ pub fn concat(a: &str, b: &str, out: &mut String) -> Result<(), String> {
     }
     out.push_str(a);
     out.push_str(b);
+    Ok(())
+}
+
+/// Put `b` on the end of `a`.
+pub fn append(a: &mut String, b: &str) -> Result<(), String> {
+    if a.len() + b.len() > MAX_LEN && count(a) + count(b) > MAX_LEN {
+        return Err(too_long());
+    }
+    a.push_str(b);
     Ok(())
 }
 

@@ -441,8 +441,11 @@ pub enum Op {
         len: u32,
     },
     /// A rarer instruction, described in the chunk's side table ([`Chunk::ext`]) so every
-    /// instruction stays small: strings, `DATA`, random numbers.
-    Ext { at: u32 },
+    /// instruction stays small: strings, `DATA`, random numbers. It counts against the budget
+    /// as `1 + copies` instructions: a string function reads its arguments where they are, and
+    /// each counts as the copy into a call's argument registers it stands for (as a kernel
+    /// call's still are), so budgets yield where they did when those copies were made.
+    Ext { at: u32, copies: u8 },
     /// `RETURN` from a subroutine.
     Return,
     /// End of this program (returns to a caller if called).
@@ -462,14 +465,14 @@ pub enum ExtOp {
     CopyText { dst: Reg, cell: u32, src: Reg },
     /// `a + b` of strings into `cell`; `dst` = that cell.
     Concat { dst: Reg, cell: u32, a: Reg, b: Reg },
-    /// A string function on `argc` arguments in consecutive registers from `args` (bit i of
+    /// A string function on the first `argc` of `args`, each read where it is (bit i of
     /// `texts`: argument i is a string); a string result goes into `cell` (and `dst` = the
     /// cell), a number into `dst`.
     Text {
         func: TextFunc,
         dst: Reg,
         cell: u32,
-        args: Reg,
+        args: [Reg; 4],
         argc: u8,
         texts: u8,
     },

@@ -9,6 +9,18 @@ use std::fmt::Write;
 /// after `;`, the line and column of the expression or statement it evaluates.
 pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> String {
     let r = |x: u32| layout.describe(x, registry);
+    // A string operand: a constant is shown as the string, not as its index.
+    let text = |x: u32| {
+        let shown = r(x);
+        match shown
+            .parse::<usize>()
+            .ok()
+            .and_then(|i| layout.strings.get(i))
+        {
+            Some(literal) => format!("{literal:?}"),
+            None => shown,
+        }
+    };
     let mut out = String::new();
     let _ = writeln!(
         out,
@@ -264,17 +276,12 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 )
             }
             Op::Print { src, how } => {
-                // A string constant is shown as the string, not as its index.
-                let shown = r(src);
-                let literal = shown
-                    .parse::<usize>()
-                    .ok()
-                    .filter(|_| how == crate::compile::bytecode::PrintHow::Text)
-                    .and_then(|i| layout.strings.get(i));
-                match literal {
-                    Some(text) => format!("print     {text:?} as {how:?}"),
-                    None => format!("print     {shown} as {how:?}"),
-                }
+                let shown = if how == crate::compile::bytecode::PrintHow::Text {
+                    text(src)
+                } else {
+                    r(src)
+                };
+                format!("print     {shown} as {how:?}")
             }
             Op::PrintZone => "print.zone".to_string(),
             Op::PrintLine => "print.line".to_string(),
@@ -323,8 +330,8 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 let kind = store_kind(decimals);
                 format!("store.at.{kind} {}[{}] <- {}", r(base), r(off), r(src))
             }
-            Op::Ext { at } => match chunk.ext.get(at as usize) {
-                Some(ext) => ext_text(ext, &r, chunk),
+            Op::Ext { at, .. } => match chunk.ext.get(at as usize) {
+                Some(ext) => ext_text(ext, &r, &text, chunk),
                 None => format!("ext       #{at}?"),
             },
             Op::Return => "return".to_string(),
@@ -371,48 +378,65 @@ fn fused(name: &str, decimals: u8, dst: String, a: String, sym: &str, b: String)
 }
 
 /// An [`Op::Ext`] instruction as the disassembly shows it.
-fn ext_text(op: &ExtOp, r: &dyn Fn(u32) -> String, chunk: &Chunk) -> String {
+fn ext_text(
+    op: &ExtOp,
+    r: &dyn Fn(u32) -> String,
+    text: &dyn Fn(u32) -> String,
+    chunk: &Chunk,
+) -> String {
     match op {
-        ExtOp::StoreText { dst, src } => format!("store.s   {} <- {}", r(*dst), r(*src)),
+        ExtOp::StoreText { dst, src } => format!("store.s   {} <- {}", r(*dst), text(*src)),
         ExtOp::StoreTextAt { base, off, src } => {
-            format!("store.at.s {}[{}] <- {}", r(*base), r(*off), r(*src))
+            format!("store.at.s {}[{}] <- {}", r(*base), r(*off), text(*src))
         }
         ExtOp::CopyText { dst, cell, src } => {
-            format!("copy.s    {} <- {} (cell {cell})", r(*dst), r(*src))
+            format!("copy.s    {} <- {} (cell {cell})", r(*dst), text(*src))
         }
         ExtOp::Concat { dst, cell, a, b } => {
             format!(
                 "concat    {} <- {} + {} (cell {cell})",
                 r(*dst),
-                r(*a),
-                r(*b)
+                text(*a),
+                text(*b)
             )
         }
         ExtOp::Text {
             func,
             dst,
+            cell,
             args,
             argc,
-            ..
-        } => format!(
-            "text      {} <- {}{}({} args from {})",
-            r(*dst),
-            func.name(),
-            // The statement's function, not the one of the same name.
-            if *func == crate::check::text::TextFunc::MidSet {
-                "="
-            } else {
-                ""
-            },
-            argc,
-            r(*args)
-        ),
+            texts,
+        } => {
+            let args: Vec<String> = args[..usize::from(*argc)]
+                .iter()
+                .enumerate()
+                .map(|(i, &a)| if texts & (1 << i) != 0 { text(a) } else { r(a) })
+                .collect();
+            format!(
+                "text      {} <- {}{}({}){}",
+                r(*dst),
+                func.name(),
+                // The statement's function, not the one of the same name.
+                if *func == crate::check::text::TextFunc::MidSet {
+                    "="
+                } else {
+                    ""
+                },
+                args.join(", "),
+                if *cell == 0 {
+                    String::new()
+                } else {
+                    format!(" (cell {cell})")
+                }
+            )
+        }
         ExtOp::CompareText { cmp, dst, a, b } => format!(
             "cmp.s     {} <- {} {} {}",
             r(*dst),
-            r(*a),
+            text(*a),
             cmp.symbol(),
-            r(*b)
+            text(*b)
         ),
         ExtOp::Rnd { dst, arg } => match arg {
             Some(a) => format!("rnd       {} <- RND({})", r(*dst), r(*a)),

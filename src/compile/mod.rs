@@ -357,9 +357,17 @@ impl<'a> Compiler<'a> {
 
     /// Emit an [`Op::Ext`] instruction; its index in the side table.
     fn emit_ext(&mut self, op: ExtOp) -> usize {
+        self.emit_ext_counting(op, 0)
+    }
+
+    /// [`Compiler::emit_ext`] of an instruction counting as `1 + copies` ([`Op::Ext`]).
+    fn emit_ext_counting(&mut self, op: ExtOp, copies: u8) -> usize {
         self.ext.push(op);
         let at = self.ext.len() - 1;
-        self.emit(Op::Ext { at: at as u32 });
+        self.emit(Op::Ext {
+            at: at as u32,
+            copies,
+        });
         at
     }
 
@@ -837,26 +845,33 @@ impl<'a> Compiler<'a> {
     /// changed by the string function, and stored back.
     fn mid_set(&mut self, place: &Place, start: &Expr, count: Option<&Expr>, value: &Expr) {
         let (slot, off) = self.locate(place);
-        // The function's arguments in consecutive registers: v$, start, y$[, n].
-        let operands: Vec<&Expr> = [start, value].into_iter().chain(count).collect();
-        let args: Vec<Reg> = (0..=operands.len()).map(|_| self.temp(self.span)).collect();
-        let top = self.temp_top;
-        self.read_into(slot, off, args[0]);
-        for (e, &dst) in operands.iter().zip(&args[1..]) {
-            let src = self.expr(e);
-            self.temp_top = top;
-            self.emit(Op::Move { dst, src });
+        // The function's arguments: v$, start, y$[, n].
+        let mut args = [0; 4];
+        // A variable is read where it is; an element's value is fetched first.
+        args[0] = match off {
+            None => slot,
+            Some(_) => self.read_located(slot, off),
+        };
+        let operands = [start, value].into_iter().chain(count);
+        for (r, e) in args[1..].iter_mut().zip(operands) {
+            *r = self.expr(e);
         }
         let dst = self.temp(self.span);
         let cell = self.layout.cell();
-        self.emit_ext(ExtOp::Text {
-            func: crate::check::text::TextFunc::MidSet,
-            dst,
-            cell,
-            args: args[0],
-            argc: args.len() as u8,
-            texts: 0b101,
-        });
+        let argc = 3 + u8::from(count.is_some());
+        // Counted as its arguments' copies, the element's read being an instruction of its own.
+        let copies = argc - u8::from(off.is_some());
+        self.emit_ext_counting(
+            ExtOp::Text {
+                func: crate::check::text::TextFunc::MidSet,
+                dst,
+                cell,
+                args,
+                argc,
+                texts: 0b101,
+            },
+            copies,
+        );
         self.store_located(place, slot, off.map(|o| o.0), dst);
     }
 
@@ -1215,6 +1230,31 @@ impl<'a> Compiler<'a> {
         }
     }
 
+    /// The cell of the string `e` was just built into, in register `r`, when `e` is a string
+    /// function or a join: nothing but the instruction consuming `r` reads that cell before
+    /// the same instruction builds it again.
+    fn built_cell(&self, e: &Expr, r: Reg) -> Option<u32> {
+        let built = match &e.kind {
+            ExprKind::Text(..) => true,
+            ExprKind::Binary { op, .. } => !matches!(op, TypedOp::Cmp(_)),
+            _ => false,
+        };
+        if !built || e.ty != Ty::Str {
+            return None;
+        }
+        let Some(Op::Ext { at, .. }) = self.ops.last() else {
+            return None;
+        };
+        match self.ext.get(*at as usize) {
+            Some(ExtOp::Text { dst, cell, .. } | ExtOp::Concat { dst, cell, .. })
+                if *dst == r && *cell != 0 =>
+            {
+                Some(*cell)
+            }
+            _ => None,
+        }
+    }
+
     /// The values of `args` in consecutive temporaries (a call's arguments), and a fresh
     /// temporary for the result, which may reuse the first argument's.
     fn consecutive(&mut self, args: &[Expr], span: Span) -> (Vec<Reg>, Reg) {
@@ -1284,6 +1324,7 @@ impl<'a> Compiler<'a> {
             ExprKind::Binary { op, a, b, negate } if a.ty == Ty::Str => {
                 let mark = self.temp_top;
                 let ra = self.expr(a);
+                let fresh_cell = self.built_cell(a, ra);
                 let rb = self.expr(b);
                 self.temp_top = mark;
                 let dst = self.temp(e.span);
@@ -1300,7 +1341,12 @@ impl<'a> Compiler<'a> {
                         }
                     }
                     _ => {
-                        let cell = self.layout.cell();
+                        // A string this expression just built (a function's or a join's) is
+                        // consumed here: its cell takes `b` in place of a copy.
+                        let cell = match fresh_cell {
+                            Some(cell) => cell,
+                            None => self.layout.cell(),
+                        };
                         self.emit_ext(ExtOp::Concat {
                             dst,
                             cell,
@@ -1347,7 +1393,14 @@ impl<'a> Compiler<'a> {
                 dst
             }
             ExprKind::Text(func, args) => {
-                let (regs, dst) = self.consecutive(args, e.span);
+                // Each argument is read where it is: a variable in its own slot, no copy.
+                let mark = self.temp_top;
+                let mut regs = [0; 4];
+                for (r, a) in regs.iter_mut().zip(args) {
+                    *r = self.expr(a);
+                }
+                self.temp_top = mark;
+                let dst = self.temp(e.span);
                 let cell = if e.ty == Ty::Str {
                     self.layout.cell()
                 } else {
@@ -1358,14 +1411,18 @@ impl<'a> Compiler<'a> {
                     .enumerate()
                     .filter(|(_, a)| a.ty == Ty::Str)
                     .fold(0u8, |m, (i, _)| m | (1 << i));
-                self.emit_ext(ExtOp::Text {
-                    func: *func,
-                    dst,
-                    cell,
-                    args: regs.first().copied().unwrap_or(dst),
-                    argc: args.len() as u8,
-                    texts,
-                });
+                let argc = args.len() as u8;
+                self.emit_ext_counting(
+                    ExtOp::Text {
+                        func: *func,
+                        dst,
+                        cell,
+                        args: regs,
+                        argc,
+                        texts,
+                    },
+                    argc,
+                );
                 dst
             }
             ExprKind::Rnd(arg) => {

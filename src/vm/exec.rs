@@ -1381,7 +1381,8 @@ pub fn run<'a>(
                         store_fixed!(dst, x, decimals, here, false)
                     }
                 }
-                Op::Ext { at } => {
+                Op::Ext { at, copies } => {
+                    n += u64::from(copies);
                     if let Err(message) = ext(at, chunk, v, ctx) {
                         pc = here;
                         fault!("{message}");
@@ -1512,13 +1513,7 @@ fn set_text(strings: &mut [String], cell: usize, src: usize) -> bool {
     if cell == src || strings[cell] == strings[src] {
         return false;
     }
-    let (dst, from) = if cell < src {
-        let (l, r) = strings.split_at_mut(src);
-        (&mut l[cell], &r[0])
-    } else {
-        let (l, r) = strings.split_at_mut(cell);
-        (&mut r[0], &l[src])
-    };
+    let (dst, from) = two(strings, cell, src);
     dst.clone_from(from);
     true
 }
@@ -1568,6 +1563,55 @@ fn no_cell() -> String {
     "internal error: no such string cell".into()
 }
 
+/// A string function's arguments where the interpreter has them: registers, and the string
+/// table their string handles index.
+struct Given<'a> {
+    v: &'a [f64],
+    strings: &'a [String],
+    args: [u32; 4],
+    argc: u8,
+    texts: u8,
+}
+
+impl crate::check::text::Args for Given<'_> {
+    fn count(&self) -> usize {
+        usize::from(self.argc)
+    }
+
+    fn is_text(&self, i: usize) -> bool {
+        i < self.count() && self.texts & (1 << i) != 0
+    }
+
+    #[inline]
+    fn num(&self, i: usize) -> f64 {
+        if i < self.count() && !self.is_text(i) {
+            self.v.get(self.args[i] as usize).copied().unwrap_or(0.0)
+        } else {
+            0.0
+        }
+    }
+
+    #[inline]
+    fn text(&self, i: usize) -> Result<&str, String> {
+        if !self.is_text(i) {
+            return Ok("");
+        }
+        let x = self.v.get(self.args[i] as usize).copied().unwrap_or(-1.0);
+        Ok(&self.strings[handle(x, self.strings)?])
+    }
+}
+
+/// Cell `a` to change and cell `b` to read: two different cells of `strings` (`a != b`).
+fn two(strings: &mut [String], a: usize, b: usize) -> (&mut String, &String) {
+    if a < b {
+        let (l, r) = strings.split_at_mut(b);
+        (&mut l[a], &r[0])
+    } else {
+        let (l, r) = strings.split_at_mut(a);
+        (&mut r[0], &l[b])
+    }
+}
+
 /// The instructions of the side table ([`Op::Ext`]): strings, `DATA`, random numbers.
 #[cold]
 #[inline(never)]
@@ -1591,8 +1635,15 @@ fn ext(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(
         ExtOp::Concat { dst, cell, a, b } => {
             let a = handle(v[a as usize], ctx.strings)?;
             let b = handle(v[b as usize], ctx.strings)?;
-            text::concat(&ctx.strings[a], &ctx.strings[b], ctx.scratch)?;
-            give_text(dst, cell, v, ctx)?;
+            if a == cell as usize && b != a {
+                // The string built so far is in this join's own cell: `b` goes on its end.
+                let (built, tail) = two(ctx.strings, a, b);
+                text::append(built, tail)?;
+                v[dst as usize] = f64::from(cell);
+            } else {
+                text::concat(&ctx.strings[a], &ctx.strings[b], ctx.scratch)?;
+                give_text(dst, cell, v, ctx)?;
+            }
         }
         ExtOp::Text {
             func,
@@ -1602,17 +1653,14 @@ fn ext(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(
             argc,
             texts,
         } => {
-            let mut values = [Arg::Num(0.0); 4];
-            for (i, value) in values.iter_mut().enumerate().take(usize::from(argc)) {
-                let x = v[args as usize + i];
-                *value = if texts & (1 << i) != 0 {
-                    Arg::Text(&ctx.strings[handle(x, ctx.strings)?])
-                } else {
-                    Arg::Num(x)
-                };
-            }
-            let result = text::apply(func, &values[..usize::from(argc)], ctx.scratch)?;
-            match result {
+            let given = Given {
+                v,
+                strings: ctx.strings,
+                args,
+                argc,
+                texts,
+            };
+            match text::apply(func, &given, ctx.scratch)? {
                 Some(x) => v[dst as usize] = x,
                 None => {
                     // Never more characters than bytes: most strings need no count.
