@@ -68,3 +68,48 @@ fn string_functions_give_the_strings_of_the_build_before() {
     );
     assert_eq!(run.summary.instructions, 2412);
 }
+
+/// A join appends in place to the string its left side just built (a function's result or an
+/// earlier join); every variable and element keeps its own string, a join past 255 characters
+/// fails where it did, and a string function still counts its arguments: a budget of 7 yields
+/// where the build that copied them into argument registers yielded (3 updates, 112
+/// instructions, both as 3fdd2ab counted them).
+#[test]
+fn joins_build_in_place_and_count_as_before() {
+    let program = "DIM E$(2)\n\
+         FOR I& = 1 TO 3\n\
+           A$ = LEFT$(\"XYZ\", I&) + \"-\" + STR$(I&) + A$\n\
+           E$(I& MOD 2) = CHR$(96 + I&) + CHR$(96 + I&) + E$(I& MOD 2)\n\
+         NEXT\n\
+         PRINT A$; \"|\"; E$(0); \"|\"; E$(1)\n\
+         MID$(E$(1), 2) = \"QQ\"\n\
+         B$ = E$(1)\n\
+         MID$(B$, 1, 1) = \"Z\"\n\
+         PRINT B$; \"|\"; E$(1)\n\
+         S$ = STRING$(200, \"a\") + STRING$(50, 66) + \"12345\" + \"6\"\n";
+    let machine = "[machine]\nname = \"joins\"\nbudget = 7\n\
+                   [[program]]\nnumber = 0\nfile = \"program0.mb\"\n";
+    let run = match load_memory(
+        "vm-strings-joins",
+        &[
+            ("program0.mb", program),
+            ("machine.toml", machine),
+            ("scenario.toml", "[run]\nduration = 0.05\n"),
+        ],
+    ) {
+        Ok(l) => run_loaded(l),
+        Err(d) => panic!("{}", d.render_plain()),
+    };
+    assert_eq!(printed(&run), ["XYZ- 3XY- 2X- 1|bb|ccaa", "ZQQa|cQQa"]);
+    let e = run
+        .summary
+        .error
+        .as_ref()
+        .expect("the 256-character join stops the run");
+    assert_eq!((e.line, e.column), (11, 6));
+    assert_eq!(
+        e.message,
+        "String too long: a string holds at most 255 characters"
+    );
+    assert_eq!((run.summary.instructions, run.summary.ticks), (112, 3));
+}
