@@ -1,5 +1,6 @@
 //! The superinstructions of three and four instructions (`MulAddCheck`, `AddModLong`,
-//! `AddModWhole`, `NotAndLong`, `NotAndWhole`) give what the instructions they replace give:
+//! `AddModWhole`, `NotAndLong`, `NotAndWhole`), and PowerTools' `x - a MOD b` (`SubMod`) and
+//! `dst = dst + a / b` (`DivAddFixed`), give what the instructions they replace give:
 //! the values (negative, -0, fractions, past 32 bits), the faults (MOD by zero, an Overflow in
 //! either half, a store that does not fit) at the same line, and the same instruction counts
 //! against the budget. The expected figures are those of the build before these fusions.
@@ -7,6 +8,7 @@
 mod common;
 
 use common::{load_memory, run_error, run_loaded, slot_value, Run};
+use pacer::compile::bytecode::Op;
 
 /// Run a MotionBASIC program `x.mb` (program 0) with the instruction budget `budget`.
 fn run_mb(name: &str, program: &str, budget: u32) -> Run {
@@ -427,4 +429,68 @@ fn chains_of_additions_and_subtractions_give_the_values_of_their_instructions() 
     assert_eq!(val(&run, "Var.H"), 9.0);
     assert_eq!(val(&run, "Var.I"), -1.0);
     assert_eq!(run.summary.instructions, 10);
+}
+
+/// PowerTools quotients and multiples: `(A - A MOD 3) / 3` summed, `I - A MOD 7`, a quotient
+/// added to a variable of 2 decimals (rounded at every store) or 0 (fractions of eighths), a
+/// real `MOD` and quotient into a variable of 1 decimal, then a division by zero in the first
+/// half of a `DivAddFixed` and an overflow in its second. The expected figures are those of
+/// the build before `SubMod` and `DivAddFixed` (3fdd2ab), which ran the instructions one by one.
+#[test]
+fn powertools_quotients_and_multiples_give_the_values_of_their_instructions() {
+    let program = "Var.A = 12345\n\
+        For Var.I = 1 To 20\n\
+        \x20 Var.A = (Var.A * 75 + 74) MOD 65537\n\
+        \x20 Var.Q = Var.Q + (Var.A - Var.A MOD 3) / 3\n\
+        \x20 Var.Z = (Var.I - Var.A MOD 7) * 2\n\
+        \x20 Var.F = Var.A / 7 + Var.F\n\
+        \x20 Var.Y = Var.Y + (0 - Var.A) / 8\n\
+        \x20 Var.G = (Var.F - Var.F MOD 0.75) / 0.25 + Var.G\n\
+        Next\n\
+        Var.B = 0\n\
+        Var.H = 5\n\
+        Var.H = Var.H + Var.A / Var.B\n\
+        End\n";
+    let machine = "[machine]\nname = \"e\"\nbudget = 10000\n\
+        [variables.A]\n[variables.B]\n[variables.H]\n[variables.I]\n[variables.Q]\n\
+        [variables.Z]\n[variables.Y]\n[variables.F]\ndecimals = 2\n[variables.G]\ndecimals = 1\n";
+    let loaded = match load_memory(
+        "fused-pt-quotients",
+        &[("program0.pt", program), ("machine.toml", machine)],
+    ) {
+        Ok(l) => l,
+        Err(d) => panic!("{}", d.render_plain()),
+    };
+    let ops = &loaded.image.chunks[0].ops;
+    let count = |f: fn(&Op) -> bool| ops.iter().filter(|op| f(op)).count();
+    assert_eq!(count(|op| matches!(op, Op::SubMod { .. })), 3);
+    assert_eq!(count(|op| matches!(op, Op::DivAddFixed { .. })), 5);
+    let run = run_loaded(loaded);
+    assert_eq!(run_error(&run), (12, "division by zero".to_string()));
+    assert_eq!(run.summary.instructions, 408);
+    let want = [
+        ("Var.A", 28919.0),
+        ("Var.Q", 217547.0),
+        ("Var.Z", 36.0),
+        ("Var.F", 93237.72),
+        ("Var.Y", -81584.0),
+        ("Var.G", 4252089.0),
+        ("Var.H", 5.0),
+    ];
+    for (name, v) in want {
+        assert_eq!(val(&run, name), v, "{name}");
+    }
+    let run = run_pt(
+        "fused-pt-quotient-overflow",
+        "Var.A = 28919\nVar.H = 5\nVar.H = Var.A / 0.00001 + Var.H\nVar.H = 9\nEnd\n",
+        10_000,
+    );
+    let (line, message) = run_error(&run);
+    assert_eq!(line, 3);
+    assert!(
+        message.starts_with("overflow: 2891900005 does not fit Var.H"),
+        "{message}"
+    );
+    assert_eq!(val(&run, "Var.H"), 5.0);
+    assert_eq!(run.summary.instructions, 4);
 }

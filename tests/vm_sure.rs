@@ -234,6 +234,7 @@ fn integer_reading(op: &Op) -> bool {
             | Op::AndXorLong { .. }
             | Op::AndXorWhole { .. }
             | Op::DivAddLong { .. }
+            | Op::SubMod { .. }
             | Op::AddModLong { .. }
             | Op::AddModWhole { .. }
     )

@@ -648,7 +648,7 @@ mod tests {
         assert!(text(TextFunc::Left, &[T("ABC"), N(-1.0)]).is_err());
         assert_eq!(num(TextFunc::Len, &[T("ABCD")]), Some(4.0));
         assert_eq!(num(TextFunc::Asc, &[T("A")]), Some(65.0));
-        assert!(apply(TextFunc::Asc, &[T("")], &mut String::new()).is_err());
+        assert!(apply(TextFunc::Asc, &[T("")][..], &mut String::new()).is_err());
         assert_eq!(text(TextFunc::Chr, &[N(66.0)]).unwrap(), "B");
         assert_eq!(
             text(TextFunc::Str(PrintHow::Integer), &[N(42.0)]).unwrap(),

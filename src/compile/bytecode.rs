@@ -260,6 +260,19 @@ pub enum Op {
         dst: Reg,
         t_first: bool,
     },
+    /// PowerTools `mod t <- a MOD b`, then `sub t <- x - t`: `x - a MOD b`, the multiple of
+    /// `b` at or below `x` when `x` is `a` (a count of whole pitches, a position on a grid).
+    SubMod { t: Reg, a: Reg, b: Reg, x: Reg },
+    /// `div t <- a / b`, then `add.f dst <- dst + t` (or `t + dst`): a fixed-point
+    /// accumulator's `dst = dst + a / b` (a mean's sum, a scaled increment).
+    DivAddFixed {
+        t: Reg,
+        a: Reg,
+        b: Reg,
+        dst: Reg,
+        decimals: u8,
+        t_first: bool,
+    },
     /// `add t <- a + b` then `store.r dst <- t`.
     AddReal { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// `sub t <- a - b` then `store.r dst <- t`.
@@ -652,6 +665,8 @@ fn joined(op: Op, temps: &std::ops::Range<Reg>) -> bool {
         | Op::NotAndWhole { t, .. }
         | Op::AndOr { t, .. }
         | Op::AndXorWhole { t, .. }
+        | Op::SubMod { t, .. }
+        | Op::DivAddFixed { t, .. }
         | Op::AddReal { t, .. }
         | Op::SubReal { t, .. }
         | Op::MulReal { t, .. }
@@ -877,6 +892,25 @@ fn pair(first: Op, second: Op) -> Option<Op> {
         (Op::Add { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
             Some(Op::AddReal { t, dst, a, b })
         }
+        (Op::Mod { dst: t, a, b }, Op::Sub { dst, a: x, b: y }) if dst == t && y == t && x != t => {
+            Some(Op::SubMod { t, a, b, x })
+        }
+        (
+            Op::Div { dst: t, a, b },
+            Op::AddFixed {
+                dst,
+                a: x,
+                b: y,
+                decimals,
+            },
+        ) if dst != t && ((x == t && y == dst) || (y == t && x == dst)) => Some(Op::DivAddFixed {
+            t,
+            a,
+            b,
+            dst,
+            decimals,
+            t_first: x == t,
+        }),
         (Op::Sub { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
             Some(Op::SubReal { t, dst, a, b })
         }
@@ -1018,7 +1052,9 @@ impl Op {
             }
             | Op::AndXorLong { t, a, b, dst, .. }
             | Op::AndXorWhole { t, a, b, dst, .. }
-            | Op::DivAddLong { t, a, b, dst, .. } => t.max(a).max(b).max(dst),
+            | Op::DivAddLong { t, a, b, dst, .. }
+            | Op::DivAddFixed { t, a, b, dst, .. } => t.max(a).max(b).max(dst),
+            Op::SubMod { t, a, b, x } => t.max(a).max(b).max(x),
             Op::Neg { dst, a } | Op::Not { dst, a } | Op::BitNot { dst, a } => dst.max(a),
             Op::Write { slot, src, .. } => slot.max(src),
             Op::JumpIfFalse { cond, .. }

@@ -128,6 +128,12 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             | Op::AndXorWhole { t, a, b, .. } => {
                 format!("band      {} <- {} AND {}", r(t), r(a), r(b))
             }
+            Op::SubMod { t, a, b, .. } => {
+                format!("mod       {} <- {} MOD {}", r(t), r(a), r(b))
+            }
+            Op::DivAddFixed { t, a, b, .. } => {
+                format!("div       {} <- {} / {}", r(t), r(a), r(b))
+            }
             Op::DivAddLong { t, a, b, .. } => {
                 format!("idiv      {} <- {} \\ {}", r(t), r(a), r(b))
             }

@@ -258,7 +258,7 @@ fn covers(op: Op) -> usize {
         | Op::NotAndWhole { .. }
         | Op::AndOr { .. }
         | Op::AndXorWhole { .. } => 2,
-        Op::AddModWhole { .. } => 2,
+        Op::AddModWhole { .. } | Op::SubMod { .. } | Op::DivAddFixed { .. } => 2,
         Op::NotAndLong { .. }
         | Op::AndXorLong { .. }
         | Op::DivAddLong { .. }

@@ -722,6 +722,45 @@ pub fn run<'a>(
                     store_long!(dst, x, here + 2, sure!(here));
                     pc = here + 3;
                 }
+                Op::SubMod { t, a, b, x } => {
+                    // `mod` (here), then `sub` (here + 1), which cannot fail.
+                    let y = rd!(b as usize);
+                    if y == 0.0 {
+                        pc = here;
+                        fault!("MOD by zero");
+                    }
+                    n += 1;
+                    let r = int_rem_of(rd!(a as usize), y, sure!(here));
+                    wr!(t as usize, rd!(x as usize) - r);
+                    pc = here + 2;
+                }
+                Op::DivAddFixed {
+                    t,
+                    a,
+                    b,
+                    dst,
+                    decimals,
+                    t_first: _,
+                } => {
+                    // `div` (here), then the `add.f` (here + 1).
+                    let y = rd!(b as usize);
+                    if y == 0.0 {
+                        pc = here;
+                        fault!("division by zero");
+                    }
+                    n += 1;
+                    let q = rd!(a as usize) / y;
+                    wr!(t as usize, q);
+                    // The operator commutes (IEEE addition too): `t_first` is for the listing only.
+                    store_fixed!(
+                        dst,
+                        q + rd!(dst as usize),
+                        decimals,
+                        here + 1,
+                        sure!(here) && decimals == 0
+                    );
+                    pc = here + 2;
+                }
                 Op::MulAddCheck {
                     t,
                     a,
