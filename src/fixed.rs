@@ -68,6 +68,23 @@ pub fn trunc_i32(x: f64) -> i32 {
     }
 }
 
+/// `x` truncated to an `i64`, any `i64` when it is out of range or NaN: as [`trunc_i32`], for
+/// callers that keep the result only when it converts back to `x` (the bare conversion
+/// instruction on x86-64, without `as`'s clamp and NaN test).
+#[inline(always)]
+pub fn trunc_i64(x: f64) -> i64 {
+    #[cfg(target_arch = "x86_64")]
+    {
+        use std::arch::x86_64::{_mm_cvttsd_si64, _mm_set_sd};
+        // SAFETY: SSE2 is part of the x86-64 baseline, so these instructions always exist.
+        unsafe { _mm_cvttsd_si64(_mm_set_sd(x)) }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        x as i64
+    }
+}
+
 /// The range of a 32-bit fixed-point slot with `decimals` places, for messages.
 pub fn range_text(decimals: u8) -> String {
     let scale = POW10[decimals.min(9) as usize];

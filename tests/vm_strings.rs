@@ -8,7 +8,9 @@
 
 mod common;
 
-use common::{load_memory, run_loaded, Run};
+use common::{load_memory, run_loaded, slot_value, Run};
+use pacer::trace::Trace;
+use pacer::vm::Machine;
 
 /// The `print` events' texts.
 fn printed(r: &Run) -> Vec<String> {
@@ -89,7 +91,7 @@ fn joins_build_in_place_and_count_as_before() {
          S$ = STRING$(200, \"a\") + STRING$(50, 66) + \"12345\" + \"6\"\n";
     let machine = "[machine]\nname = \"joins\"\nbudget = 7\n\
                    [[program]]\nnumber = 0\nfile = \"program0.mb\"\n";
-    let run = match load_memory(
+    let load = || match load_memory(
         "vm-strings-joins",
         &[
             ("program0.mb", program),
@@ -97,9 +99,23 @@ fn joins_build_in_place_and_count_as_before() {
             ("scenario.toml", "[run]\nduration = 0.05\n"),
         ],
     ) {
-        Ok(l) => run_loaded(l),
+        Ok(l) => l,
         Err(d) => panic!("{}", d.render_plain()),
     };
+    // Untraced, a store does not ask whether the string changed: the same strings are left.
+    let loaded = load();
+    let tick = loaded.image.tick_ns;
+    let mut untraced = Machine::new(loaded.image, Trace::new(None, tick));
+    untraced.run_observed(None, &mut |_| {});
+    let text_of = |m: &Machine, name: &str| {
+        let slot = slot_value(m, name).unwrap_or_else(|| panic!("no {name}"));
+        m.strings()[slot as usize].clone()
+    };
+    assert_eq!(text_of(&untraced, "A$"), "XYZ- 3XY- 2X- 1");
+    assert_eq!(text_of(&untraced, "B$"), "ZQQa");
+    assert_eq!(text_of(&untraced, "S$"), "");
+    let run = run_loaded(load());
+    assert_eq!(text_of(&run.machine, "A$"), "XYZ- 3XY- 2X- 1");
     assert_eq!(printed(&run), ["XYZ- 3XY- 2X- 1|bb|ccaa", "ZQQa|cQQa"]);
     let e = run
         .summary

@@ -1530,9 +1530,9 @@ fn subscript(x: f64, len: u32) -> Option<u32> {
 #[inline(always)]
 fn handle(x: f64, strings: &[String]) -> Result<usize, String> {
     // A whole number converts back to itself (no `fract`, a library call on x86-64). Through
-    // `i64`, whose saturating conversion is one instruction and two fix-ups (`usize`'s is
-    // twenty): a negative or NaN `x` fails either test, as it failed through `usize`.
-    let i = x as i64;
+    // the bare conversion to `i64` (`usize`'s is twenty instructions): a negative, huge or NaN
+    // `x` fails either test, as it failed through `usize`.
+    let i = crate::fixed::trunc_i64(x);
     if i as f64 == x && (i as u64) < strings.len() as u64 {
         Ok(i as usize)
     } else {
@@ -1566,11 +1566,16 @@ fn store_text(slot: usize, src: f64, v: &[f64], ctx: &mut Ctx<'_, '_>) -> Result
         return Err("internal error: a string variable without its storage".into());
     }
     let from = handle(src, ctx.strings)?;
+    if !ctx.now.trace.enabled() || slot >= ctx.slot_count as usize {
+        // Untraced: whether the string changed is not asked.
+        if cell != from {
+            let (dst, from) = two(ctx.strings, cell, from);
+            dst.clone_from(from);
+        }
+        return Ok(());
+    }
     let changed = set_text(ctx.strings, cell, from);
-    if (changed || ctx.now.trace.writes())
-        && ctx.now.trace.enabled()
-        && slot < ctx.slot_count as usize
-    {
+    if changed || ctx.now.trace.writes() {
         ctx.now.trace.emit(
             ctx.now.tick,
             &Event::TextChange {
@@ -2336,8 +2341,35 @@ fn sync_snapshot(ctx: &mut Ctx<'_, '_>, v: &[f64]) {
 #[cfg(test)]
 mod tests {
     use super::{
-        basic_div_of, basic_integer, basic_mod_of, int, int_of, int_rem, int_rem_of, BinaryOp,
+        basic_div_of, basic_integer, basic_mod_of, handle, int, int_of, int_rem, int_rem_of,
+        BinaryOp,
     };
+
+    /// A string handle is a whole index of the table; anything else (a fraction, a negative,
+    /// -0's neighbours, past the table, past `i64`, infinite, NaN) is refused, never wrapped.
+    #[test]
+    fn string_handles_are_whole_indices_of_the_table() {
+        let table = vec![String::new(); 3];
+        for (x, want) in [(0.0, Some(0)), (-0.0, Some(0)), (2.0, Some(2))] {
+            assert_eq!(handle(x, &table).ok(), want, "{x}");
+        }
+        let refused = [
+            3.0,
+            1.5,
+            -1.0,
+            -f64::MIN_POSITIVE,
+            9.3e18,
+            -9.3e18,
+            -9_223_372_036_854_775_808.0,
+            18_446_744_073_709_551_616.0,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+        ];
+        for x in refused {
+            assert!(handle(x, &table).is_err(), "{x}");
+        }
+    }
 
     /// The integer paths of MOD and `\` give exactly (bit for bit, the sign of zero and every
     /// error included) what rounding both operands and dividing as reals gives.
