@@ -476,20 +476,26 @@ pub fn apply<A: Args + ?Sized>(
 /// from 1; 0 when nowhere.
 fn instr(start: usize, hay: &str, needle: &str) -> f64 {
     let from = start - 1;
+    if hay.is_ascii() {
+        // Byte positions are character positions: a substring search, no copies.
+        let rest = match hay.as_bytes().get(from..) {
+            Some(rest) if !rest.is_empty() => rest,
+            _ => return 0.0,
+        };
+        if needle.is_empty() {
+            return start as f64;
+        }
+        let at = match needle.as_bytes() {
+            [byte] => memchr::memchr(*byte, rest),
+            many => memchr::memmem::find(rest, many),
+        };
+        return at.map_or(0.0, |i| (from + i + 1) as f64);
+    }
     if from >= count(hay) {
         return 0.0;
     }
     if needle.is_empty() {
         return start as f64;
-    }
-    if hay.is_ascii() {
-        // Byte positions are character positions: a substring search, no copies.
-        let at = if let [byte] = needle.as_bytes() {
-            hay.as_bytes()[from..].iter().position(|b| b == byte)
-        } else {
-            hay[from..].find(needle)
-        };
-        return at.map_or(0.0, |i| (from + i + 1) as f64);
     }
     let hay_chars: Vec<char> = hay.chars().collect();
     let needle_chars: Vec<char> = needle.chars().collect();
@@ -670,6 +676,21 @@ mod tests {
         assert_eq!(num(TextFunc::Instr, &[T("ABC"), T("")]), Some(1.0));
         assert_eq!(num(TextFunc::Instr, &[T(""), T("")]), Some(0.0));
         assert_eq!(num(TextFunc::Instr, &[T("ABC"), T("X")]), Some(0.0));
+        // A substring, from a start, at the last character, past the end (an empty one too),
+        // characters past ASCII in either string.
+        let instr = |args: &[Value<'_>]| num(TextFunc::Instr, args);
+        assert_eq!(instr(&[T("K-1234/XY"), T("34/")]), Some(5.0));
+        assert_eq!(instr(&[N(6.0), T("ABABAB"), T("AB")]), Some(0.0));
+        assert_eq!(instr(&[N(5.0), T("ABABAB"), T("AB")]), Some(5.0));
+        assert_eq!(instr(&[N(6.0), T("ABABAB"), T("B")]), Some(6.0));
+        assert_eq!(instr(&[N(7.0), T("ABABAB"), T("")]), Some(0.0));
+        assert_eq!(instr(&[N(6.0), T("ABABAB"), T("")]), Some(6.0));
+        assert_eq!(instr(&[T("ABC"), T("\u{b5}")]), Some(0.0));
+        assert_eq!(instr(&[T("5 \u{b5}m/s"), T("m")]), Some(4.0));
+        assert_eq!(
+            instr(&[N(3.0), T("\u{b5}A\u{b5}A"), T("\u{b5}A")]),
+            Some(3.0)
+        );
         assert_eq!(text(TextFunc::Space, &[N(3.0)]).unwrap(), "   ");
         assert_eq!(text(TextFunc::Repeat, &[N(3.0), N(42.0)]).unwrap(), "***");
         assert_eq!(text(TextFunc::Repeat, &[N(2.0), T("XY")]).unwrap(), "XX");

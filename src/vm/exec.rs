@@ -1617,16 +1617,19 @@ struct Given<'a> {
     texts: u8,
 }
 
+// Each read inlined where `text::apply` asks for it (LLVM's own choice was a call each).
 impl crate::check::text::Args for Given<'_> {
+    #[inline(always)]
     fn count(&self) -> usize {
         usize::from(self.argc)
     }
 
+    #[inline(always)]
     fn is_text(&self, i: usize) -> bool {
         i < self.count() && self.texts & (1 << i) != 0
     }
 
-    #[inline]
+    #[inline(always)]
     fn num(&self, i: usize) -> f64 {
         if i < self.count() && !self.is_text(i) {
             self.v.get(self.args[i] as usize).copied().unwrap_or(0.0)
@@ -1635,7 +1638,7 @@ impl crate::check::text::Args for Given<'_> {
         }
     }
 
-    #[inline]
+    #[inline(always)]
     fn text(&self, i: usize) -> Result<&str, String> {
         if !self.is_text(i) {
             return Ok("");
