@@ -1617,6 +1617,15 @@ struct Given<'a> {
     texts: u8,
 }
 
+impl Given<'_> {
+    /// The register of argument `i`.
+    #[inline(always)]
+    fn register(&self, i: usize) -> Option<f64> {
+        let r = *self.args.get(i)?;
+        self.v.get(r as usize).copied()
+    }
+}
+
 // Each read inlined where `text::apply` asks for it (LLVM's own choice was a call each).
 impl crate::check::text::Args for Given<'_> {
     #[inline(always)]
@@ -1632,7 +1641,7 @@ impl crate::check::text::Args for Given<'_> {
     #[inline(always)]
     fn num(&self, i: usize) -> f64 {
         if i < self.count() && !self.is_text(i) {
-            self.v.get(self.args[i] as usize).copied().unwrap_or(0.0)
+            self.register(i).unwrap_or(0.0)
         } else {
             0.0
         }
@@ -1643,7 +1652,7 @@ impl crate::check::text::Args for Given<'_> {
         if !self.is_text(i) {
             return Ok("");
         }
-        let x = self.v.get(self.args[i] as usize).copied().unwrap_or(-1.0);
+        let x = self.register(i).unwrap_or(-1.0);
         Ok(&self.strings[handle(x, self.strings)?])
     }
 }
