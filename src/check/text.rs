@@ -476,26 +476,27 @@ pub fn apply<A: Args + ?Sized>(
 /// from 1; 0 when nowhere.
 fn instr(start: usize, hay: &str, needle: &str) -> f64 {
     let from = start - 1;
-    if hay.is_ascii() {
-        // Byte positions are character positions: a substring search, no copies.
-        let rest = match hay.as_bytes().get(from..) {
-            Some(rest) if !rest.is_empty() => rest,
-            _ => return 0.0,
-        };
-        if needle.is_empty() {
-            return start as f64;
-        }
+    // One pass says whether byte positions are character positions.
+    let ascii = hay.is_ascii();
+    let len = if ascii {
+        hay.len()
+    } else {
+        hay.chars().count()
+    };
+    if from >= len {
+        return 0.0;
+    }
+    if needle.is_empty() {
+        return start as f64;
+    }
+    if ascii {
+        // A substring search, no copies.
+        let rest = &hay.as_bytes()[from..];
         let at = match needle.as_bytes() {
             [byte] => memchr::memchr(*byte, rest),
             many => memchr::memmem::find(rest, many),
         };
         return at.map_or(0.0, |i| (from + i + 1) as f64);
-    }
-    if from >= count(hay) {
-        return 0.0;
-    }
-    if needle.is_empty() {
-        return start as f64;
     }
     let hay_chars: Vec<char> = hay.chars().collect();
     let needle_chars: Vec<char> = needle.chars().collect();
@@ -507,17 +508,13 @@ fn instr(start: usize, hay: &str, needle: &str) -> f64 {
 /// Join `a` and `b` into `out`.
 pub fn concat(a: &str, b: &str, out: &mut String) -> Result<(), String> {
     out.clear();
-    // Never more characters than bytes: most strings need no count.
-    if a.len() + b.len() > MAX_LEN && count(a) + count(b) > MAX_LEN {
-        return Err(too_long());
-    }
     out.push_str(a);
-    out.push_str(b);
-    Ok(())
+    append(out, b)
 }
 
 /// Put `b` on the end of `a`.
 pub fn append(a: &mut String, b: &str) -> Result<(), String> {
+    // Never more characters than bytes: most strings need no count.
     if a.len() + b.len() > MAX_LEN && count(a) + count(b) > MAX_LEN {
         return Err(too_long());
     }

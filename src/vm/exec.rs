@@ -1552,9 +1552,16 @@ fn set_text(strings: &mut [String], cell: usize, src: usize) -> bool {
     if cell == src || strings[cell] == strings[src] {
         return false;
     }
-    let (dst, from) = two(strings, cell, src);
-    dst.clone_from(from);
+    copy_text(strings, cell, src);
     true
+}
+
+/// Copy string `src` into `cell`, without asking whether it changes.
+fn copy_text(strings: &mut [String], cell: usize, src: usize) {
+    if cell != src {
+        let (dst, from) = two(strings, cell, src);
+        dst.clone_from(from);
+    }
 }
 
 /// Store string `src` into the string variable (or element) in slot `slot`, whose own cell
@@ -1568,10 +1575,7 @@ fn store_text(slot: usize, src: f64, v: &[f64], ctx: &mut Ctx<'_, '_>) -> Result
     let from = handle(src, ctx.strings)?;
     if !ctx.now.trace.enabled() || slot >= ctx.slot_count as usize {
         // Untraced: whether the string changed is not asked.
-        if cell != from {
-            let (dst, from) = two(ctx.strings, cell, from);
-            dst.clone_from(from);
-        }
+        copy_text(ctx.strings, cell, from);
         return Ok(());
     }
     let changed = set_text(ctx.strings, cell, from);
