@@ -1561,3 +1561,76 @@ fn out_of_data_is_an_error_at_the_read() {
     assert_eq!(e.line, 3);
     assert!(e.message.starts_with("Out of DATA"), "{}", e.message);
 }
+
+/// `STATUSSV` and `READ_SV` with right arguments are read on a quick path (a registration loop
+/// polls them every scan); anything else takes the full one, which does it or says what is
+/// wrong, at the line of the call. ORMEC's REGIST note: STATUSSV(axis), READ_SV(axis, var),
+/// WRITE_SV(axis, var, value).
+#[test]
+fn polled_kernel_functions_read_the_axis_and_refuse_what_is_wrong_at_their_line() {
+    use pacer::devices::regist::SWITCH_DEFAULT;
+    let run = run_ok(
+        "poll-values",
+        "N& = 1\nS& = STATUSSV(N&)\nD& = READ_SV(N&, 24)\nW = WRITE_SV(N&, 24, 5)\n\
+         R& = READ_SV(N&, 24)\nB& = READ_SV(1, 11)\nK& = STATUSSV(2)\n",
+    );
+    assert_values(
+        &run,
+        &[
+            ("S&", 0.0),
+            ("D&", f64::from(SWITCH_DEFAULT)),
+            ("W", -1.0),
+            ("R&", 5.0),
+            ("B&", 0.0),
+            ("K&", 0.0),
+        ],
+    );
+    for (name, program, line, says) in [
+        (
+            "poll-axis",
+            "N& = 3\nS& = STATUSSV(N&)\n",
+            2,
+            "axis 3 is not a DSP axis",
+        ),
+        (
+            "poll-frac",
+            "A = 1.5\nS& = STATUSSV(A)\n",
+            2,
+            "axis 1.5 is not a DSP axis",
+        ),
+        (
+            "poll-var",
+            "V& = 12\nX = READ_SV(1, V&)\n",
+            2,
+            "servo variable 12",
+        ),
+        (
+            "poll-varfrac",
+            "V = 9.5\nX = READ_SV(1, V)\n",
+            2,
+            "9.5 is not a servo variable",
+        ),
+        (
+            "poll-varneg",
+            "V = -1\nX = READ_SV(1, V)\n",
+            2,
+            "-1 is not a servo variable",
+        ),
+        (
+            "poll-axis-sv",
+            "N& = 7\nX = READ_SV(N&, 9)\n",
+            2,
+            "axis 7 is not a DSP axis",
+        ),
+    ] {
+        let e = run_err(name, program);
+        assert_eq!(e.line, line, "{name}: {}", e.message);
+        assert!(e.message.contains(says), "{name}: {}", e.message);
+        let function = if program.contains("STATUSSV") {
+            "STATUSSV"
+        } else {
+            "READ_SV"
+        };
+        assert!(e.message.starts_with(function), "{name}: {}", e.message);
+    }
+}

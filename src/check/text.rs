@@ -419,8 +419,11 @@ pub fn apply<A: Args + ?Sized>(
             chars(target, start - 1 + n, MAX_LEN, out);
         }
         TextFunc::Str(how) => {
-            crate::vm::print::push_number(args.num(0), how, out);
-            out.truncate(out.trim_end_matches(' ').len());
+            let x = args.num(0);
+            if !crate::vm::print::push_plain(x, how, false, out) {
+                crate::vm::print::push_number(x, how, out);
+                out.truncate(out.trim_end_matches(' ').len());
+            }
         }
         TextFunc::Chr => {
             let code = whole(args.num(0), 0, 255, "a code", func)?;
@@ -493,6 +496,8 @@ fn instr(start: usize, hay: &str, needle: &str) -> f64 {
         // A substring search, no copies.
         let rest = &hay.as_bytes()[from..];
         let at = match needle.as_bytes() {
+            // A label's few characters are searched quicker than `memchr` is set up.
+            [byte] if rest.len() < 32 => rest.iter().position(|c| c == byte),
             [byte] => memchr::memchr(*byte, rest),
             many => memchr::memmem::find(rest, many),
         };
@@ -661,6 +666,22 @@ mod tests {
             text(TextFunc::Str(PrintHow::Integer), &[N(-7.0)]).unwrap(),
             "-7"
         );
+        // Whole numbers take the quick way, to the edges of their form's plain digits.
+        for (how, x, want) in [
+            (PrintHow::Single, 0.0, " 0"),
+            (PrintHow::Single, -0.0, " 0"),
+            (PrintHow::Single, 9_999_999.0, " 9999999"),
+            (PrintHow::Single, -9_999_999.0, "-9999999"),
+            (PrintHow::Single, 10_000_000.0, " 1E+07"),
+            (
+                PrintHow::Double,
+                8_999_999_999_999_999.0,
+                " 8999999999999999",
+            ),
+            (PrintHow::Integer, -32768.0, "-32768"),
+        ] {
+            assert_eq!(text(TextFunc::Str(how), &[N(x)]).unwrap(), want, "{x}");
+        }
         assert_eq!(
             text(TextFunc::Str(PrintHow::Single), &[N(0.5)]).unwrap(),
             " .5"

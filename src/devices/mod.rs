@@ -165,6 +165,13 @@ pub trait Device: Send {
         None
     }
 
+    /// The value of a kernel function that only reads (`STATUSSV`, `READ_SV`) on arguments it
+    /// accepts; `None` for anything else, which [`AxisSet::call`] then does or refuses. A
+    /// registration loop polls these every scan: this way costs one call, not four.
+    fn poll(&self, _func: KernelFunc, _args: &[f64]) -> Option<f64> {
+        None
+    }
+
     /// For tools and tests that look inside one device.
     fn as_any(&self) -> &dyn Any;
 }
@@ -229,14 +236,9 @@ pub trait AxisSet {
         v: &mut [f64],
     ) -> Result<(bool, Option<String>), String>;
 
-    /// A kernel function on its arguments.
-    fn call(
-        &mut self,
-        func: KernelFunc,
-        args: &[f64],
-        v: &mut [f64],
-        now: &mut Now<'_>,
-    ) -> Result<f64, String>;
+    /// A kernel function on its arguments (which it reads from the registers, so it writes
+    /// none).
+    fn call(&mut self, func: KernelFunc, args: &[f64], now: &mut Now<'_>) -> Result<f64, String>;
 }
 
 /// An object whose motion still runs, as a run's end reports it.
@@ -460,6 +462,12 @@ impl Devices {
     /// The axes of the machine addressed by axis sets (its DSP axes).
     pub fn axes(&mut self) -> Option<&mut dyn AxisSet> {
         self.list.get_mut(self.axes?)?.axes()
+    }
+
+    /// A polled kernel function's value (see [`Device::poll`]).
+    #[inline]
+    pub fn poll(&self, func: KernelFunc, args: &[f64]) -> Option<f64> {
+        self.list.get(self.axes?)?.poll(func, args)
     }
 
     /// Where the members of [`Devices::axes`] live.

@@ -1321,7 +1321,13 @@ pub fn run<'a>(
                     }
                 }
                 Op::KernelCall { func, dst, args } => {
-                    if let Err(message) = kernel_call(func, dst, args, v, ctx) {
+                    let a = args as usize;
+                    let polled = v
+                        .get(a..a + func.arity())
+                        .and_then(|xs| ctx.devices.poll(func, xs));
+                    if let Some(x) = polled {
+                        wr!(dst as usize, x);
+                    } else if let Err(message) = kernel_call(func, dst, args, v, ctx) {
                         pc = here;
                         fault!("{message}");
                     }
@@ -1886,29 +1892,16 @@ fn kernel_call(
     ctx: &mut Ctx<'_, '_>,
 ) -> Result<(), String> {
     let a = args as usize;
-    let count = func.arity();
-    // The arguments on the stack (a kernel function has at most 7): no allocation.
-    let mut buf = [0.0; 8];
-    let values = match v.get(a..a + count) {
-        Some(args) if count <= buf.len() => {
-            // The polled functions take one or two arguments, for which a call to `memcpy`
-            // costs more than the copy.
-            match *args {
-                [x] => buf[0] = x,
-                [x, y] => (buf[0], buf[1]) = (x, y),
-                _ => buf[..count].copy_from_slice(args),
-            }
-            &buf[..count]
-        }
-        _ => &[][..],
-    };
+    // The arguments are read where they are: no copy, since the axes write no register.
+    let values = v.get(a..a + func.arity()).unwrap_or(&[]);
     let axes = ctx
         .devices
         .axes()
         .ok_or_else(|| format!("{} works on DSP axes: {NO_AXES}", func.name()))?;
-    v[dst as usize] = axes
-        .call(func, values, v, &mut ctx.now)
+    let x = axes
+        .call(func, values, &mut ctx.now)
         .map_err(|m| format!("{}: {m}", func.name()))?;
+    v[dst as usize] = x;
     Ok(())
 }
 

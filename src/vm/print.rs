@@ -17,20 +17,10 @@ pub fn number(x: f64, how: PrintHow) -> String {
 
 /// [`number`] written at the end of `out`.
 pub fn push_number(x: f64, how: PrintHow, out: &mut String) {
-    let a = x.abs();
-    // A whole number that every form writes as its plain digits (the common case): the digits,
-    // without the formatting machinery. A SINGLE has 7 digits; the others are exact below 2^53.
-    let plain = if how == PrintHow::Single {
-        1.0e7
-    } else {
-        9.0e15
-    };
-    if a < plain && a as u64 as f64 == a {
-        out.push(if x < 0.0 { '-' } else { ' ' });
-        push_digits(a as u64, out);
-        out.push(' ');
+    if push_plain(x, how, true, out) {
         return;
     }
+    let a = x.abs();
     let sign = if x < 0.0 { "-" } else { " " };
     let body = match how {
         PrintHow::Integer | PrintHow::Text => format!("{}", a.round()),
@@ -40,6 +30,41 @@ pub fn push_number(x: f64, how: PrintHow, out: &mut String) {
     out.push_str(sign);
     out.push_str(&body);
     out.push(' ');
+}
+
+/// [`number`] at the end of `out` when `x` is a whole number that every form writes as its
+/// plain digits (the common case), without the formatting machinery; `trailing`: with the
+/// blank PRINT puts after a number (STR$ has none). False, and nothing written, otherwise.
+#[inline]
+pub fn push_plain(x: f64, how: PrintHow, trailing: bool, out: &mut String) -> bool {
+    let a = x.abs();
+    // A SINGLE has 7 digits; the others are exact below 2^53.
+    let plain = if how == PrintHow::Single {
+        1.0e7
+    } else {
+        9.0e15
+    };
+    if !(a < plain && a as u64 as f64 == a) {
+        return false;
+    }
+    // Sign, at most 16 digits and the blank, built on the stack and pushed in one copy.
+    let mut buf = [b' '; 18];
+    let mut at = buf.len() - usize::from(trailing);
+    let mut n = a as u64;
+    loop {
+        at -= 1;
+        buf[at] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            break;
+        }
+    }
+    at -= 1;
+    buf[at] = if x < 0.0 { b'-' } else { b' ' };
+    // SAFETY: every byte of `buf` is a blank, a minus or `b'0'` plus a digit 0-9: ASCII, so
+    // valid UTF-8.
+    out.push_str(unsafe { std::str::from_utf8_unchecked(&buf[at..]) });
+    true
 }
 
 /// The decimal digits of `n` at the end of `out`.

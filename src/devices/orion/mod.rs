@@ -504,13 +504,7 @@ impl AxisSet for Orion {
         Ok((true, warning))
     }
 
-    fn call(
-        &mut self,
-        func: KernelFunc,
-        args: &[f64],
-        _v: &mut [f64],
-        now: &mut Now<'_>,
-    ) -> Result<f64, String> {
+    fn call(&mut self, func: KernelFunc, args: &[f64], now: &mut Now<'_>) -> Result<f64, String> {
         self.regist.call(func, args, now)
     }
 }
@@ -584,6 +578,10 @@ impl Device for Orion {
 
     fn axes(&mut self) -> Option<&mut dyn AxisSet> {
         Some(self)
+    }
+
+    fn poll(&self, func: KernelFunc, args: &[f64]) -> Option<f64> {
+        self.regist.poll(func, args)
     }
 
     fn as_any(&self) -> &dyn std::any::Any {

@@ -124,29 +124,34 @@ impl RegistAxes {
     ) -> Result<f64, String> {
         let arg = |i: usize| args.get(i).copied().unwrap_or(0.0);
         let axis = arg(if func == KernelFunc::Regist { 1 } else { 0 });
-        let n = axis as u32;
-        let i = self
-            .configs
-            .iter()
-            .position(|c| f64::from(c.0) == axis)
-            .ok_or_else(|| format!("axis {axis} is not a DSP axis of this machine ([axis.N])"))?;
-        let var = || {
-            let x = arg(1);
-            if x.fract() == 0.0 && (0.0..=1000.0).contains(&x) {
-                Ok(x as u32)
-            } else {
-                Err(format!("{x} is not a servo variable number"))
-            }
+        let Some(i) = self.configs.iter().position(|c| f64::from(c.0) == axis) else {
+            return Err(not_dsp_axis(axis));
         };
-        let regist = &mut self.regists[i];
         match func {
-            KernelFunc::Regist => self.regist(i, n, args, now),
-            KernelFunc::StatusSv => Ok(f64::from(regist.status())),
-            KernelFunc::ReadSv => regist.read_sv(var()?).map_err(|e| e.0),
+            KernelFunc::StatusSv => Ok(f64::from(self.regists[i].status())),
+            KernelFunc::ReadSv => self.regists[i]
+                .read_sv(servo_variable(arg(1))?)
+                .map_err(|e| e.0),
             KernelFunc::WriteSv => {
-                regist.write_sv(var()?, arg(2)).map_err(|e| e.0)?;
+                let var = servo_variable(arg(1))?;
+                self.regists[i].write_sv(var, arg(2)).map_err(|e| e.0)?;
                 Ok(1.0)
             }
+            KernelFunc::Regist => self.regist(i, axis as u32, args, now),
+        }
+    }
+
+    /// The value of a polled function (`STATUSSV`, `READ_SV`) whose arguments are right;
+    /// `None` for anything else, which [`RegistAxes::call`] does or refuses.
+    #[inline]
+    pub fn poll(&self, func: KernelFunc, args: &[f64]) -> Option<f64> {
+        let axis = *args.first()?;
+        let i = self.configs.iter().position(|c| f64::from(c.0) == axis)?;
+        let regist = self.regists.get(i)?;
+        match func {
+            KernelFunc::StatusSv => Some(f64::from(regist.status())),
+            KernelFunc::ReadSv => regist.read_sv(servo_variable(*args.get(1)?).ok()?).ok(),
+            KernelFunc::Regist | KernelFunc::WriteSv => None,
         }
     }
 
@@ -449,5 +454,21 @@ impl RegistAxes {
                 },
             );
         }
+    }
+}
+
+/// The fault of a kernel function given an axis that is not a DSP axis: away from the polled
+/// reads, which a registration loop makes every scan.
+#[cold]
+fn not_dsp_axis(axis: f64) -> String {
+    format!("axis {axis} is not a DSP axis of this machine ([axis.N])")
+}
+
+/// A servo variable number of `READ_SV`/`WRITE_SV`: a whole number from 0 to 1000.
+fn servo_variable(x: f64) -> Result<u32, String> {
+    if x.fract() == 0.0 && (0.0..=1000.0).contains(&x) {
+        Ok(x as u32)
+    } else {
+        Err(format!("{x} is not a servo variable number"))
     }
 }
