@@ -1598,7 +1598,7 @@ fn store_text(slot: usize, src: f64, v: &[f64], ctx: &mut Ctx<'_, '_>) -> Result
 }
 
 /// Put the string in `ctx.scratch` into `cell`; `dst` = the cell.
-#[inline]
+#[inline(always)]
 fn give_text(dst: u32, cell: u32, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(), String> {
     let Some(out) = ctx.strings.get_mut(cell as usize) else {
         return Err(no_cell());
@@ -1668,6 +1668,7 @@ impl crate::check::text::Args for Given<'_> {
 }
 
 /// Cell `a` to change and cell `b` to read: two different cells of `strings` (`a != b`).
+#[inline(always)]
 fn two(strings: &mut [String], a: usize, b: usize) -> (&mut String, &String) {
     if a < b {
         let (l, r) = strings.split_at_mut(b);
