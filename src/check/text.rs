@@ -300,8 +300,12 @@ fn rounded(x: f64, lo: i64, hi: i64, what: &str, func: TextFunc) -> Result<i64, 
 fn chars(s: &str, from: usize, n: usize, out: &mut String) {
     if s.is_ascii() {
         // One byte a character: a slice, without walking the characters one by one.
-        let start = from.min(s.len());
-        out.push_str(&s[start..start + n.min(s.len() - start)]);
+        let b = s.as_bytes();
+        let start = from.min(b.len());
+        let part = &b[start..start + n.min(b.len() - start)];
+        // SAFETY: a run of an ASCII string's bytes is ASCII, so valid UTF-8 (the slice of the
+        // `str` would test both ends for character boundaries, which every byte of it is).
+        out.push_str(unsafe { std::str::from_utf8_unchecked(part) });
         return;
     }
     out.extend(s.chars().skip(from).take(n));
