@@ -49,16 +49,8 @@ pub fn push_plain(x: f64, how: PrintHow, trailing: bool, out: &mut String) -> bo
     }
     // Sign, at most 16 digits and the blank, built on the stack and pushed in one copy.
     let mut buf = [b' '; 18];
-    let mut at = buf.len() - usize::from(trailing);
-    let mut n = a as u64;
-    loop {
-        at -= 1;
-        buf[at] = b'0' + (n % 10) as u8;
-        n /= 10;
-        if n == 0 {
-            break;
-        }
-    }
+    let end = buf.len() - usize::from(trailing);
+    let mut at = write_digits(a as u64, &mut buf[..end]);
     at -= 1;
     buf[at] = if x < 0.0 { b'-' } else { b' ' };
     // SAFETY: every byte of `buf` is a blank, a minus or `b'0'` plus a digit 0-9: ASCII, so
@@ -68,20 +60,27 @@ pub fn push_plain(x: f64, how: PrintHow, trailing: bool, out: &mut String) -> bo
 }
 
 /// The decimal digits of `n` at the end of `out`.
-pub fn push_digits(mut n: u64, out: &mut String) {
+pub fn push_digits(n: u64, out: &mut String) {
     let mut digits = [0u8; 20];
-    let mut at = digits.len();
-    loop {
-        at -= 1;
-        digits[at] = b'0' + (n % 10) as u8;
-        n /= 10;
-        if n == 0 {
-            break;
-        }
-    }
+    let at = write_digits(n, &mut digits);
     // SAFETY: every byte from `at` on was written above as `b'0'` plus a digit 0–9: ASCII,
     // so valid UTF-8. (One copy of the bytes, not a push per character.)
     out.push_str(unsafe { std::str::from_utf8_unchecked(&digits[at..]) });
+}
+
+/// The decimal digits of `n` written at the end of `buf` (which holds them: 20 bytes hold any
+/// `u64`); where they start.
+#[inline]
+fn write_digits(mut n: u64, buf: &mut [u8]) -> usize {
+    let mut at = buf.len();
+    loop {
+        at -= 1;
+        buf[at] = b'0' + (n % 10) as u8;
+        n /= 10;
+        if n == 0 {
+            return at;
+        }
+    }
 }
 
 /// A non-negative `x` to `digits` significant digits: plain (no leading zero, no trailing
