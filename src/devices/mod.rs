@@ -236,8 +236,8 @@ pub trait AxisSet {
         v: &mut [f64],
     ) -> Result<(bool, Option<String>), String>;
 
-    /// A kernel function on its arguments (which it reads from the registers, so it writes
-    /// none).
+    /// A kernel function on its arguments, which are registers of the calling program: it
+    /// writes no register (its value is stored by the caller).
     fn call(&mut self, func: KernelFunc, args: &[f64], now: &mut Now<'_>) -> Result<f64, String>;
 }
 

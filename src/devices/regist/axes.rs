@@ -124,7 +124,7 @@ impl RegistAxes {
     ) -> Result<f64, String> {
         let arg = |i: usize| args.get(i).copied().unwrap_or(0.0);
         let axis = arg(if func == KernelFunc::Regist { 1 } else { 0 });
-        let Some(i) = self.configs.iter().position(|c| f64::from(c.0) == axis) else {
+        let Some(i) = self.index_of(axis) else {
             return Err(not_dsp_axis(axis));
         };
         match func {
@@ -141,13 +141,17 @@ impl RegistAxes {
         }
     }
 
+    /// The index of the DSP axis numbered `axis` (a kernel function's argument, so any number).
+    #[inline]
+    fn index_of(&self, axis: f64) -> Option<usize> {
+        self.configs.iter().position(|c| f64::from(c.0) == axis)
+    }
+
     /// The value of a polled function (`STATUSSV`, `READ_SV`) whose arguments are right;
     /// `None` for anything else, which [`RegistAxes::call`] does or refuses.
     #[inline]
     pub fn poll(&self, func: KernelFunc, args: &[f64]) -> Option<f64> {
-        let axis = *args.first()?;
-        let i = self.configs.iter().position(|c| f64::from(c.0) == axis)?;
-        let regist = self.regists.get(i)?;
+        let regist = self.regists.get(self.index_of(*args.first()?)?)?;
         match func {
             KernelFunc::StatusSv => Some(f64::from(regist.status())),
             KernelFunc::ReadSv => regist.read_sv(servo_variable(*args.get(1)?).ok()?).ok(),
