@@ -151,12 +151,15 @@ impl RegistAxes {
     /// `None` for anything else, which [`RegistAxes::call`] does or refuses.
     #[inline]
     pub fn poll(&self, func: KernelFunc, args: &[f64]) -> Option<f64> {
-        let regist = self.regists.get(self.index_of(*args.first()?)?)?;
-        match func {
-            KernelFunc::StatusSv => Some(f64::from(regist.status())),
-            KernelFunc::ReadSv => regist.read_sv(servo_variable(*args.get(1)?).ok()?).ok(),
-            KernelFunc::Regist | KernelFunc::WriteSv => None,
+        // Only the reads: `REGIST`'s first argument is not even an axis.
+        if !matches!(func, KernelFunc::StatusSv | KernelFunc::ReadSv) {
+            return None;
         }
+        let regist = self.regists.get(self.index_of(*args.first()?)?)?;
+        if func == KernelFunc::StatusSv {
+            return Some(f64::from(regist.status()));
+        }
+        regist.read_sv(servo_variable(*args.get(1)?).ok()?).ok()
     }
 
     /// `REGIST(EN, AXIS, DIST, TOLR, IGNR, LGTH, DIM)` on the axis of index `i` (number `n`):
