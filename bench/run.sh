@@ -22,7 +22,7 @@ PACER="${PACER:-${CARGO_TARGET_DIR:-$ROOT/target}/release/pacer}"
 BEFORE="${PACER_BEFORE:-}"
 BENCHES=("$@")
 if [ ${#BENCHES[@]} -eq 0 ]; then
-    BENCHES=(arith loop unseen int branch filter call kernel array strings)
+    BENCHES=(arith loop unseen int branch pattern filter call kernel array strings)
 fi
 
 # --- tools ------------------------------------------------------------------------------------

@@ -494,3 +494,65 @@ fn powertools_quotients_and_multiples_give_the_values_of_their_instructions() {
     assert_eq!(val(&run, "Var.H"), 5.0);
     assert_eq!(run.summary.instructions, 4);
 }
+
+/// The offset of an element of a two-subscript array (`A&(I&, J&)`: two subscripts, a
+/// multiply, an add) is one instruction (`Offset2`) that counts as four: a table filled and
+/// summed, subscripts rounded (halves to even, -0.5 to 0) and computed, then a first and a
+/// second subscript out of range, each failing at its line with its message. The expected
+/// figures are those of the build before `Offset2` (feebe13), which ran the four one by one.
+#[test]
+fn two_subscript_offsets_give_the_values_faults_and_counts_of_their_instructions() {
+    let program = "DIM A&(3, 4)\nDIM R(2, 2)\n\
+        FOR I& = 0 TO 3\n  FOR J& = 0 TO 4\n    A&(I&, J&) = I& * 10 + J&\n  NEXT\nNEXT\n\
+        S& = 0\n\
+        FOR I& = 0 TO 3\n  FOR J& = 0 TO 4\n    S& = S& + A&(I&, J&) * (J& + 1)\n  NEXT\nNEXT\n\
+        X = 1.5\nY = 2.5\nR(X, Y) = 7.25\n\
+        Q = R(2, 2) + A&(X, Y + 1) + A&(0, -0.5)\n\
+        K& = 4\nE& = A&(3, K&)\n";
+    let machine =
+        "[machine]\nname = \"e\"\nbudget = 10000\n\n[[program]]\nnumber = 0\nfile = \"x.mb\"\n";
+    for (last, instructions, message, offsets) in [
+        (
+            "Z& = A&(K&, 0)",
+            530,
+            "Subscript out of range: 4 is not within 0 to 3",
+            6,
+        ),
+        (
+            "Z& = A&(0, K& + 1)",
+            533,
+            "Subscript out of range: 5 is not within 0 to 4",
+            5,
+        ),
+    ] {
+        let source = format!("{program}PRINT S&, Q, E&\n{last}\n");
+        let loaded = match load_memory(
+            "fused-offsets",
+            &[("x.mb", source.as_str()), ("machine.toml", machine)],
+        ) {
+            Ok(l) => l,
+            Err(d) => panic!("{}", d.render_plain()),
+        };
+        let ops = &loaded.image.chunks[0].ops;
+        let fused = ops
+            .iter()
+            .filter(|op| matches!(op, Op::Offset2 { .. }))
+            .count();
+        // Every element whose second subscript is a variable or a constant: the two in the
+        // loops, R(X, Y), R(2, 2), A&(3, K&) and `A&(K&, 0)`; where the second subscript is
+        // computed (`Y + 1`, `-0.5`, `K& + 1`), its instructions keep the two apart.
+        assert_eq!(fused, offsets, "{last}");
+        let run = run_loaded(loaded);
+        assert_eq!(run_error(&run), (21, message.to_string()), "{last}");
+        assert_eq!(run.summary.instructions, instructions, "{last}");
+        for (name, v) in [
+            ("S&", 1060.0),
+            ("Q", 31.25),
+            ("E&", 34.0),
+            ("A&(2,4)", 24.0),
+        ] {
+            assert_eq!(val(&run, name), v, "{name}");
+        }
+        assert_eq!(val(&run, "R(2,2)"), 7.25);
+    }
+}

@@ -273,6 +273,10 @@ pub enum Op {
         decimals: u8,
         t_first: bool,
     },
+    /// The offset of an element of a two-subscript array (made by [`fuse_offsets`]):
+    /// `subscr p <- i in 0..n1`, `subscr p+1 <- j in 0..n2`, `mul p <- p * n2` (a constant)
+    /// and `add p <- p + p+1`, with `lens` = `n1 << 16 | n2`.
+    Offset2 { p: Reg, i: Reg, j: Reg, lens: u32 },
     /// `add t <- a + b` then `store.r dst <- t`.
     AddReal { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// `sub t <- a - b` then `store.r dst <- t`.
@@ -692,6 +696,61 @@ fn gives_way(op: Op) -> bool {
     )
 }
 
+/// After [`fuse`]: the four instructions that compute the offset of an element of a
+/// two-subscript array (`A(I, J)`: two subscripts, then `first * n2 + second`) become one
+/// [`Op::Offset2`] where both subscripts go to adjacent temporaries (`p`, `p + 1`), the
+/// multiplier is the constant `n2` (`constant` gives a constant register's value) and both
+/// lengths are below 2^16. The other three stay in place (they are not jumped to: the four are
+/// one expression's), as a superinstruction's do.
+pub fn fuse_offsets(
+    ops: &mut [Op],
+    temps: &std::ops::Range<Reg>,
+    constant: &dyn Fn(Reg) -> Option<f64>,
+) {
+    for i in 0..ops.len().saturating_sub(3) {
+        let (
+            Op::Subscript {
+                dst: p,
+                src: a,
+                len: n1,
+            },
+            Op::Subscript {
+                dst: s,
+                src: b,
+                len: n2,
+            },
+        ) = (ops[i], ops[i + 1])
+        else {
+            continue;
+        };
+        // The multiply, fused with the add after it or not.
+        let k = match ops[i + 2] {
+            Op::Mul { dst, a: x, b: k }
+            | Op::MulAdd {
+                t: dst, a: x, b: k, ..
+            } if dst == p && x == p => k,
+            _ => continue,
+        };
+        let added =
+            matches!(ops[i + 3], Op::Add { dst, a: x, b: y } if dst == p && x == p && y == s);
+        if added
+            && s == p + 1
+            && temps.contains(&p)
+            && temps.contains(&s)
+            && n1 < 1 << 16
+            && n2 < 1 << 16
+            && constant(k) == Some(f64::from(n2))
+        {
+            ops[i] = Op::Offset2 {
+                p,
+                i: a,
+                j: b,
+                lens: n1 << 16 | n2,
+            };
+        }
+    }
+}
+
 /// The superinstruction doing the work of `first`, `second` and `third`, and the temporary
 /// joining them, if there is one.
 fn triple(first: Op, second: Op, third: Op) -> Option<(Op, Reg)> {
@@ -1055,6 +1114,7 @@ impl Op {
             | Op::DivAddLong { t, a, b, dst, .. }
             | Op::DivAddFixed { t, a, b, dst, .. } => t.max(a).max(b).max(dst),
             Op::SubMod { t, a, b, x } => t.max(a).max(b).max(x),
+            Op::Offset2 { p, i, j, .. } => (p + 1).max(i).max(j),
             Op::Neg { dst, a } | Op::Not { dst, a } | Op::BitNot { dst, a } => dst.max(a),
             Op::Write { slot, src, .. } => slot.max(src),
             Op::JumpIfFalse { cond, .. }
@@ -1456,6 +1516,65 @@ mod tests {
         let mut ops = vec![mul, sub, Op::End];
         fuse(&mut ops, temps);
         assert_eq!(ops[..2], [mul, sub]);
+    }
+
+    #[test]
+    fn fuse_offsets_joins_a_two_subscript_offset_only_as_the_compiler_makes_it() {
+        let (t, i, j, k, other) = (100, 1, 2, 50, 51);
+        let constant = |r: Reg| match r {
+            50 => Some(5.0),
+            51 => Some(6.0),
+            _ => None,
+        };
+        let offset = |p: Reg, s: Reg, n1: u32, n2: u32, k: Reg, fused_mul: bool| {
+            let mul = if fused_mul {
+                Op::MulAdd {
+                    t: p,
+                    a: p,
+                    b: k,
+                    c: s,
+                }
+            } else {
+                Op::Mul { dst: p, a: p, b: k }
+            };
+            vec![
+                Op::Subscript {
+                    dst: p,
+                    src: i,
+                    len: n1,
+                },
+                Op::Subscript {
+                    dst: s,
+                    src: j,
+                    len: n2,
+                },
+                mul,
+                Op::Add { dst: p, a: p, b: s },
+                Op::End,
+            ]
+        };
+        let fused = |mut ops: Vec<Op>| {
+            fuse_offsets(&mut ops, &(100..108), &constant);
+            ops[0]
+        };
+        let want = Op::Offset2 {
+            p: t,
+            i,
+            j,
+            lens: 4 << 16 | 5,
+        };
+        assert_eq!(fused(offset(t, t + 1, 4, 5, k, false)), want);
+        assert_eq!(fused(offset(t, t + 1, 4, 5, k, true)), want);
+        // Not adjacent temporaries, a multiplier that is not the second length, a temporary
+        // that is a variable, a length past 16 bits: left alone.
+        for ops in [
+            offset(t, t + 2, 4, 5, k, false),
+            offset(t, t + 1, 4, 5, other, false),
+            offset(7, 8, 4, 5, k, false),
+            offset(t, t + 1, 70_000, 5, k, false),
+        ] {
+            assert_eq!(fused(ops.clone()), ops[0]);
+        }
     }
 
     #[test]

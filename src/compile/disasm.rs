@@ -295,6 +295,9 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::Subscript { dst, src, len } => {
                 format!("subscr    {} <- {} in 0..{}", r(dst), r(src), len)
             }
+            Op::Offset2 { p, i, lens, .. } => {
+                format!("subscr    {} <- {} in 0..{}", r(p), r(i), lens >> 16)
+            }
             Op::LoadIdx {
                 dst,
                 base,

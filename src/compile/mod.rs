@@ -133,16 +133,19 @@ impl Layout {
         if r < self.slot_count {
             return self.whole_slots.get(r as usize).copied().unwrap_or(false);
         }
-        let Some(&v) = r
-            .checked_sub(self.extra_base())
-            .and_then(|k| self.extra.get(k as usize))
-        else {
+        let Some(v) = self.constant_value(r) else {
             return false;
         };
         // A -0 is left out: a sure variable or constant is never -0 (`whole::PLAIN`).
-        self.const_index.get(&v.to_bits()) == Some(&r)
-            && f64::from(crate::fixed::trunc_i32(v)) == v
-            && v.to_bits() != (-0.0f64).to_bits()
+        f64::from(crate::fixed::trunc_i32(v)) == v && v.to_bits() != (-0.0f64).to_bits()
+    }
+
+    /// The value of register `r` when it is a constant ([`Layout::constant`]): never written.
+    pub fn constant_value(&self, r: Reg) -> Option<f64> {
+        let &v = r
+            .checked_sub(self.extra_base())
+            .and_then(|k| self.extra.get(k as usize))?;
+        (self.const_index.get(&v.to_bits()) == Some(&r)).then_some(v)
     }
 
     /// A fresh hidden register (loop limits and steps).
@@ -321,7 +324,8 @@ impl<'a> Compiler<'a> {
         }
         let temps = self.layout.temp_base()..self.layout.temp_base() + MAX_TEMPS;
         let sure = whole::operands(&self.ops, &temps, &|r| self.layout.is_whole(r));
-        bytecode::fuse(&mut self.ops, temps);
+        bytecode::fuse(&mut self.ops, temps.clone());
+        bytecode::fuse_offsets(&mut self.ops, &temps, &|r| self.layout.constant_value(r));
         let sure = whole::per_instruction(&self.ops, &sure);
         let regs_end = self
             .ops

@@ -263,6 +263,7 @@ fn covers(op: Op) -> usize {
         | Op::AndXorLong { .. }
         | Op::DivAddLong { .. }
         | Op::AddModLong { .. } => 3,
+        Op::Offset2 { .. } => 4,
         _ => 1,
     }
 }
