@@ -556,3 +556,90 @@ fn two_subscript_offsets_give_the_values_faults_and_counts_of_their_instructions
         assert_eq!(val(&run, "R(2,2)"), 7.25);
     }
 }
+
+/// A `store.idx` with the `for.next` after it (`StoreIdxNext`: an array filled, cleared or
+/// copied in a one-line loop) gives the values, faults and counts of the two: longs, reals
+/// and INTEGERs stored, a loop counting down, a budget of 7 that yields inside the loops, a
+/// subscript out of range in the store half and an Overflow of the `for.next` (an INTEGER
+/// counted past 32767), each at its line. The expected figures are those of the build before
+/// the fusion (feebe13): the same instruction counts, updates and messages.
+#[test]
+fn array_stores_fused_with_their_next_give_the_values_faults_and_counts_of_both() {
+    let run_at = |name: &str, program: &str| {
+        let loaded = match load_memory(
+            name,
+            &[
+                ("x.mb", program),
+                (
+                    "machine.toml",
+                    "[machine]\nname = \"e\"\nbudget = 7\n\n[[program]]\nnumber = 0\nfile = \"x.mb\"\n",
+                ),
+            ],
+        ) {
+            Ok(l) => l,
+            Err(d) => panic!("{}", d.render_plain()),
+        };
+        let fused = loaded.image.chunks[0]
+            .ops
+            .iter()
+            .filter(|op| matches!(op, Op::StoreIdxNext { .. }))
+            .count();
+        (fused, run_loaded(loaded))
+    };
+    let (fused, run) = run_at(
+        "fused-store-next",
+        "DIM A&(10), R(4), K%(3)\n\
+         FOR I& = 0 TO 10\n  A&(I&) = I& * 3\nNEXT\n\
+         FOR I& = 0 TO 4\n  R(I&) = I& / 4\nNEXT\n\
+         T& = 0\n\
+         FOR I& = 10 TO 0 STEP -2\n  T& = T& + A&(I&)\n  A&(I&) = 0\nNEXT\n\
+         FOR J% = 32765 TO 32767\n  K%(J% - 32765) = J%\nNEXT\n",
+    );
+    // All four loops end with a store into an element.
+    assert_eq!(fused, 4);
+    assert_eq!(
+        run_error(&run),
+        (
+            13,
+            "Overflow: 32768 does not fit J% (an integer: -32768 to 32767)".to_string()
+        )
+    );
+    assert_eq!(run.summary.instructions, 120);
+    for (name, v) in [
+        ("T&", 90.0),
+        ("A&(9)", 27.0),
+        ("A&(10)", 0.0),
+        ("A&(0)", 0.0),
+        ("R(3)", 0.75),
+        ("K%(2)", 32767.0),
+        ("J%", 32767.0),
+    ] {
+        assert_eq!(val(&run, name), v, "{name}");
+    }
+    let (_, run) = run_at(
+        "fused-store-next-range",
+        "DIM A&(10)\nFOR I& = 5 TO 12\n  A&(I&) = I&\nNEXT\n",
+    );
+    assert_eq!(
+        run_error(&run),
+        (
+            3,
+            "Subscript out of range: 11 is not within 0 to 10".to_string()
+        )
+    );
+    assert_eq!(run.summary.instructions, 17);
+    assert_eq!(val(&run, "A&(10)"), 10.0);
+    let (_, run) = run_at(
+        "fused-store-next-overflow",
+        "DIM A&(10)\nFOR I% = 32760 TO 32767 STEP 4\n  A&(I% - 32760) = I%\nNEXT\n",
+    );
+    assert_eq!(
+        run_error(&run),
+        (
+            2,
+            "Overflow: 32768 does not fit I% (an integer: -32768 to 32767)".to_string()
+        )
+    );
+    assert_eq!(run.summary.instructions, 12);
+    assert_eq!(val(&run, "A&(4)"), 32764.0);
+}

@@ -437,6 +437,16 @@ pub enum Op {
         len: u32,
         decimals: u8,
     },
+    /// [`Op::StoreIdx`] (its fields), then the `for.next` after it, which stays in place and is
+    /// read from there (made by [`fuse_offsets`]): an array filled or cleared in a loop. Counts
+    /// as two; a fault of the `for.next` is reported at its place.
+    StoreIdxNext {
+        base: Reg,
+        idx: Reg,
+        src: Reg,
+        len: u32,
+        decimals: u8,
+    },
     /// `dst` = the subscript in `src` rounded to an integer (halves to even), which must be
     /// within `0..len` ("Subscript out of range" otherwise).
     Subscript { dst: Reg, src: Reg, len: u32 },
@@ -696,7 +706,8 @@ fn gives_way(op: Op) -> bool {
     )
 }
 
-/// After [`fuse`]: the four instructions that compute the offset of an element of a
+/// After [`fuse`]: a `store.idx` with the `for.next` after it becomes one
+/// [`Op::StoreIdxNext`]; the four instructions that compute the offset of an element of a
 /// two-subscript array (`A(I, J)`: two subscripts, then `first * n2 + second`) become one
 /// [`Op::Offset2`] where both subscripts go to adjacent temporaries (`p`, `p + 1`), the
 /// multiplier is the constant `n2` (`constant` gives a constant register's value) and both
@@ -707,6 +718,27 @@ pub fn fuse_offsets(
     temps: &std::ops::Range<Reg>,
     constant: &dyn Fn(Reg) -> Option<f64>,
 ) {
+    for i in 0..ops.len().saturating_sub(1) {
+        if let (
+            Op::StoreIdx {
+                base,
+                idx,
+                src,
+                len,
+                decimals,
+            },
+            Op::ForNext { .. },
+        ) = (ops[i], ops[i + 1])
+        {
+            ops[i] = Op::StoreIdxNext {
+                base,
+                idx,
+                src,
+                len,
+                decimals,
+            };
+        }
+    }
     for i in 0..ops.len().saturating_sub(3) {
         let (
             Op::Subscript {
@@ -1139,6 +1171,13 @@ impl Op {
                 len,
             } => dst.max(idx).max(base + len.saturating_sub(1)),
             Op::StoreIdx {
+                base,
+                idx,
+                src,
+                len,
+                ..
+            }
+            | Op::StoreIdxNext {
                 base,
                 idx,
                 src,

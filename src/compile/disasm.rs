@@ -317,6 +317,13 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 src,
                 len,
                 decimals,
+            }
+            | Op::StoreIdxNext {
+                base,
+                idx,
+                src,
+                len,
+                decimals,
             } => {
                 let kind = store_kind(decimals);
                 format!(

@@ -403,6 +403,29 @@ pub fn run<'a>(
             }
         }};
     }
+    // `store.idx` at `$here`: `v[$src]` into element `v[$idx]` of the one-subscript array at
+    // `$base`, stored as its kind (`$decimals`) says.
+    macro_rules! store_idx {
+        ($base:expr, $idx:expr, $src:expr, $len:expr, $decimals:expr, $here:expr) => {{
+            let (base, idx, src, len, decimals, here): (u32, u32, u32, u32, u8, u32) =
+                ($base, $idx, $src, $len, $decimals, $here);
+            let Some(i) = subscript(rd!(idx as usize), len) else {
+                pc = here;
+                fault!("{}", out_of_range(rd!(idx as usize), len));
+            };
+            let dst = base + i;
+            let x = rd!(src as usize);
+            if decimals == 0 {
+                store_long!(dst, x, here, sure!(here))
+            } else if decimals == REAL_STORE {
+                store_real!(dst, x, here)
+            } else if decimals == INT_STORE {
+                store_int!(dst, x, here, sure!(here))
+            } else {
+                store_fixed!(dst, x, decimals, here, false)
+            }
+        }};
+    }
     // Store `$x` into a real, which must be finite.
     macro_rules! store_real {
         ($dst:expr, $x:expr, $here:expr) => {{
@@ -1375,21 +1398,33 @@ pub fn run<'a>(
                     src,
                     len,
                     decimals,
+                } => store_idx!(base, idx, src, len, decimals, here),
+                Op::StoreIdxNext {
+                    base,
+                    idx,
+                    src,
+                    len,
+                    decimals,
                 } => {
-                    let Some(i) = subscript(rd!(idx as usize), len) else {
-                        pc = here;
-                        fault!("{}", out_of_range(rd!(idx as usize), len));
-                    };
-                    let dst = base + i;
-                    let x = rd!(src as usize);
-                    if decimals == 0 {
-                        store_long!(dst, x, here, sure!(here))
-                    } else if decimals == REAL_STORE {
-                        store_real!(dst, x, here)
-                    } else if decimals == INT_STORE {
-                        store_int!(dst, x, here, sure!(here))
-                    } else {
-                        store_fixed!(dst, x, decimals, here, false)
+                    // `store.idx` (here), then the `for.next` (here + 1) it was fused with.
+                    store_idx!(base, idx, src, len, decimals, here);
+                    n += 1;
+                    pc = here + 2;
+                    let next = here + 1;
+                    debug_assert!((next as usize) < ops.len());
+                    // SAFETY: a superinstruction is never the chunk's last instruction (`End`
+                    // is), so the one after it is inside the chunk.
+                    match *unsafe { ops.get_unchecked(next as usize) } {
+                        Op::ForNext {
+                            var,
+                            limit,
+                            body,
+                            decimals,
+                        } => for_next!(var, limit, body, decimals, next, sure!(next)),
+                        _ => {
+                            pc = next;
+                            fault!("internal error: a store fused with a for.next that is not one");
+                        }
                     }
                 }
                 Op::Subscript { dst, src, len } => {
