@@ -643,3 +643,41 @@ fn array_stores_fused_with_their_next_give_the_values_faults_and_counts_of_both(
     assert_eq!(run.summary.instructions, 12);
     assert_eq!(val(&run, "A&(4)"), 32764.0);
 }
+
+/// A bit tested in a condition (`IF I& AND 4 THEN`, `WHILE (I& AND 16)`: `band` then `jump.f`,
+/// `AndJump`) gives the values and counts of the two: both ways of each test, a real operand
+/// rounded (2.5 AND I&: 2, halves to even), a loop variable stepped inside a `WHILE`, and a
+/// budget of 9 that yields in between. The expected figures are those of the build before the
+/// fusion (feebe13), whose trace of this program is byte-identical.
+#[test]
+fn bit_tests_fused_with_their_jump_give_the_values_and_counts_of_both() {
+    let program = "S& = 0\nC& = 0\nD& = 0\nX = 2.5\n\
+        FOR I& = 1 TO 40\n\
+        \x20 IF I& AND 4 THEN C& = C& + 1 ELSE D& = D& + 1\n\
+        \x20 IF (I& AND 3) OR S& THEN S& = S& + 1\n\
+        \x20 IF X AND I& THEN S& = S& + 100\n\
+        \x20 WHILE (I& AND 16)\n    I& = I& + 1\n  WEND\n\
+        NEXT\n";
+    let machine =
+        "[machine]\nname = \"e\"\nbudget = 9\n\n[[program]]\nnumber = 0\nfile = \"x.mb\"\n";
+    let loaded = match load_memory(
+        "fused-and-jump",
+        &[("x.mb", program), ("machine.toml", machine)],
+    ) {
+        Ok(l) => l,
+        Err(d) => panic!("{}", d.render_plain()),
+    };
+    let fused = loaded.image.chunks[0]
+        .ops
+        .iter()
+        .filter(|op| matches!(op, Op::AndJump { nonzero: false, .. }))
+        .count();
+    // Lines 6, 8 and 9; line 7's `AND` goes on into an `OR`.
+    assert_eq!(fused, 3);
+    let run = run_loaded(loaded);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    assert_eq!(run.summary.instructions, 461);
+    for (name, v) in [("S&", 1224.0), ("C&", 12.0), ("D&", 12.0), ("I&", 41.0)] {
+        assert_eq!(val(&run, name), v, "{name}");
+    }
+}

@@ -277,6 +277,15 @@ pub enum Op {
     /// `subscr p <- i in 0..n1`, `subscr p+1 <- j in 0..n2`, `mul p <- p * n2` (a constant)
     /// and `add p <- p + p+1`, with `lens` = `n1 << 16 | n2`.
     Offset2 { p: Reg, i: Reg, j: Reg, lens: u32 },
+    /// `band t <- a AND b`, then `jump.f t` (`nonzero` false) or `jump.t t` (true) to
+    /// `target`: a bit of a status word or counter tested (`IF S& AND 8 THEN`).
+    AndJump {
+        t: Reg,
+        a: Reg,
+        b: Reg,
+        target: u32,
+        nonzero: bool,
+    },
     /// `add t <- a + b` then `store.r dst <- t`.
     AddReal { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// `sub t <- a - b` then `store.r dst <- t`.
@@ -680,6 +689,7 @@ fn joined(op: Op, temps: &std::ops::Range<Reg>) -> bool {
         | Op::AndOr { t, .. }
         | Op::AndXorWhole { t, .. }
         | Op::SubMod { t, .. }
+        | Op::AndJump { t, .. }
         | Op::DivAddFixed { t, .. }
         | Op::AddReal { t, .. }
         | Op::SubReal { t, .. }
@@ -874,6 +884,24 @@ fn triple(first: Op, second: Op, third: Op) -> Option<(Op, Reg)> {
 /// The superinstruction doing the work of `first` and then `second`, if there is one.
 fn pair(first: Op, second: Op) -> Option<Op> {
     match (first, second) {
+        (Op::BitAnd { dst: t, a, b }, Op::JumpIfFalse { cond, target }) if cond == t => {
+            Some(Op::AndJump {
+                t,
+                a,
+                b,
+                target,
+                nonzero: false,
+            })
+        }
+        (Op::BitAnd { dst: t, a, b }, Op::JumpIfTrue { cond, target }) if cond == t => {
+            Some(Op::AndJump {
+                t,
+                a,
+                b,
+                target,
+                nonzero: true,
+            })
+        }
         (Op::Add { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
             Some(Op::AddLong { t, dst, a, b })
         }
@@ -1056,6 +1084,7 @@ impl Op {
             | Op::JumpWhenLe { target, .. }
             | Op::JumpWhenEq { target, .. }
             | Op::JumpWhenNe { target, .. }
+            | Op::AndJump { target, .. }
             | Op::Gosub { target } => Some(target),
             Op::ForCheck { exit, .. } => Some(exit),
             Op::ForNext { body, .. } => Some(body),
@@ -1147,6 +1176,7 @@ impl Op {
             | Op::DivAddFixed { t, a, b, dst, .. } => t.max(a).max(b).max(dst),
             Op::SubMod { t, a, b, x } => t.max(a).max(b).max(x),
             Op::Offset2 { p, i, j, .. } => (p + 1).max(i).max(j),
+            Op::AndJump { t, a, b, .. } => t.max(a).max(b),
             Op::Neg { dst, a } | Op::Not { dst, a } | Op::BitNot { dst, a } => dst.max(a),
             Op::Write { slot, src, .. } => slot.max(src),
             Op::JumpIfFalse { cond, .. }
@@ -1555,6 +1585,53 @@ mod tests {
         let mut ops = vec![mul, sub, Op::End];
         fuse(&mut ops, temps);
         assert_eq!(ops[..2], [mul, sub]);
+    }
+
+    #[test]
+    fn a_bit_test_pairs_with_the_jump_on_its_result_only() {
+        let and = Op::BitAnd {
+            dst: 100,
+            a: 1,
+            b: 2,
+        };
+        for (jump, nonzero) in [
+            (
+                Op::JumpIfFalse {
+                    cond: 100,
+                    target: 9,
+                },
+                false,
+            ),
+            (
+                Op::JumpIfTrue {
+                    cond: 100,
+                    target: 9,
+                },
+                true,
+            ),
+        ] {
+            assert_eq!(
+                pair(and, jump),
+                Some(Op::AndJump {
+                    t: 100,
+                    a: 1,
+                    b: 2,
+                    target: 9,
+                    nonzero
+                })
+            );
+        }
+        assert_eq!(
+            pair(
+                and,
+                Op::JumpIfFalse {
+                    cond: 101,
+                    target: 9
+                }
+            ),
+            None
+        );
+        assert_eq!(pair(and, Op::JumpIfTrue { cond: 1, target: 9 }), None);
     }
 
     #[test]

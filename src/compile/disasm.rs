@@ -124,6 +124,7 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 format!("add       {} <- {} + {}", r(t), r(p), r(q))
             }
             Op::AndOr { t, a, b, .. }
+            | Op::AndJump { t, a, b, .. }
             | Op::AndXorLong { t, a, b, .. }
             | Op::AndXorWhole { t, a, b, .. } => {
                 format!("band      {} <- {} AND {}", r(t), r(a), r(b))

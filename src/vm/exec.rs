@@ -1145,6 +1145,23 @@ pub fn run<'a>(
                         taken!(target);
                     }
                 }
+                Op::AndJump {
+                    t,
+                    a,
+                    b,
+                    target,
+                    nonzero,
+                } => {
+                    // `band` (here), then `jump.f` or `jump.t` (here + 1).
+                    n += 1;
+                    let sure = sure!(here);
+                    let r = (int_of(rd!(a as usize), sure) & int_of(rd!(b as usize), sure)) as f64;
+                    wr!(t as usize, r);
+                    pc = here + 2;
+                    if (r != 0.0) == nonzero {
+                        taken!(target);
+                    }
+                }
                 Op::JumpIfTrue { cond, target } => {
                     if rd!(cond as usize) != 0.0 {
                         taken!(target);
