@@ -486,7 +486,7 @@ pub fn run<'a>(
         // would reach the processor only as the target of the indirect jump that dispatches the
         // next instruction, which its predictor guesses from the history of branches: an `IF`
         // alternating or following a pattern would be mispredicted nearly every time (an `IF
-        // I& AND 1` loop ran three times slower), where a branch is learned.
+        // I& AND 1` loop ran 2.5 times slower), where a branch is learned.
         macro_rules! taken {
             ($target:expr) => {{
                 keep_branch();
