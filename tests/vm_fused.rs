@@ -681,3 +681,45 @@ fn bit_tests_fused_with_their_jump_give_the_values_and_counts_of_both() {
         assert_eq!(val(&run, name), v, "{name}");
     }
 }
+
+/// A three-subscript element and two-subscript ones whose later subscripts are computed
+/// (`C(I&, 3 - J&, K& / 2)`): the last three instructions of each subscript after the first
+/// (`subscr`, `mul`, `add`) are one `OffsetTail`. Values, the third subscript out of range at
+/// its line, counts and yields (budget 11) are those of the build before (feebe13, whose
+/// trace of this program is byte-identical).
+#[test]
+fn later_subscripts_fused_with_their_offset_give_the_values_faults_and_counts() {
+    let program = "DIM C(2, 3, 4)\n\
+        FOR I& = 0 TO 2\n  FOR J& = 0 TO 3\n    FOR K& = 0 TO 4\n\
+        \x20     C(I&, J&, K&) = I& * 100 + J& * 10 + K& + C(I&, 3 - J&, K& / 2)\n\
+        \x20   NEXT\n  NEXT\nNEXT\n\
+        PRINT C(2, 3, 4), C(1, 0, 2)\nQ& = 5\nZ = C(1, 1, Q&)\n";
+    let machine =
+        "[machine]\nname = \"e\"\nbudget = 11\n\n[[program]]\nnumber = 0\nfile = \"x.mb\"\n";
+    let loaded = match load_memory(
+        "fused-offset-tail",
+        &[("x.mb", program), ("machine.toml", machine)],
+    ) {
+        Ok(l) => l,
+        Err(d) => panic!("{}", d.render_plain()),
+    };
+    let ops = &loaded.image.chunks[0].ops;
+    let count = |f: fn(&Op) -> bool| ops.iter().filter(|op| f(op)).count();
+    // The first two subscripts of `C(I&, J&, K&)` and of the three constant or variable ones
+    // are adjacent (`Offset2`); every later subscript of the five elements is a tail (those
+    // inside an `Offset2` too, for a jump there).
+    assert_eq!(count(|op| matches!(op, Op::Offset2 { .. })), 4);
+    assert_eq!(count(|op| matches!(op, Op::OffsetTail { .. })), 10);
+    let run = run_loaded(loaded);
+    assert_eq!(
+        run_error(&run),
+        (
+            11,
+            "Subscript out of range: 5 is not within 0 to 4".to_string()
+        )
+    );
+    assert_eq!(run.summary.instructions, 1845);
+    for (name, v) in [("C(2,3,4)", 436.0), ("C(1,0,2)", 102.0)] {
+        assert_eq!(val(&run, name), v, "{name}");
+    }
+}

@@ -277,6 +277,10 @@ pub enum Op {
     /// `subscr p <- i in 0..n1`, `subscr p+1 <- j in 0..n2`, `mul p <- p * n2` (a constant)
     /// and `add p <- p + p+1`, with `lens` = `n1 << 16 | n2`.
     Offset2 { p: Reg, i: Reg, j: Reg, lens: u32 },
+    /// The last three of those (made by [`fuse_offsets`] where the first subscript is not
+    /// right before: a second subscript computed, a third subscript): `subscr p+1 <- x in
+    /// 0..len`, `mul p <- p * len` (a constant) and `add p <- p + p+1`.
+    OffsetTail { p: Reg, x: Reg, len: u32 },
     /// `band t <- a AND b`, then `jump.f t` (`nonzero` false) or `jump.t t` (true) to
     /// `target`: a bit of a status word or counter tested (`IF S& AND 8 THEN`).
     AndJump {
@@ -721,8 +725,9 @@ fn gives_way(op: Op) -> bool {
 /// two-subscript array (`A(I, J)`: two subscripts, then `first * n2 + second`) become one
 /// [`Op::Offset2`] where both subscripts go to adjacent temporaries (`p`, `p + 1`), the
 /// multiplier is the constant `n2` (`constant` gives a constant register's value) and both
-/// lengths are below 2^16. The other three stay in place (they are not jumped to: the four are
-/// one expression's), as a superinstruction's do.
+/// lengths are below 2^16; where only the last three are so, an [`Op::OffsetTail`]. The
+/// others stay in place (they are not jumped to: they are one expression's), as a
+/// superinstruction's do.
 pub fn fuse_offsets(
     ops: &mut [Op],
     temps: &std::ops::Range<Reg>,
@@ -789,6 +794,26 @@ pub fn fuse_offsets(
                 j: b,
                 lens: n1 << 16 | n2,
             };
+        }
+    }
+    // Then the last three where the four were not (and inside the four, for a jump there).
+    for i in 1..ops.len().saturating_sub(2) {
+        let Op::Subscript {
+            dst: s,
+            src: x,
+            len,
+        } = ops[i]
+        else {
+            continue;
+        };
+        let Some(p) = s.checked_sub(1) else {
+            continue;
+        };
+        let times = matches!(ops[i + 1], Op::Mul { dst, a, b: k } | Op::MulAdd { t: dst, a, b: k, .. }
+            if dst == p && a == p && constant(k) == Some(f64::from(len)));
+        let added = matches!(ops[i + 2], Op::Add { dst, a, b } if dst == p && a == p && b == s);
+        if times && added && temps.contains(&p) && temps.contains(&s) {
+            ops[i] = Op::OffsetTail { p, x, len };
         }
     }
 }
@@ -1176,6 +1201,7 @@ impl Op {
             | Op::DivAddFixed { t, a, b, dst, .. } => t.max(a).max(b).max(dst),
             Op::SubMod { t, a, b, x } => t.max(a).max(b).max(x),
             Op::Offset2 { p, i, j, .. } => (p + 1).max(i).max(j),
+            Op::OffsetTail { p, x, .. } => (p + 1).max(x),
             Op::AndJump { t, a, b, .. } => t.max(a).max(b),
             Op::Neg { dst, a } | Op::Not { dst, a } | Op::BitNot { dst, a } => dst.max(a),
             Op::Write { slot, src, .. } => slot.max(src),

@@ -299,6 +299,9 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::Offset2 { p, i, lens, .. } => {
                 format!("subscr    {} <- {} in 0..{}", r(p), r(i), lens >> 16)
             }
+            Op::OffsetTail { p, x, len } => {
+                format!("subscr    {} <- {} in 0..{}", r(p + 1), r(x), len)
+            }
             Op::LoadIdx {
                 dst,
                 base,

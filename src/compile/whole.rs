@@ -264,6 +264,7 @@ fn covers(op: Op) -> usize {
         | Op::DivAddLong { .. }
         | Op::AddModLong { .. } => 3,
         Op::Offset2 { .. } => 4,
+        Op::OffsetTail { .. } => 3,
         Op::AndJump { .. } => 2,
         _ => 1,
     }

@@ -1476,6 +1476,19 @@ pub fn run<'a>(
                     wr!(p as usize, r * n2 + c);
                     pc = here + 4;
                 }
+                Op::OffsetTail { p, x, len } => {
+                    // The second `subscr` (here), the `mul` and the `add`, as `Offset2`'s.
+                    let y = rd!(x as usize);
+                    let c = y.round_ties_even();
+                    if !(c >= 0.0 && c < f64::from(len)) {
+                        pc = here;
+                        fault!("{}", out_of_range(y, len));
+                    }
+                    n += 2;
+                    wr!(p as usize + 1, c);
+                    wr!(p as usize, rd!(p as usize) * f64::from(len) + c);
+                    pc = here + 3;
+                }
                 Op::LoadAt {
                     dst,
                     base,
