@@ -9,16 +9,23 @@ mod common;
 
 use common::{load_memory, run_error, run_loaded, slot_value, Run};
 use pacer::compile::bytecode::Op;
+use pacer::load::Loaded;
 
-/// Run a MotionBASIC program `x.mb` (program 0) with the instruction budget `budget`.
-fn run_mb(name: &str, program: &str, budget: u32) -> Run {
+/// Load a machine running the MotionBASIC program `x.mb` (program 0) with the instruction
+/// budget `budget`.
+fn load_mb(name: &str, program: &str, budget: u32) -> Loaded {
     let machine = format!(
         "[machine]\nname = \"e\"\nbudget = {budget}\n\n[[program]]\nnumber = 0\nfile = \"x.mb\"\n"
     );
     match load_memory(name, &[("x.mb", program), ("machine.toml", &machine)]) {
-        Ok(l) => run_loaded(l),
+        Ok(l) => l,
         Err(d) => panic!("{}", d.render_plain()),
     }
+}
+
+/// Run a MotionBASIC program `x.mb` (program 0) with the instruction budget `budget`.
+fn run_mb(name: &str, program: &str, budget: u32) -> Run {
+    run_loaded(load_mb(name, program, budget))
 }
 
 /// The PowerTools variables of the programs below: whole ones, and `F` with 2 decimals.
@@ -509,8 +516,6 @@ fn two_subscript_offsets_give_the_values_faults_and_counts_of_their_instructions
         X = 1.5\nY = 2.5\nR(X, Y) = 7.25\n\
         Q = R(2, 2) + A&(X, Y + 1) + A&(0, -0.5)\n\
         K& = 4\nE& = A&(3, K&)\n";
-    let machine =
-        "[machine]\nname = \"e\"\nbudget = 10000\n\n[[program]]\nnumber = 0\nfile = \"x.mb\"\n";
     for (last, instructions, message, offsets) in [
         (
             "Z& = A&(K&, 0)",
@@ -526,13 +531,7 @@ fn two_subscript_offsets_give_the_values_faults_and_counts_of_their_instructions
         ),
     ] {
         let source = format!("{program}PRINT S&, Q, E&\n{last}\n");
-        let loaded = match load_memory(
-            "fused-offsets",
-            &[("x.mb", source.as_str()), ("machine.toml", machine)],
-        ) {
-            Ok(l) => l,
-            Err(d) => panic!("{}", d.render_plain()),
-        };
+        let loaded = load_mb("fused-offsets", &source, 10_000);
         let ops = &loaded.image.chunks[0].ops;
         let fused = ops
             .iter()
@@ -566,19 +565,7 @@ fn two_subscript_offsets_give_the_values_faults_and_counts_of_their_instructions
 #[test]
 fn array_stores_fused_with_their_next_give_the_values_faults_and_counts_of_both() {
     let run_at = |name: &str, program: &str| {
-        let loaded = match load_memory(
-            name,
-            &[
-                ("x.mb", program),
-                (
-                    "machine.toml",
-                    "[machine]\nname = \"e\"\nbudget = 7\n\n[[program]]\nnumber = 0\nfile = \"x.mb\"\n",
-                ),
-            ],
-        ) {
-            Ok(l) => l,
-            Err(d) => panic!("{}", d.render_plain()),
-        };
+        let loaded = load_mb(name, program, 7);
         let fused = loaded.image.chunks[0]
             .ops
             .iter()
@@ -658,15 +645,7 @@ fn bit_tests_fused_with_their_jump_give_the_values_and_counts_of_both() {
         \x20 IF X AND I& THEN S& = S& + 100\n\
         \x20 WHILE (I& AND 16)\n    I& = I& + 1\n  WEND\n\
         NEXT\n";
-    let machine =
-        "[machine]\nname = \"e\"\nbudget = 9\n\n[[program]]\nnumber = 0\nfile = \"x.mb\"\n";
-    let loaded = match load_memory(
-        "fused-and-jump",
-        &[("x.mb", program), ("machine.toml", machine)],
-    ) {
-        Ok(l) => l,
-        Err(d) => panic!("{}", d.render_plain()),
-    };
+    let loaded = load_mb("fused-and-jump", program, 9);
     let fused = loaded.image.chunks[0]
         .ops
         .iter()
@@ -694,15 +673,7 @@ fn later_subscripts_fused_with_their_offset_give_the_values_faults_and_counts() 
         \x20     C(I&, J&, K&) = I& * 100 + J& * 10 + K& + C(I&, 3 - J&, K& / 2)\n\
         \x20   NEXT\n  NEXT\nNEXT\n\
         PRINT C(2, 3, 4), C(1, 0, 2)\nQ& = 5\nZ = C(1, 1, Q&)\n";
-    let machine =
-        "[machine]\nname = \"e\"\nbudget = 11\n\n[[program]]\nnumber = 0\nfile = \"x.mb\"\n";
-    let loaded = match load_memory(
-        "fused-offset-tail",
-        &[("x.mb", program), ("machine.toml", machine)],
-    ) {
-        Ok(l) => l,
-        Err(d) => panic!("{}", d.render_plain()),
-    };
+    let loaded = load_mb("fused-offset-tail", program, 11);
     let ops = &loaded.image.chunks[0].ops;
     let count = |f: fn(&Op) -> bool| ops.iter().filter(|op| f(op)).count();
     // The first two subscripts of `C(I&, J&, K&)` and of the three constant or variable ones

@@ -403,6 +403,19 @@ pub fn run<'a>(
             }
         }};
     }
+    // The subscript in `v[$src]` rounded to an integer (halves to even), faulting at `$here`
+    // unless it is within `0..$len` (a `subscr` instruction's work).
+    macro_rules! subscr {
+        ($src:expr, $len:expr, $here:expr) => {{
+            let (x, len): (f64, u32) = (rd!($src as usize), $len);
+            let i = x.round_ties_even();
+            if !(i >= 0.0 && i < f64::from(len)) {
+                pc = $here;
+                fault!("{}", out_of_range(x, len));
+            }
+            i
+        }};
+    }
     // `store.idx` at `$here`: `v[$src]` into element `v[$idx]` of the one-subscript array at
     // `$base`, stored as its kind (`$decimals`) says.
     macro_rules! store_idx {
@@ -1445,45 +1458,24 @@ pub fn run<'a>(
                     }
                 }
                 Op::Subscript { dst, src, len } => {
-                    let x = rd!(src as usize);
-                    let i = x.round_ties_even();
-                    if !(i >= 0.0 && i < f64::from(len)) {
-                        pc = here;
-                        fault!("{}", out_of_range(x, len));
-                    }
-                    wr!(dst as usize, i);
+                    wr!(dst as usize, subscr!(src, len, here))
                 }
                 Op::Offset2 { p, i, j, lens } => {
                     // The two `subscr` (here, here + 1), the `mul` and the `add`: each subscript
                     // checked and rounded as `Subscript` does; the offset, a product and sum of
                     // whole numbers below 2^32, is exact either way.
-                    let (n1, n2) = (f64::from(lens >> 16), f64::from(lens & 0xffff));
-                    let x = rd!(i as usize);
-                    let r = x.round_ties_even();
-                    if !(r >= 0.0 && r < n1) {
-                        pc = here;
-                        fault!("{}", out_of_range(x, lens >> 16));
-                    }
+                    let n2 = lens & 0xffff;
+                    let r = subscr!(i, lens >> 16, here);
                     n += 1;
-                    let y = rd!(j as usize);
-                    let c = y.round_ties_even();
-                    if !(c >= 0.0 && c < n2) {
-                        pc = here + 1;
-                        fault!("{}", out_of_range(y, lens & 0xffff));
-                    }
+                    let c = subscr!(j, n2, here + 1);
                     n += 2;
                     wr!(p as usize + 1, c);
-                    wr!(p as usize, r * n2 + c);
+                    wr!(p as usize, r * f64::from(n2) + c);
                     pc = here + 4;
                 }
                 Op::OffsetTail { p, x, len } => {
                     // The second `subscr` (here), the `mul` and the `add`, as `Offset2`'s.
-                    let y = rd!(x as usize);
-                    let c = y.round_ties_even();
-                    if !(c >= 0.0 && c < f64::from(len)) {
-                        pc = here;
-                        fault!("{}", out_of_range(y, len));
-                    }
+                    let c = subscr!(x, len, here);
                     n += 2;
                     wr!(p as usize + 1, c);
                     wr!(p as usize, rd!(p as usize) * f64::from(len) + c);
