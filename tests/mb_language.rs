@@ -96,7 +96,7 @@ fn lookup(run: &Run, name: &str) -> Option<f64> {
             .registry()
             .slots
             .iter()
-            .position(|s| s.name.eq_ignore_ascii_case(name))?;
+            .position(|s| s.name.text().eq_ignore_ascii_case(name))?;
         run.machine.values().get(slot).copied()
     })
 }
@@ -1534,6 +1534,37 @@ fn array_elements_hold_their_values() {
             ("M(0,0)", 0.0),
         ],
     );
+}
+
+/// An element's name is made when something asks for it, not stored per element (a large
+/// `DIM` loads without a string per element): the trace, a run-time error and the registry
+/// still name each element as written, every subscript from 0 in row-major order.
+#[test]
+fn array_elements_are_named_where_they_are_shown() {
+    let program = "DIM G(2, 3), T%(1, 1, 4), BIG&(20000)\nG(1, 2) = 1.5\nT%(1, 0, 3) = 7\nBIG&(20000) = 4\nT%(0, 1, 1) = 40000\n";
+    let run = run_mb("element-names", program);
+    assert_eq!(changes(&run, "G(1,2)"), vec![1.5]);
+    assert_eq!(changes(&run, "T%(1,0,3)"), vec![7.0]);
+    assert_eq!(changes(&run, "BIG&(20000)"), vec![4.0]);
+    let e = run.summary.error.as_ref().expect("an Overflow");
+    assert_eq!(e.line, 5);
+    assert!(
+        e.message.contains("does not fit T%(0,1,1)"),
+        "{}",
+        e.message
+    );
+    let registry = run.machine.registry();
+    let big: Vec<_> = registry
+        .slots
+        .iter()
+        .filter(|s| s.name.starts_with("BIG&("))
+        .collect();
+    assert_eq!(big.len(), 20001);
+    assert!(big
+        .iter()
+        .all(|s| matches!(s.name, pacer::registry::SlotName::Element { .. })));
+    assert_eq!(big[12345].name.text(), "BIG&(12345)");
+    assert_values(&run, &[("G(2,3)", 0.0), ("BIG&(20000)", 4.0)]);
 }
 
 /// `[run] seed` starts RND with `RANDOMIZE seed`: two runs with one seed print the same

@@ -104,7 +104,7 @@ fn val(run: &Run, name: &str) -> f64 {
                 .registry()
                 .slots
                 .iter()
-                .position(|s| s.name.eq_ignore_ascii_case(name))?;
+                .position(|s| s.name.text().eq_ignore_ascii_case(name))?;
             run.machine.values().get(slot).copied()
         })
         .unwrap_or_else(|| panic!("no `{name}` in the machine"))

@@ -10,7 +10,9 @@ use crate::devices::command::{GearAfter, MotionCmd};
 use crate::devices::orion::dsp::Sensor;
 use crate::diag::{nearest, Problem};
 use crate::registry::catalog::AXIS_TYPE;
-use crate::registry::{Access, Kind, Registry, Resolved, ValueType};
+use crate::registry::{
+    Access, ArrayShape, BasicVar, Kind, Registry, Resolved, SlotName, ValueType,
+};
 use crate::span::Span;
 use crate::syntax::ast::{
     BinOp, Expr, ExprKind, GearForm, MoveForm, Name, Place, PrintItem, ProgramAst, Segment, Stmt,
@@ -18,6 +20,7 @@ use crate::syntax::ast::{
 };
 use crate::syntax::Dialect;
 use indexmap::{IndexMap, IndexSet};
+use std::sync::Arc;
 
 /// What a MotionBASIC value is: a number (long integer or real; truth values are numbers), an
 /// axis set (`{1}`, `web~`) or a string.
@@ -142,7 +145,7 @@ pub fn resolve(registry: &Registry, name: &Name) -> Result<Resolved, Problem> {
                 hook: crate::registry::Hook::Store,
                 kind: Kind::BasicVar,
                 instance: i,
-                name: info.name.clone(),
+                name: info.name.text().into_owned(),
             })
         }
         None => registry.resolve(name),
@@ -208,26 +211,10 @@ impl Array {
     }
 }
 
-/// The registry name of element `index` (row-major, last subscript fastest) of an array with
-/// these bounds: `A(3)`, `B$(1,2)`.
-pub fn element_name(written: &str, bounds: &[u32], mut index: usize) -> String {
-    if bounds.len() == 1 {
-        // One per element of every array when a machine loads: without the formatting machinery.
-        let mut name = String::with_capacity(written.len() + 7);
-        name.push_str(written);
-        name.push('(');
-        crate::vm::print::push_digits(index as u64, &mut name);
-        name.push(')');
-        return name;
-    }
-    let mut subs = vec![0usize; bounds.len()];
-    for (k, &b) in bounds.iter().enumerate().rev() {
-        let n = b as usize + 1;
-        subs[k] = index % n;
-        index /= n;
-    }
-    let subs: Vec<String> = subs.iter().map(ToString::to_string).collect();
-    format!("{written}({})", subs.join(","))
+/// The registry name of an array's first element (`A(0)`, `B$(0,0)`), by which the registry
+/// finds the array (as [`ArrayShape::element`] names it).
+fn first_element(written: &str, dimensions: usize) -> String {
+    format!("{written}({})", vec!["0"; dimensions].join(","))
 }
 
 /// The value of a constant expression (numbers and arithmetic on them), as `DIM` bounds are.
@@ -332,11 +319,28 @@ impl Variables {
     /// line typed at the REPL may use. `lower`: the lowest subscript of the arrays that do not
     /// start at 0 (the registry holds their elements from 0).
     pub fn known<'a>(
-        names: impl Iterator<Item = (&'a str, ValueType)>,
+        names: impl Iterator<Item = (&'a SlotName, ValueType)>,
         lower: &IndexMap<String, u32>,
     ) -> Variables {
         let mut vars = Variables::default();
         for (name, ty) in names {
+            let name = match name {
+                SlotName::Text(name) => name.as_str(),
+                SlotName::Element { array, .. } => {
+                    // Its shape is the array's: one element stands for all.
+                    let key = array.written.to_ascii_uppercase();
+                    vars.assigned.insert(format!("{key}()"));
+                    let lowest = lower.get(&key).copied().unwrap_or(0);
+                    vars.arrays.entry(key).or_insert_with(|| Array {
+                        written: array.written.clone(),
+                        ty,
+                        bounds: Some(array.bounds.clone()),
+                        declared: true,
+                        lower: lowest,
+                    });
+                    continue;
+                }
+            };
             let key = name.to_ascii_uppercase();
             let Some((base, subs)) = name.split_once('(') else {
                 vars.all.insert(key.clone(), (name.to_string(), ty));
@@ -375,13 +379,21 @@ impl Variables {
         self.stmts(&ast.body);
     }
 
-    /// As `(name, type)` pairs for the registry: the variables, then each array's elements in
-    /// order (so an array's elements are consecutive slots).
-    pub fn list(&self) -> Vec<(String, ValueType)> {
-        let mut out: Vec<(String, ValueType)> = self.all.values().cloned().collect();
+    /// The variables for the registry: the scalars, then the arrays (each array's elements are
+    /// consecutive slots).
+    pub fn list(&self) -> Vec<BasicVar> {
+        let mut out: Vec<BasicVar> = self
+            .all
+            .values()
+            .map(|(name, ty)| BasicVar::Scalar(name.clone(), *ty))
+            .collect();
         for a in self.arrays.values() {
             if let Some(bounds) = &a.bounds {
-                out.extend((0..a.len()).map(|i| (element_name(&a.written, bounds, i), a.ty)));
+                let shape = ArrayShape {
+                    written: a.written.clone(),
+                    bounds: bounds.clone(),
+                };
+                out.push(BasicVar::Array(Arc::new(shape), a.ty));
             }
         }
         out
@@ -1593,7 +1605,7 @@ impl MotionBasic<'_> {
                 }
             }
         }
-        let base_name = element_name(&array.written, &bounds, 0).to_ascii_lowercase();
+        let base_name = first_element(&array.written, bounds.len()).to_ascii_lowercase();
         let vars = cx.registry().of(Kind::BasicVar);
         let &i = vars.names.get(&base_name)?;
         let slot = vars.slot(i, 0, false);

@@ -50,12 +50,7 @@ pub fn is_int16_name(name: &str) -> bool {
         .is_some_and(|base| base.ends_with('%'))
 }
 
-/// Whether a MotionBASIC variable or array element of this registry name holds a string.
-pub fn is_text_name(name: &str) -> bool {
-    name.split('(')
-        .next()
-        .is_some_and(|base| base.ends_with('$'))
-}
+pub use crate::registry::slot_name::is_text_name;
 
 impl Layout {
     /// A layout after the registry's slots; every string variable gets its cell.
@@ -75,12 +70,12 @@ impl Layout {
                     matches!(info.kind, Kind::Var | Kind::BasicVar)
                         && matches!(info.ty, ValueType::Fixed(0) | ValueType::Integer)
                         && !info.name.starts_with(crate::vm::live::SPARE_VARIABLE)
-                        && !is_text_name(&info.name)
+                        && !info.name.is_text()
                 })
                 .collect(),
         };
         for (i, info) in registry.slots.iter().enumerate() {
-            if info.kind == Kind::BasicVar && is_text_name(&info.name) {
+            if info.kind == Kind::BasicVar && info.name.is_text() {
                 let cell = layout.cell();
                 layout.text_slots.push((i as Reg, cell));
             }
@@ -171,7 +166,7 @@ impl Layout {
     /// What a register is, for the disassembler.
     pub fn describe(&self, r: Reg, registry: &Registry) -> String {
         if r < self.slot_count {
-            registry.slots[r as usize].name.clone()
+            registry.slots[r as usize].name.to_string()
         } else if r < self.extra_base() {
             format!("t{}", r - self.slot_count)
         } else {

@@ -24,7 +24,7 @@ pub mod values;
 pub mod world;
 
 use crate::diag::Problem;
-use crate::registry::{Registry, ValueType, DEFAULT_UPDATE_NS};
+use crate::registry::{BasicVar, Registry, DEFAULT_UPDATE_NS};
 use crate::span::Span;
 use desc::{MachineDesc, ProgramDesc, ScenarioDesc};
 use machine::MachineFile;
@@ -93,7 +93,7 @@ pub fn programs(file: &MachineFile, problems: &mut Vec<Problem>) -> Vec<ProgramD
 pub fn machine(
     file: &MachineFile,
     programs: &[u32],
-    basic_vars: &[(String, ValueType)],
+    basic_vars: &[BasicVar],
     problems: &mut Vec<Problem>,
 ) -> (MachineDesc, Registry) {
     let (objects, mut drive) = objects::objects(file, programs, problems);
@@ -186,7 +186,7 @@ pub fn machine(
 pub fn registry(
     file: &MachineFile,
     programs: &[u32],
-    basic_vars: &[(String, ValueType)],
+    basic_vars: &[BasicVar],
 ) -> (Registry, Vec<Problem>) {
     let mut problems = Vec::new();
     let (_, registry) = machine(file, programs, basic_vars, &mut problems);

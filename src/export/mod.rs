@@ -252,7 +252,7 @@ impl Export {
             if let Some(r) = p.recorder.borrow_mut().as_mut() {
                 // A live run knows where every series starts; a trace only has changes.
                 for (i, info) in m.registry().slots.iter().enumerate() {
-                    r.seed(&info.name, m.values()[i]);
+                    r.seed(&info.name.text(), m.values()[i]);
                 }
             }
         }
@@ -333,15 +333,15 @@ impl LivePlot {
         let mut samples = Vec::new();
         for (i, info) in registry.slots.iter().enumerate() {
             if info.ty.is_bit() {
-                recorder.mark_bit(&info.name);
+                recorder.mark_bit(&info.name.text());
             }
             // Continuous members are not in the trace: the plot samples the ones it draws.
-            if info.member.continuous && recorder.plan().wants_series(&info.name) {
-                samples.push((i as SlotId, info.name.clone()));
+            if info.member.continuous && recorder.plan().wants_series(&info.name.text()) {
+                samples.push((i as SlotId, info.name.to_string()));
             }
         }
         let xy = if recorder.plan().preset == Preset::PickPlace {
-            let slot = |n: &str| registry.slots.iter().position(|s| s.name == n);
+            let slot = |n: &str| registry.slots.iter().position(|s| s.name == *n);
             match (slot(TOOL_XYZ[0]), slot(TOOL_XYZ[1])) {
                 (Some(x), Some(y)) => Some((x as SlotId, y as SlotId)),
                 _ => None,

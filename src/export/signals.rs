@@ -44,7 +44,7 @@ impl Signal {
     fn from_slot(slot: SlotId, info: &SlotInfo) -> Signal {
         Signal {
             slot,
-            name: info.name.clone(),
+            name: info.name.to_string(),
             kind: SignalKind::of(info.ty),
             continuous: info.member.continuous,
         }
@@ -120,12 +120,15 @@ fn resolve_one(registry: &Registry, name: &str) -> Result<Signal, ExportError> {
         .filter(|r| (r.slot as usize) < registry.slots.len());
     match resolved {
         Some(r) => Ok(Signal::from_slot(r.slot, &registry.slots[r.slot as usize])),
-        None => Err(ExportError::Usage(format!(
-            "--signals: unknown signal `{name}`{}",
-            nearest(name, registry.slots.iter().map(|s| s.name.as_str()))
-                .map(|n| format!(" (did you mean `{n}`?)"))
-                .unwrap_or_default()
-        ))),
+        None => {
+            let names: Vec<_> = registry.slots.iter().map(|s| s.name.text()).collect();
+            Err(ExportError::Usage(format!(
+                "--signals: unknown signal `{name}`{}",
+                nearest(name, names.iter().map(|n| n.as_ref()))
+                    .map(|n| format!(" (did you mean `{n}`?)"))
+                    .unwrap_or_default()
+            )))
+        }
     }
 }
 
@@ -149,9 +152,9 @@ pub fn nearest<'a>(name: &str, known: impl Iterator<Item = &'a str>) -> Option<&
 /// a `BASIC` scope: their dots are part of the name, not a path.
 pub fn vcd_path(info: &SlotInfo) -> (Vec<String>, String) {
     if info.kind == Kind::BasicVar {
-        return (vec!["BASIC".to_string()], vcd_word(&info.name));
+        return (vec!["BASIC".to_string()], vcd_word(&info.name.text()));
     }
-    let mut parts: Vec<String> = info.name.split('.').map(vcd_word).collect();
+    let mut parts: Vec<String> = info.name.text().split('.').map(vcd_word).collect();
     let leaf = parts.pop().unwrap_or_default();
     (parts, leaf)
 }

@@ -121,7 +121,7 @@ pub fn load_from(
     let parsed = front::parse(files, &programs, &mut machine_problems);
     let mut variables = parsed.variables.list();
     variables.extend((0..options.spare_basic_vars).map(|i| {
-        (
+        crate::registry::BasicVar::Scalar(
             format!("{}{i}", crate::vm::live::SPARE_VARIABLE),
             crate::registry::ValueType::Real,
         )

@@ -7,9 +7,11 @@ pub mod name;
 pub mod not_yet;
 pub mod objects;
 mod resolve;
+pub mod slot_name;
 
 pub use catalog::{Access, Hook, Instances, Kind, MemberDef, TypeDef, ValueType};
 pub use resolve::Resolved;
+pub use slot_name::{ArrayShape, BasicVar, SlotName};
 
 use indexmap::IndexMap;
 use objects::ObjectsDesc;
@@ -27,7 +29,7 @@ pub const GLOBAL_INSTANCE: u32 = u32::MAX;
 #[derive(Debug, Clone)]
 pub struct SlotInfo {
     /// Canonical full name, e.g. `Queue.0.QueueOffset`.
-    pub name: String,
+    pub name: SlotName,
     /// Its value type (user variables carry their own decimal places).
     pub ty: ValueType,
     /// The member definition.
@@ -51,8 +53,8 @@ pub struct TypeInstances {
     pub first: u32,
     /// Instance names (lower-case) → index, for named instances (`Var.Count`, `Bit.Ready`).
     pub names: IndexMap<String, u32>,
-    /// Display name of each instance (`0`, `Count`).
-    pub display: Vec<String>,
+    /// Display name of each instance (`0`, `Count`, `FLAG&(3)`).
+    pub display: Vec<SlotName>,
     /// First slot of this type's storage.
     pub base: SlotId,
 }
@@ -81,9 +83,22 @@ pub struct Registry {
 impl Registry {
     /// The registry of a machine: its objects, and the MotionBASIC variables its programs use
     /// (name as first written, and type).
-    pub fn new(objects: &ObjectsDesc, basic_vars: &[(String, ValueType)]) -> Registry {
+    pub fn new(objects: &ObjectsDesc, basic_vars: &[BasicVar]) -> Registry {
         let mut types = Vec::new();
-        let mut slots: Vec<SlotInfo> = Vec::new();
+        // Reserved whole: a large DIM would otherwise be copied as the vector grows.
+        let elements: usize = basic_vars.iter().map(BasicVar::len).sum();
+        let objects_slots: usize = catalog::TYPES
+            .iter()
+            .map(|def| {
+                let count = match def.kind {
+                    Kind::Var => objects.variables.len(),
+                    Kind::BasicVar => 0,
+                    _ => objects.count_of(def) as usize,
+                };
+                count * def.members.len() + def.global_members.len()
+            })
+            .sum();
+        let mut slots: Vec<SlotInfo> = Vec::with_capacity(elements + objects_slots);
         for def in catalog::TYPES {
             let first = match def.instances {
                 Instances::Numbered { first, .. } => first,
@@ -91,38 +106,51 @@ impl Registry {
             };
             let mut count = objects.count_of(def);
             let mut names = IndexMap::new();
-            let mut display: Vec<String> = (0..count).map(|i| (first + i).to_string()).collect();
+            let mut display: Vec<SlotName> = (0..count)
+                .map(|i| SlotName::Text((first + i).to_string()))
+                .collect();
             let mut decimals: Vec<u8> = Vec::new();
+            let mut basic_types: Vec<ValueType> = Vec::new();
             let mut initial: Vec<f64> = Vec::new();
             match def.kind {
                 Kind::Var => {
                     display.clear();
                     for (i, v) in objects.variables.iter().enumerate() {
                         names.insert(v.name.to_ascii_lowercase(), i as u32);
-                        display.push(v.name.clone());
+                        display.push(SlotName::Text(v.name.clone()));
                         decimals.push(v.decimals);
                         initial.push(v.initial);
                     }
                 }
                 Kind::BasicVar => {
                     count = 0;
-                    for (name, _) in basic_vars {
-                        // An array is found by its first element (`A(0)`, `G(0,0)`): the
-                        // others need no entry, which keeps a large DIM quick to set up.
-                        let first_or_scalar = name.split_once('(').is_none_or(|(_, subs)| {
-                            subs.trim_end_matches(')').split(',').all(|p| p == "0")
-                        });
-                        if first_or_scalar {
-                            names.insert(name.to_ascii_lowercase(), count);
+                    for var in basic_vars {
+                        match var {
+                            BasicVar::Scalar(name, ty) => {
+                                names.insert(name.to_ascii_lowercase(), count);
+                                display.push(SlotName::Text(name.clone()));
+                                basic_types.push(*ty);
+                            }
+                            BasicVar::Array(shape, ty) => {
+                                // An array is found by its first element (`A(0)`, `G(0,0)`):
+                                // the others need no entry, nor a name until one is asked for.
+                                names.insert(shape.element(0).to_ascii_lowercase(), count);
+                                display.extend((0..shape.len() as u32).map(|index| {
+                                    SlotName::Element {
+                                        array: shape.clone(),
+                                        index,
+                                    }
+                                }));
+                                basic_types.resize(basic_types.len() + shape.len(), *ty);
+                            }
                         }
-                        display.push(name.clone());
-                        count += 1;
+                        count += var.len() as u32;
                     }
                 }
                 Kind::Bit => {
                     for (name, n) in &objects.bits.names {
                         names.insert(name.to_ascii_lowercase(), *n);
-                        display[*n as usize] = name.clone();
+                        display[*n as usize] = SlotName::Text(name.clone());
                     }
                     initial = vec![0.0; count as usize];
                     for &on in &objects.bits.on {
@@ -136,7 +164,7 @@ impl Registry {
                 for member in def.members {
                     let ty = match def.kind {
                         Kind::Var => ValueType::Fixed(decimals[i as usize]),
-                        Kind::BasicVar => basic_vars[i as usize].1,
+                        Kind::BasicVar => basic_types[i as usize],
                         _ => member.ty,
                     };
                     let init = match def.kind {
@@ -155,7 +183,7 @@ impl Registry {
             }
             for member in def.global_members {
                 slots.push(SlotInfo {
-                    name: format!("{}.{}", def.name, member.name),
+                    name: SlotName::Text(format!("{}.{}", def.name, member.name)),
                     ty: member.ty,
                     member,
                     kind: def.kind,
@@ -172,6 +200,7 @@ impl Registry {
                 base,
             });
         }
+        debug_assert_eq!(slots.len(), elements + objects_slots);
         let mut registry = Registry { types, slots };
         for i in &objects.initials {
             let t = registry.of(i.kind);
@@ -228,28 +257,29 @@ fn default_value(kind: Kind, member: &MemberDef) -> f64 {
 }
 
 /// The canonical name of `member` of the instance displayed as `display` of `def`.
-fn slot_name(def: &TypeDef, display: &str, member: &MemberDef) -> String {
+fn slot_name(def: &TypeDef, display: &SlotName, member: &MemberDef) -> SlotName {
     if def.name == catalog::BARE_GLOBAL_TYPE {
-        return member.name.to_string();
+        return SlotName::Text(member.name.to_string());
     }
     if def.kind == Kind::BasicVar {
-        return display.to_string();
+        return display.clone();
     }
-    if def.instances == Instances::Global {
-        return format!("{}.{}", def.name, member.name);
-    }
-    match (def.default_member, def.kind) {
-        (
-            Some(_),
-            Kind::Var
-            | Kind::Bit
-            | Kind::DriveInput
-            | Kind::ModuleInput
-            | Kind::DriveOutput
-            | Kind::ModuleOutput,
-        ) => format!("{}.{}", def.name, display),
-        _ => format!("{}.{}.{}", def.name, display, member.name),
-    }
+    SlotName::Text(if def.instances == Instances::Global {
+        format!("{}.{}", def.name, member.name)
+    } else {
+        match (def.default_member, def.kind) {
+            (
+                Some(_),
+                Kind::Var
+                | Kind::Bit
+                | Kind::DriveInput
+                | Kind::ModuleInput
+                | Kind::DriveOutput
+                | Kind::ModuleOutput,
+            ) => format!("{}.{}", def.name, display),
+            _ => format!("{}.{}.{}", def.name, display, member.name),
+        }
+    })
 }
 
 pub use crate::fixed::{round_to, POW10};

@@ -3,7 +3,7 @@
 
 use super::catalog::{self, Access, Hook, Instances, Kind, MemberDef, ValueType};
 use super::name::{Name, Segment};
-use super::{Registry, SlotId, TypeInstances, GLOBAL_INSTANCE};
+use super::{Registry, SlotId, SlotName, TypeInstances, GLOBAL_INSTANCE};
 use crate::diag::{nearest, Problem};
 
 /// A name resolved against the registry.
@@ -177,7 +177,7 @@ impl Registry {
             hook: member.hook,
             kind: t.def.kind,
             instance,
-            name: info.name.clone(),
+            name: info.name.text().into_owned(),
         }
     }
 
@@ -208,13 +208,13 @@ impl Registry {
         if let Some(&i) = t.names.get(&seg.text.to_ascii_lowercase()) {
             return Ok(i);
         }
-        let candidates: Vec<&str> = t
+        let candidates: Vec<std::borrow::Cow<'_, str>> = t
             .display
             .iter()
-            .map(String::as_str)
-            .chain(t.def.global_members.iter().map(|m| m.name))
+            .map(SlotName::text)
+            .chain(t.def.global_members.iter().map(|m| m.name.into()))
             .collect();
-        let near = nearest(&seg.text, candidates.iter().copied());
+        let near = nearest(&seg.text, candidates.iter().map(|c| c.as_ref()));
         let help = match (near, t.def.kind) {
             (Some(n), _) => format!("did you mean `{}.{n}`?", t.def.name),
             (None, Kind::Var) => "declare it in machine.toml under [variables]".to_string(),

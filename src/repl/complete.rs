@@ -108,7 +108,7 @@ impl Vocabulary {
                     t.display
                         .iter()
                         .filter(|d| !d.starts_with(crate::vm::live::SPARE_VARIABLE))
-                        .cloned(),
+                        .map(ToString::to_string),
                 );
                 continue;
             }
@@ -129,7 +129,7 @@ impl Vocabulary {
                 instances: if global {
                     Vec::new()
                 } else {
-                    t.display.clone()
+                    t.display.iter().map(ToString::to_string).collect()
                 },
                 members: def.members.iter().map(|m| m.name).collect(),
                 global_members: def.global_members.iter().map(|m| m.name).collect(),
@@ -390,7 +390,10 @@ mod tests {
         let (registry, problems) = crate::config::registry(
             &MachineFile::default(),
             &[0, 1],
-            &[("SPEED&".into(), crate::registry::ValueType::Fixed(0))],
+            &[crate::registry::BasicVar::Scalar(
+                "SPEED&".into(),
+                crate::registry::ValueType::Fixed(0),
+            )],
         );
         assert!(problems.is_empty());
         Vocabulary::new(&registry, dialect)

@@ -164,7 +164,10 @@ mod tests {
         let (r, problems) = crate::config::registry(
             &MachineFile::default(),
             &[0],
-            &[("X&".into(), ValueType::Fixed(0))],
+            &[crate::registry::BasicVar::Scalar(
+                "X&".into(),
+                ValueType::Fixed(0),
+            )],
         );
         assert!(problems.is_empty());
         r

@@ -394,7 +394,7 @@ impl Session {
         Variables::known(
             t.display.iter().enumerate().map(|(i, name)| {
                 let slot = t.slot(i as u32, 0, false) as usize;
-                (name.as_str(), registry.slots[slot].ty)
+                (name, registry.slots[slot].ty)
             }),
             &self.array_lower,
         )

@@ -77,12 +77,13 @@ fn resolve_name(registry: &Registry, measures: &[&str], name: &str) -> Result<Op
             None => Err(format!("`{name}` has no value to read")),
         },
         Err(_) => {
+            let names: Vec<_> = registry.slots.iter().map(|s| s.name.text()).collect();
             let hint = crate::export::signals::nearest(
                 name,
                 measures
                     .iter()
                     .copied()
-                    .chain(registry.slots.iter().map(|s| s.name.as_str())),
+                    .chain(names.iter().map(|n| n.as_ref())),
             )
             .map(|n| format!(" (did you mean `{n}`?)"))
             .unwrap_or_default();

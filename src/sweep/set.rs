@@ -418,10 +418,10 @@ fn set_member(loaded: &mut Loaded, member: &str, value: &toml::Value) -> Result<
     let registry = &loaded.image.registry;
     let name = crate::syntax::ast::Name::from_token(member, 0);
     let resolved = crate::check::motionbasic::resolve(registry, &name).map_err(|p| {
-        let hint =
-            crate::export::signals::nearest(member, registry.slots.iter().map(|s| s.name.as_str()))
-                .map(|n| format!(" (did you mean `{n}`?)"))
-                .unwrap_or_default();
+        let names: Vec<_> = registry.slots.iter().map(|s| s.name.text()).collect();
+        let hint = crate::export::signals::nearest(member, names.iter().map(|n| n.as_ref()))
+            .map(|n| format!(" (did you mean `{n}`?)"))
+            .unwrap_or_default();
         format!("{member}: {}{hint}", p.message)
     })?;
     let slot = resolved.slot as usize;

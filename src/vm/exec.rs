@@ -1681,7 +1681,7 @@ fn store_text(slot: usize, src: f64, v: &[f64], ctx: &mut Ctx<'_, '_>) -> Result
         ctx.now.trace.emit(
             ctx.now.tick,
             &Event::TextChange {
-                name: ctx.registry.slots[slot].name.as_str().into(),
+                name: ctx.registry.slots[slot].name.text(),
                 value: ctx.strings[cell].as_str().into(),
             },
         );
@@ -2431,7 +2431,7 @@ fn name_of(ctx: &Ctx<'_, '_>, slot: u32) -> String {
     ctx.registry
         .slots
         .get(slot as usize)
-        .map_or_else(|| "a loop variable".to_string(), |s| s.name.clone())
+        .map_or_else(|| "a loop variable".to_string(), |s| s.name.to_string())
 }
 
 /// Trace a program's write to a registry slot, whether or not the value changed.
@@ -2450,7 +2450,7 @@ fn traced_write(ctx: &mut Ctx<'_, '_>, slot: u32, value: f64) {
     ctx.now.trace.emit(
         ctx.now.tick,
         &Event::Change {
-            name: info.name.as_str().into(),
+            name: info.name.text(),
             value: Value::of(info.ty, value),
         },
     );

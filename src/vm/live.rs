@@ -6,7 +6,7 @@
 use super::task::{Task, TaskState};
 use super::{Machine, RunError, REPL_PROGRAM};
 use crate::compile::{Chunk, Layout};
-use crate::registry::{Kind, SlotId, ValueType};
+use crate::registry::{Kind, SlotId, SlotName, ValueType};
 use crate::trace::Trace;
 use crate::world::Edge;
 
@@ -268,13 +268,13 @@ impl Machine {
             .display
             .iter()
             .position(|d| d.starts_with(SPARE_VARIABLE))?;
-        let old = t.display[i].to_ascii_lowercase();
+        let old = t.display[i].text().to_ascii_lowercase();
         t.names.shift_remove(&old);
         t.names.insert(spelling.to_ascii_lowercase(), i as u32);
-        t.display[i] = spelling.to_string();
+        t.display[i] = SlotName::Text(spelling.to_string());
         let slot = t.slot(i as u32, 0, false);
         let info = &mut self.image.registry.slots[slot as usize];
-        info.name = spelling.to_string();
+        info.name = SlotName::Text(spelling.to_string());
         info.ty = ty;
         Some(slot)
     }

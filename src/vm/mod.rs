@@ -205,7 +205,7 @@ pub(crate) fn trace_changes(
                 trace.emit(
                     tick,
                     &Event::Change {
-                        name: info.name.as_str().into(),
+                        name: info.name.text(),
                         value: Value::of(info.ty, x),
                     },
                 );

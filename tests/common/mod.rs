@@ -52,7 +52,7 @@ pub fn slot_value(machine: &Machine, name: &str) -> Option<f64> {
         .registry()
         .slots
         .iter()
-        .position(|s| s.name.eq_ignore_ascii_case(name))?;
+        .position(|s| s.name.text().eq_ignore_ascii_case(name))?;
     machine.values().get(slot).copied()
 }
 
