@@ -661,6 +661,45 @@ fn bit_tests_fused_with_their_jump_give_the_values_and_counts_of_both() {
     }
 }
 
+/// A bit test compared with 0 (`IF (I& AND 4) <> 0`, `IF 0 = (I& AND 3)`, PowerTools `If
+/// (Var.I AND 4) <> 0`) is fused as the truth test it is (`AndJump`): both ways of each test,
+/// the zero on either side, a real operand rounded, two negative operands (-8 AND -3 = -8), a
+/// `WHILE`, and a budget of 9 that yields in between. The expected figures are those of the
+/// build before the fusion (e01efec), whose traces of both programs are byte-identical.
+#[test]
+fn bit_tests_compared_with_zero_fused_give_the_values_and_counts_of_both() {
+    let program = "S& = 0\nC& = 0\nD& = 0\nX = 2.5\n\
+        FOR I& = 1 TO 40\n\
+        \x20 IF (I& AND 4) <> 0 THEN C& = C& + 1 ELSE D& = D& + 1\n\
+        \x20 IF 0 = (I& AND 3) THEN S& = S& + 1\n\
+        \x20 IF (X AND I&) = 0 THEN S& = S& + 100\n\
+        \x20 WHILE (I& AND 16) <> 0\n    I& = I& + 1\n  WEND\n\
+        NEXT\n\
+        IF (-8 AND -3) <> 0 THEN S& = S& + 7\n";
+    let loaded = load_mb("fused-and-zero", program, 9);
+    let fused = loaded.image.chunks[0]
+        .ops
+        .iter()
+        .filter(|op| matches!(op, Op::AndJump { .. }))
+        .count();
+    assert_eq!(fused, 5);
+    let run = run_loaded(loaded);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    assert_eq!(run.summary.instructions, 409);
+    for (name, v) in [("S&", 1213.0), ("C&", 12.0), ("D&", 12.0), ("I&", 41.0)] {
+        assert_eq!(val(&run, name), v, "{name}");
+    }
+    let program = "Var.Z = 0\nVar.Y = 0\nFor Var.I = 1 To 40\n\
+        \x20 If (Var.I AND 4) <> 0 Then\n    Var.Y = Var.Y + 1\n  Endif\n\
+        \x20 If (Var.I AND 3) = 0 Then\n    Var.Z = Var.Z + 1\n  Endif\n\
+        Next\nEnd\n";
+    let run = run_pt("fused-and-zero-pt", program, 9);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    assert_eq!(run.summary.instructions, 237);
+    assert_eq!(val(&run, "Var.Z"), 10.0);
+    assert_eq!(val(&run, "Var.Y"), 20.0);
+}
+
 /// A three-subscript element and two-subscript ones whose later subscripts are computed
 /// (`C(I&, 3 - J&, K& / 2)`): the last three instructions of each subscript after the first
 /// (`subscr`, `mul`, `add`) are one `OffsetTail`. Values, the third subscript out of range at

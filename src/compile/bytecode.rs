@@ -725,8 +725,8 @@ fn gives_way(op: Op) -> bool {
 /// two-subscript array (`A(I, J)`: two subscripts, then `first * n2 + second`) become one
 /// [`Op::Offset2`] where both subscripts go to adjacent temporaries (`p`, `p + 1`), the
 /// multiplier is the constant `n2` (`constant` gives a constant register's value) and both
-/// lengths are below 2^16; where only the last three are so, an [`Op::OffsetTail`]. The
-/// others stay in place (they are not jumped to: they are one expression's), as a
+/// lengths are below 2^16; where only the last three are so, an [`Op::OffsetTail`]; a `band`
+/// and a comparison of its result with 0, one [`Op::AndJump`]. The others stay in place (they are not jumped to: they are one expression's), as a
 /// superinstruction's do.
 pub fn fuse_offsets(
     ops: &mut [Op],
@@ -815,6 +815,37 @@ pub fn fuse_offsets(
         if times && added && temps.contains(&p) && temps.contains(&s) {
             ops[i] = Op::OffsetTail { p, x, len };
         }
+    }
+    // A `band` whose result is compared with the constant 0 (`If (Var.S AND 8) <> 0`, `IF
+    // (I& AND 4) = 0`): as a `band` and a `jump.f`/`jump.t`, which jump on the same values (a
+    // comparison with 0 is one with -0, and no `band` gives NaN).
+    for i in 0..ops.len().saturating_sub(1) {
+        let Op::BitAnd { dst: t, a, b } = ops[i] else {
+            continue;
+        };
+        let zero_test = |x: Reg, y: Reg| {
+            (x == t && constant(y) == Some(0.0)) || (y == t && constant(x) == Some(0.0))
+        };
+        let (target, nonzero) = match ops[i + 1] {
+            Op::JumpUnlessNe { a: x, b: y, target } | Op::JumpWhenEq { a: x, b: y, target }
+                if zero_test(x, y) =>
+            {
+                (target, false)
+            }
+            Op::JumpUnlessEq { a: x, b: y, target } | Op::JumpWhenNe { a: x, b: y, target }
+                if zero_test(x, y) =>
+            {
+                (target, true)
+            }
+            _ => continue,
+        };
+        ops[i] = Op::AndJump {
+            t,
+            a,
+            b,
+            target,
+            nonzero,
+        };
     }
 }
 
@@ -1658,6 +1689,65 @@ mod tests {
             None
         );
         assert_eq!(pair(and, Op::JumpIfTrue { cond: 1, target: 9 }), None);
+    }
+
+    /// `(x AND m) <> 0` and `= 0`, the zero on either side, jump as `jump.f`/`jump.t` on the
+    /// `band`'s result; a comparison with another value, or of another register, is left.
+    #[test]
+    fn a_bit_test_compared_with_zero_is_fused_as_a_truth_test() {
+        let and = Op::BitAnd {
+            dst: 100,
+            a: 1,
+            b: 2,
+        };
+        // Register 7 holds 0, 8 holds -0, 9 holds 4.
+        let constant = |r: Reg| match r {
+            7 => Some(0.0),
+            8 => Some(-0.0),
+            9 => Some(4.0),
+            _ => None,
+        };
+        let fused = |jump: Op| {
+            let mut ops = [and, jump, Op::End];
+            fuse_offsets(&mut ops, &(100..108), &constant);
+            assert_eq!(ops[1], jump, "the jump stays in place");
+            match ops[0] {
+                Op::AndJump {
+                    t: 100,
+                    a: 1,
+                    b: 2,
+                    target: 5,
+                    nonzero,
+                } => Some(nonzero),
+                other => {
+                    assert_eq!(other, and);
+                    None
+                }
+            }
+        };
+        let (a, b, target) = (100, 7, 5);
+        assert_eq!(fused(Op::JumpUnlessNe { a, b, target }), Some(false));
+        assert_eq!(fused(Op::JumpWhenEq { a, b, target }), Some(false));
+        assert_eq!(fused(Op::JumpUnlessEq { a, b, target }), Some(true));
+        assert_eq!(fused(Op::JumpWhenNe { a, b, target }), Some(true));
+        assert_eq!(
+            fused(Op::JumpUnlessNe {
+                a: 8,
+                b: 100,
+                target
+            }),
+            Some(false)
+        );
+        assert_eq!(fused(Op::JumpUnlessNe { a, b: 9, target }), None);
+        assert_eq!(fused(Op::JumpUnlessNe { a: 101, b, target }), None);
+        assert_eq!(
+            fused(Op::JumpUnlessLt {
+                a: 7,
+                b: 100,
+                target
+            }),
+            None
+        );
     }
 
     #[test]
