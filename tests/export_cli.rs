@@ -461,3 +461,106 @@ fn a_live_plot_and_a_plot_from_the_trace_and_csv_label_axes_units_and_legends() 
         assert!(chosen_svg.contains(words), "{words}");
     }
 }
+
+/// Array elements and text variables chosen by name (MotionBASIC: GW-BASIC User's Guide,
+/// "DIM", subscripts from 0; strings by `$`): a comma between subscripts is not a list's
+/// comma; the CSV writes a string as text, quoted where RFC 4180 says; a plot, which draws
+/// numbers, refuses a text variable by name, live and from a CSV, and draws the other columns
+/// of that CSV; an element outside its array is unknown, named with the nearest.
+#[test]
+fn elements_and_text_variables_are_signals_by_name() {
+    let dir = scratch("elements");
+    let project = dir.join("p");
+    std::fs::create_dir_all(&project).expect("dir");
+    std::fs::write(
+        project.join("main.mb"),
+        "DIM G(2, 3), F&(10)\nFOR I& = 0 TO 10\n  F&(I&) = I& * I&\nNEXT\nG(1, 2) = 2.5\n\
+         S$ = \"A, \" + CHR$(34) + \"B\" + CHR$(34)\nT$ = \"plain\"\n",
+    )
+    .expect("program");
+    std::fs::write(
+        project.join("machine.toml"),
+        "[machine]\nname = \"e\"\n\n[[program]]\nnumber = 0\nfile = \"main.mb\"\n",
+    )
+    .expect("machine");
+    let (csv, trace) = (dir.join("e.csv"), dir.join("e.jsonl"));
+    let o = pacer(&[
+        "run",
+        s(&project),
+        "-q",
+        "--csv",
+        s(&csv),
+        "--trace",
+        s(&trace),
+        "--signals",
+        "f&(3), G( 1, 2 ),F&(10)",
+        "--signals",
+        "S$,T$",
+    ]);
+    assert!(o.status.success(), "{}", text(&o));
+    let written = std::fs::read_to_string(&csv).expect("csv");
+    assert_eq!(
+        written.lines().collect::<Vec<_>>(),
+        [
+            "t,tick,F&(3),\"G(1,2)\",F&(10),S$,T$",
+            "0,0,9,2.5,100,\"A, \"\"B\"\"\",plain"
+        ]
+    );
+    let svg = dir.join("e.svg");
+    let plot = |names: &str| {
+        pacer(&[
+            "plot",
+            s(&trace),
+            s(&csv),
+            "-o",
+            s(&svg),
+            "--signals",
+            names,
+        ])
+    };
+    let o = plot("F&(10)");
+    assert!(o.status.success(), "{}", text(&o));
+    assert!(std::fs::read_to_string(&svg)
+        .expect("svg")
+        .contains("F&amp;(10)"));
+    refused(&plot("S$"), 1, &["S$ holds text", "e.csv"]);
+    refused(
+        &pacer(&[
+            "run",
+            s(&project),
+            "-q",
+            "--plot",
+            s(&svg),
+            "--signals",
+            "F&(1),T$",
+        ]),
+        1,
+        &["T$ holds text", "--plot draws numbers"],
+    );
+    refused(
+        &pacer(&[
+            "run",
+            s(&project),
+            "-q",
+            "--csv",
+            s(&csv),
+            "--signals",
+            "F&(11)",
+        ]),
+        1,
+        &["unknown signal `F&(11)`", "did you mean `F&(1)`?"],
+    );
+    refused(
+        &pacer(&[
+            "run",
+            s(&project),
+            "-q",
+            "--csv",
+            s(&csv),
+            "--signals",
+            "G(1)",
+        ]),
+        1,
+        &["unknown signal `G(1)`"],
+    );
+}

@@ -134,8 +134,13 @@ pub fn resolve(registry: &Registry, name: &Name) -> Result<Resolved, Problem> {
         }
     }
     let vars = registry.of(Kind::BasicVar);
-    match vars.names.get(&text.to_ascii_lowercase()) {
-        Some(&i) => {
+    let instance = vars
+        .names
+        .get(&text.to_ascii_lowercase())
+        .copied()
+        .or_else(|| registry.basic_element(&text));
+    match instance {
+        Some(i) => {
             let slot = vars.slot(i, 0, false);
             let info = &registry.slots[slot as usize];
             Ok(Resolved {

@@ -75,7 +75,13 @@ impl CsvWriter {
         let _ = write!(self.line, ",{tick}");
         for s in &self.signals {
             self.line.push(',');
-            write_value(&mut self.line, s.kind, v[s.slot as usize]);
+            if s.text {
+                let i = v[s.slot as usize];
+                let text = m.strings().get(i as usize).map_or("", String::as_str);
+                self.line.push_str(&field(text));
+            } else {
+                write_value(&mut self.line, s.kind, v[s.slot as usize]);
+            }
         }
         self.line.push('\n');
         if let Err(e) = self.out.write_all(self.line.as_bytes()) {
@@ -97,7 +103,7 @@ impl CsvWriter {
     }
 }
 
-/// A header field, quoted when it holds a comma or a quote (RFC 4180).
+/// A field, quoted when it holds a comma, a quote or a line break (RFC 4180).
 fn field(name: &str) -> String {
     if name.contains([',', '"', '\n']) {
         format!("\"{}\"", name.replace('"', "\"\""))

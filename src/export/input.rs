@@ -119,12 +119,19 @@ pub fn csv_columns(path: &Path) -> Result<Vec<String>, ExportError> {
     Ok(fields[2..].to_vec())
 }
 
-/// Call `each(t, values)` with every row of a CSV written by `--csv`.
-pub fn read_csv(path: &Path, mut each: impl FnMut(f64, &[f64])) -> Result<(), ExportError> {
-    let columns = csv_columns(path)?.len();
+/// Call `each(t, values)` with every row of a CSV written by `--csv`; a text field (a
+/// MotionBASIC string variable's column) is given as NaN. The names of the columns that held
+/// text.
+pub fn read_csv(
+    path: &Path,
+    mut each: impl FnMut(f64, &[f64]),
+) -> Result<Vec<String>, ExportError> {
+    let names = csv_columns(path)?;
+    let columns = names.len();
     let mut reader = open(path)?;
     let mut text = String::new();
     let mut values: Vec<f64> = Vec::with_capacity(columns);
+    let mut texts = vec![false; columns];
     let mut n = 0;
     loop {
         text.clear();
@@ -143,7 +150,8 @@ pub fn read_csv(path: &Path, mut each: impl FnMut(f64, &[f64])) -> Result<(), Ex
             continue;
         }
         values.clear();
-        let mut fields = line.split(',');
+        let fields = split_csv(line);
+        let mut fields = fields.iter();
         let t: f64 = fields
             .next()
             .and_then(|f| f.parse().ok())
@@ -151,11 +159,13 @@ pub fn read_csv(path: &Path, mut each: impl FnMut(f64, &[f64])) -> Result<(), Ex
             .ok_or_else(|| bad(path, n, "the first field is not a time"))?;
         // The update number is not needed: the time says it.
         fields.next();
-        for f in fields {
-            values.push(
-                f.parse()
-                    .map_err(|_| bad(path, n, format!("`{f}` is not a number")))?,
-            );
+        for (k, f) in fields.enumerate() {
+            values.push(f.parse().unwrap_or_else(|_| {
+                if let Some(t) = texts.get_mut(k) {
+                    *t = true;
+                }
+                f64::NAN
+            }));
         }
         if values.len() != columns {
             return Err(bad(
@@ -166,10 +176,14 @@ pub fn read_csv(path: &Path, mut each: impl FnMut(f64, &[f64])) -> Result<(), Ex
         }
         each(t, &values);
     }
-    Ok(())
+    Ok(names
+        .into_iter()
+        .zip(texts)
+        .filter_map(|(name, t)| t.then_some(name))
+        .collect())
 }
 
-/// Fields of a CSV header line (quoted fields unquoted).
+/// Fields of a CSV line (quoted fields unquoted).
 fn split_csv(line: &str) -> Vec<String> {
     let mut out = Vec::new();
     let mut cur = String::new();

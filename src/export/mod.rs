@@ -212,7 +212,15 @@ impl Export {
         };
         let plot = match &args.plot {
             None => None,
-            Some(p) => Some(LivePlot::open(p, image, chosen.as_deref(), window)?),
+            Some(p) => {
+                if let Some(s) = chosen.iter().flatten().find(|s| s.text) {
+                    return Err(ExportError::Usage(format!(
+                        "--signals: {} holds text, and --plot draws numbers (--csv writes text)",
+                        s.name
+                    )));
+                }
+                Some(LivePlot::open(p, image, chosen.as_deref(), window)?)
+            }
         };
         let vcd = match &args.vcd {
             None => None,
@@ -471,14 +479,24 @@ pub fn plot_command(args: &PlotArgs) -> Result<PathBuf, ExportError> {
     if let Some(d) = data {
         let x = columns.iter().position(|c| c == TOOL_XYZ[0]);
         let y = columns.iter().position(|c| c == TOOL_XYZ[1]);
-        input::read_csv(d, |t, values| {
+        let text = input::read_csv(d, |t, values| {
             for (c, v) in columns.iter().zip(values) {
-                recorder.sample(t, c, *v);
+                if !v.is_nan() {
+                    recorder.sample(t, c, *v);
+                }
             }
             if let (Some(x), Some(y)) = (x, y) {
                 recorder.sample_xy(t, values[x], values[y]);
             }
         })?;
+        if let Preset::Signals(names) = &recorder.plan().preset {
+            if let Some(n) = names.iter().find(|n| text.contains(n)) {
+                return Err(ExportError::Usage(format!(
+                    "--signals: {n} holds text in {}, and a plot draws numbers",
+                    d.display()
+                )));
+            }
+        }
     }
     let preset = recorder.plan().preset.clone();
     let rec = recorder.finish();

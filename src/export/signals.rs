@@ -38,6 +38,9 @@ pub struct Signal {
     pub kind: SignalKind,
     /// It moves every update (positions, velocities) and so is not in the trace's changes.
     pub continuous: bool,
+    /// A MotionBASIC text variable or element (`N$`, `B$(2)`): its slot holds the number of
+    /// its string, and the CSV writes the string.
+    pub text: bool,
 }
 
 impl Signal {
@@ -47,6 +50,7 @@ impl Signal {
             name: info.name.to_string(),
             kind: SignalKind::of(info.ty),
             continuous: info.member.continuous,
+            text: info.kind == Kind::BasicVar && info.name.is_text(),
         }
     }
 }
@@ -101,14 +105,28 @@ pub fn resolve_list(registry: &Registry, lists: &[String]) -> Result<Vec<Signal>
     Ok(out)
 }
 
-/// The names of comma-separated lists, trimmed, empty ones dropped.
+/// The names of comma-separated lists, trimmed, empty ones dropped. A comma inside
+/// parentheses separates subscripts, not names (`G(1,2)`).
 pub fn split_names(lists: &[String]) -> Vec<String> {
-    lists
-        .iter()
-        .flat_map(|l| l.split(','))
-        .map(|s| s.trim().to_string())
-        .filter(|s| !s.is_empty())
-        .collect()
+    let mut out = Vec::new();
+    for list in lists {
+        let mut depth = 0usize;
+        let mut start = 0;
+        for (i, c) in list.char_indices() {
+            match c {
+                '(' => depth += 1,
+                ')' => depth = depth.saturating_sub(1),
+                ',' if depth == 0 => {
+                    out.push(list[start..i].trim().to_string());
+                    start = i + 1;
+                }
+                _ => {}
+            }
+        }
+        out.push(list[start..].trim().to_string());
+    }
+    out.retain(|s| !s.is_empty());
+    out
 }
 
 fn resolve_one(registry: &Registry, name: &str) -> Result<Signal, ExportError> {

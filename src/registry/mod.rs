@@ -239,6 +239,36 @@ impl Registry {
         (instance < t.count).then(|| t.slot(instance, idx, false))
     }
 
+    /// The instance of the MotionBASIC array element named `text` as the registry names it
+    /// (`F&(3)`, `g(1, 2)`: any case, spaces around subscripts), when its array exists and each
+    /// subscript is within its bounds (every array's elements are held from 0).
+    pub fn basic_element(&self, text: &str) -> Option<u32> {
+        let (base, rest) = text.split_once('(')?;
+        let subs = rest.trim_end().strip_suffix(')')?;
+        let subs: Vec<u32> = subs
+            .split(',')
+            .map(|s| s.trim().parse().ok())
+            .collect::<Option<_>>()?;
+        let vars = self.of(Kind::BasicVar);
+        let zeros = vec!["0"; subs.len()].join(",");
+        let first = format!("{}({zeros})", base.trim()).to_ascii_lowercase();
+        let &i = vars.names.get(&first)?;
+        let SlotName::Element { array, .. } = vars.display.get(i as usize)? else {
+            return None;
+        };
+        if array.bounds.len() != subs.len() {
+            return None;
+        }
+        let mut offset: u64 = 0;
+        for (&s, &b) in subs.iter().zip(&array.bounds) {
+            if s > b {
+                return None;
+            }
+            offset = offset * (u64::from(b) + 1) + u64::from(s);
+        }
+        i.checked_add(u32::try_from(offset).ok()?)
+    }
+
     /// Number of slots.
     pub fn slot_count(&self) -> usize {
         self.slots.len()
