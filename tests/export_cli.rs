@@ -466,7 +466,8 @@ fn a_live_plot_and_a_plot_from_the_trace_and_csv_label_axes_units_and_legends() 
 /// "DIM", subscripts from 0; strings by `$`): a comma between subscripts is not a list's
 /// comma; the CSV writes a string as text, quoted where RFC 4180 says; a plot, which draws
 /// numbers, refuses a text variable by name, live and from a CSV, and draws the other columns
-/// of that CSV; an element outside its array is unknown, named with the nearest.
+/// of that CSV; an element outside its array is refused with the array's bounds, a name of
+/// the wrong shape as unknown.
 #[test]
 fn elements_and_text_variables_are_signals_by_name() {
     let dir = scratch("elements");
@@ -548,7 +549,7 @@ fn elements_and_text_variables_are_signals_by_name() {
             "F&(11)",
         ]),
         1,
-        &["unknown signal `F&(11)`", "did you mean `F&(1)`?"],
+        &["Subscript out of range: F&(11) is outside F&(0 to 10)"],
     );
     refused(
         &pacer(&[
@@ -562,5 +563,18 @@ fn elements_and_text_variables_are_signals_by_name() {
         ]),
         1,
         &["unknown signal `G(1)`"],
+    );
+    refused(
+        &pacer(&[
+            "run",
+            s(&project),
+            "-q",
+            "--csv",
+            s(&csv),
+            "--signals",
+            "G(1,4)",
+        ]),
+        1,
+        &["G(1,4) is outside G(0 to 2, 0 to 3)"],
     );
 }

@@ -272,3 +272,24 @@ fn strings_and_arrays_at_the_prompt() {
         assert!(out.contains(want), "no {want} in:\n{out}");
     }
 }
+
+/// Array elements watched by name at the prompt (`:watch F&(5) G(1, 2)`: spaces between
+/// subscripts allowed), each change printed with the element's name; an element outside its
+/// array is refused with its bounds, not a panic.
+#[test]
+fn array_elements_are_watched_by_name() {
+    let dir = scratch("watch-elements");
+    std::fs::write(dir.join("a.mb"), "DIM F&(10), G(2, 3)\nF&(5) = 1\n").expect("program written");
+    let script = ":watch F&(5) G(1, 2)\n:step 1\nF&(5) = 42\nG(1, 2) = 2.5\n:step 1\n:watch\n:watch F&(11)\n";
+    let folder = dir.to_string_lossy().to_string();
+    let out = pacer(&["repl", &folder], script, &dir);
+    for want in ["F&(5)", "42", "G(1,2)", "2.5"] {
+        assert!(out.contains(want), "no {want} in:\n{out}");
+    }
+    assert!(!out.contains("is not a name"), "{out}");
+    assert!(!out.contains("panicked"), "{out}");
+    assert!(
+        out.contains("Subscript out of range: F&(11) is outside F&(0 to 10)"),
+        "{out}"
+    );
+}

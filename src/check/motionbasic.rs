@@ -134,11 +134,21 @@ pub fn resolve(registry: &Registry, name: &Name) -> Result<Resolved, Problem> {
         }
     }
     let vars = registry.of(Kind::BasicVar);
-    let instance = vars
-        .names
-        .get(&text.to_ascii_lowercase())
-        .copied()
-        .or_else(|| registry.basic_element(&text));
+    let instance = match vars.names.get(&text.to_ascii_lowercase()) {
+        Some(&i) => Some(i),
+        None => match registry.basic_element(&text) {
+            Some(Ok(i)) => Some(i),
+            Some(Err(message)) => {
+                return Err(Problem::error(
+                    SUBSCRIPT,
+                    name.span,
+                    format!("Subscript out of range: {message}"),
+                    "no such element",
+                ))
+            }
+            None => None,
+        },
+    };
     match instance {
         Some(i) => {
             let slot = vars.slot(i, 0, false);
@@ -182,6 +192,10 @@ pub const MAX_BOUND: u32 = 32767;
 
 /// Most array elements all the programs of a machine may have: each element is a traced
 /// variable of the machine, and a bound keeps a mistyped `DIM` from taking the memory.
+/// The code of a subscript outside its array's bounds, written in a program or in a name
+/// (`F&(11)` of `DIM F&(10)`).
+pub const SUBSCRIPT: &str = "pacer::check::subscript_range";
+
 pub const MAX_ELEMENTS: usize = 65536;
 
 /// An array of MotionBASIC programs.
@@ -1598,7 +1612,7 @@ impl MotionBasic<'_> {
                 let r = v.round_ties_even();
                 if r < f64::from(array.lower) || r > f64::from(b) {
                     cx.push(Problem::error(
-                        "pacer::check::subscript_range",
+                        SUBSCRIPT,
                         a.span,
                         format!(
                             "Subscript out of range: {v} is not within {} to {b}",

@@ -4,6 +4,7 @@
 use crate::registry::{Kind, Registry, SlotId, SlotInfo, ValueType};
 
 use super::ExportError;
+use crate::check::motionbasic::SUBSCRIPT;
 
 /// What a signal holds, as the exporters write it.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -133,9 +134,13 @@ fn resolve_one(registry: &Registry, name: &str) -> Result<Signal, ExportError> {
     // Names resolve as programs resolve them (any case, aliases, `DriveInput.4` for its value,
     // MotionBASIC variables by their spelling), so a name copied from a program works here.
     let parsed = crate::syntax::ast::Name::from_token(name, 0);
-    let resolved = crate::check::motionbasic::resolve(registry, &parsed)
-        .ok()
-        .filter(|r| (r.slot as usize) < registry.slots.len());
+    let resolved = match crate::check::motionbasic::resolve(registry, &parsed) {
+        Ok(r) => Some(r).filter(|r| (r.slot as usize) < registry.slots.len()),
+        Err(p) if p.code == SUBSCRIPT => {
+            return Err(ExportError::Usage(format!("--signals: {}", p.message)))
+        }
+        Err(_) => None,
+    };
     match resolved {
         Some(r) => Ok(Signal::from_slot(r.slot, &registry.slots[r.slot as usize])),
         None => {

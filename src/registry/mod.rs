@@ -240,9 +240,10 @@ impl Registry {
     }
 
     /// The instance of the MotionBASIC array element named `text` as the registry names it
-    /// (`F&(3)`, `g(1, 2)`: any case, spaces around subscripts), when its array exists and each
-    /// subscript is within its bounds (every array's elements are held from 0).
-    pub fn basic_element(&self, text: &str) -> Option<u32> {
+    /// (`F&(3)`, `g(1, 2)`: any case, spaces around subscripts), when its array exists: `Err`
+    /// says why the subscripts are not an element of it (every array's elements are held
+    /// from 0). None when `text` is not an element of an array of this machine.
+    pub fn basic_element(&self, text: &str) -> Option<Result<u32, String>> {
         let (base, rest) = text.split_once('(')?;
         let subs = rest.trim_end().strip_suffix(')')?;
         let subs: Vec<u32> = subs
@@ -256,17 +257,25 @@ impl Registry {
         let SlotName::Element { array, .. } = vars.display.get(i as usize)? else {
             return None;
         };
-        if array.bounds.len() != subs.len() {
-            return None;
-        }
+        let shape = || {
+            let bounds: Vec<String> = array.bounds.iter().map(|b| format!("0 to {b}")).collect();
+            format!("{}({})", array.written, bounds.join(", "))
+        };
         let mut offset: u64 = 0;
         for (&s, &b) in subs.iter().zip(&array.bounds) {
             if s > b {
-                return None;
+                return Some(Err(format!("{text} is outside {}", shape())));
             }
             offset = offset * (u64::from(b) + 1) + u64::from(s);
         }
-        i.checked_add(u32::try_from(offset).ok()?)
+        // An array of another number of subscripts would have another first element.
+        debug_assert_eq!(array.bounds.len(), subs.len());
+        Some(
+            u32::try_from(offset)
+                .ok()
+                .and_then(|o| i.checked_add(o))
+                .ok_or_else(|| format!("{text} is outside {}", shape())),
+        )
     }
 
     /// Number of slots.

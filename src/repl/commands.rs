@@ -198,10 +198,8 @@ pub fn parse(line: &str) -> Result<Command, String> {
             },
             _ => Err("usage: :set INPUT ON|OFF, e.g. :set DriveInput.4 ON".into()),
         },
-        "watch" => Ok(Command::Watch(args.iter().map(|s| s.to_string()).collect())),
-        "unwatch" => Ok(Command::Unwatch(
-            args.iter().map(|s| s.to_string()).collect(),
-        )),
+        "watch" => Ok(Command::Watch(names(&args))),
+        "unwatch" => Ok(Command::Unwatch(names(&args))),
         "tasks" => none(Command::Tasks),
         "trace" => match args.as_slice() {
             [] => Ok(Command::Trace(TraceArg::Show)),
@@ -314,6 +312,25 @@ pub fn help(command: Option<&str>) -> String {
     }
 }
 
+/// The names among a command's arguments: an array element written with spaces between its
+/// subscripts (`G(1, 2)`) is one name, its parts joined without the spaces.
+fn names(args: &[&str]) -> Vec<String> {
+    let mut out: Vec<String> = Vec::new();
+    let mut open = 0i32;
+    for a in args {
+        if open > 0 {
+            if let Some(last) = out.last_mut() {
+                last.push_str(a);
+            }
+        } else {
+            out.push((*a).to_string());
+        }
+        open += a.matches('(').count() as i32 - a.matches(')').count() as i32;
+        open = open.max(0);
+    }
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -340,6 +357,15 @@ mod tests {
             Ok(Command::Dialect(Some(Dialect::MotionBasic)))
         );
         assert_eq!(parse(":speed max"), Ok(Command::Speed(Some(Speed::Max))));
+        assert_eq!(
+            parse(":watch F&(5) G(1, 2) SPEED T(1, 0 ,3)"),
+            Ok(Command::Watch(vec![
+                "F&(5)".into(),
+                "G(1,2)".into(),
+                "SPEED".into(),
+                "T(1,0,3)".into()
+            ]))
+        );
     }
 
     #[test]

@@ -548,7 +548,7 @@ impl Session {
         let ok = !text.is_empty()
             && text
                 .chars()
-                .all(|c| c.is_ascii_alphanumeric() || "_.&~@%!#$[]".contains(c))
+                .all(|c| c.is_ascii_alphanumeric() || "_.&~@%!#$[](),".contains(c))
             && !text.split('.').any(str::is_empty);
         if !ok {
             return Err(format!("`{text}` is not a name"));
