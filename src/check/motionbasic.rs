@@ -190,12 +190,12 @@ pub const MAX_DIMENSIONS: usize = 8;
 /// Largest upper bound of a subscript (Microsoft BASIC's).
 pub const MAX_BOUND: u32 = 32767;
 
-/// Most array elements all the programs of a machine may have: each element is a traced
-/// variable of the machine, and a bound keeps a mistyped `DIM` from taking the memory.
 /// The code of a subscript outside its array's bounds, written in a program or in a name
 /// (`F&(11)` of `DIM F&(10)`).
 pub const SUBSCRIPT: &str = "pacer::check::subscript_range";
 
+/// Most array elements all the programs of a machine may have: each element is a traced
+/// variable of the machine, and a bound keeps a mistyped `DIM` from taking the memory.
 pub const MAX_ELEMENTS: usize = 65536;
 
 /// An array of MotionBASIC programs.
