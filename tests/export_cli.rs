@@ -538,43 +538,24 @@ fn elements_and_text_variables_are_signals_by_name() {
         1,
         &["T$ holds text", "--plot draws numbers"],
     );
-    refused(
-        &pacer(&[
-            "run",
-            s(&project),
-            "-q",
-            "--csv",
-            s(&csv),
-            "--signals",
+    // Names that are not elements of the arrays, and why.
+    for (names, why) in [
+        (
             "F&(11)",
-        ]),
-        1,
-        &["Subscript out of range: F&(11) is outside F&(0 to 10)"],
-    );
-    refused(
-        &pacer(&[
+            "Subscript out of range: F&(11) is outside F&(0 to 10)",
+        ),
+        ("G(1)", "unknown signal `G(1)`"),
+        ("G(1,4)", "G(1,4) is outside G(0 to 2, 0 to 3)"),
+    ] {
+        let args = [
             "run",
             s(&project),
             "-q",
             "--csv",
             s(&csv),
             "--signals",
-            "G(1)",
-        ]),
-        1,
-        &["unknown signal `G(1)`"],
-    );
-    refused(
-        &pacer(&[
-            "run",
-            s(&project),
-            "-q",
-            "--csv",
-            s(&csv),
-            "--signals",
-            "G(1,4)",
-        ]),
-        1,
-        &["G(1,4) is outside G(0 to 2, 0 to 3)"],
-    );
+            names,
+        ];
+        refused(&pacer(&args), 1, &[why]);
+    }
 }
