@@ -3,7 +3,7 @@
 //! costs no string per element when a machine loads.
 
 use std::borrow::Cow;
-use std::fmt::{self, Write};
+use std::fmt;
 use std::sync::Arc;
 
 use super::ValueType;
@@ -49,7 +49,19 @@ impl ArrayShape {
             if k > 0 {
                 name.push(',');
             }
-            let _ = write!(name, "{s}");
+            // Digit by digit: a traced write to an element names it, so this runs per write.
+            let mut digits = [0u8; 10];
+            let mut at = digits.len();
+            let mut n = s;
+            loop {
+                at -= 1;
+                digits[at] = b'0' + (n % 10) as u8;
+                n /= 10;
+                if n == 0 {
+                    break;
+                }
+            }
+            name.extend(digits[at..].iter().map(|&d| char::from(d)));
         }
         name.push(')');
         name
