@@ -345,8 +345,11 @@ impl Variables {
         for (name, ty) in names {
             let name = match name {
                 SlotName::Text(name) => name.as_str(),
-                SlotName::Element { array, .. } => {
-                    // Its shape is the array's: one element stands for all.
+                SlotName::Element { array, index } => {
+                    // Its shape is the array's: its first element stands for all.
+                    if *index != 0 {
+                        continue;
+                    }
                     let key = array.written.to_ascii_uppercase();
                     vars.assigned.insert(format!("{key}()"));
                     let lowest = lower.get(&key).copied().unwrap_or(0);
