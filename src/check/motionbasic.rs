@@ -230,12 +230,6 @@ impl Array {
     }
 }
 
-/// The registry name of an array's first element (`A(0)`, `B$(0,0)`), by which the registry
-/// finds the array (as [`ArrayShape::element`] names it).
-fn first_element(written: &str, dimensions: usize) -> String {
-    format!("{written}({})", vec!["0"; dimensions].join(","))
-}
-
 /// The value of a constant expression (numbers and arithmetic on them), as `DIM` bounds are.
 pub fn constant(e: &Expr) -> Option<f64> {
     match &e.kind {
@@ -1627,7 +1621,7 @@ impl MotionBasic<'_> {
                 }
             }
         }
-        let base_name = first_element(&array.written, bounds.len()).to_ascii_lowercase();
+        let base_name = crate::registry::slot_name::array_key(&array.written, bounds.len());
         let vars = cx.registry().of(Kind::BasicVar);
         let &i = vars.names.get(&base_name)?;
         let slot = vars.slot(i, 0, false);

@@ -273,11 +273,11 @@ pub enum Op {
         decimals: u8,
         t_first: bool,
     },
-    /// The offset of an element of a two-subscript array (made by [`fuse_offsets`]):
+    /// The offset of an element of a two-subscript array (made by [`fuse_with_constants`]):
     /// `subscr p <- i in 0..n1`, `subscr p+1 <- j in 0..n2`, `mul p <- p * n2` (a constant)
     /// and `add p <- p + p+1`, with `lens` = `n1 << 16 | n2`.
     Offset2 { p: Reg, i: Reg, j: Reg, lens: u32 },
-    /// The last three of those (made by [`fuse_offsets`] where the first subscript is not
+    /// The last three of those (made by [`fuse_with_constants`] where the first subscript is not
     /// right before: a second subscript computed, a third subscript): `subscr p+1 <- x in
     /// 0..len`, `mul p <- p * len` (a constant) and `add p <- p + p+1`.
     OffsetTail { p: Reg, x: Reg, len: u32 },
@@ -451,7 +451,7 @@ pub enum Op {
         decimals: u8,
     },
     /// [`Op::StoreIdx`] (its fields), then the `for.next` after it, which stays in place and is
-    /// read from there (made by [`fuse_offsets`]): an array filled or cleared in a loop. Counts
+    /// read from there (made by [`fuse_with_constants`]): an array filled or cleared in a loop. Counts
     /// as two; a fault of the `for.next` is reported at its place.
     StoreIdxNext {
         base: Reg,
@@ -720,15 +720,16 @@ fn gives_way(op: Op) -> bool {
     )
 }
 
-/// After [`fuse`]: a `store.idx` with the `for.next` after it becomes one
+/// After [`fuse`], the fusions that need the constants' values (and the one of a store with
+/// the loop's end): a `store.idx` with the `for.next` after it becomes one
 /// [`Op::StoreIdxNext`]; the four instructions that compute the offset of an element of a
 /// two-subscript array (`A(I, J)`: two subscripts, then `first * n2 + second`) become one
 /// [`Op::Offset2`] where both subscripts go to adjacent temporaries (`p`, `p + 1`), the
 /// multiplier is the constant `n2` (`constant` gives a constant register's value) and both
 /// lengths are below 2^16; where only the last three are so, an [`Op::OffsetTail`]; a `band`
-/// and a comparison of its result with 0, one [`Op::AndJump`]. The others stay in place (they are not jumped to: they are one expression's), as a
-/// superinstruction's do.
-pub fn fuse_offsets(
+/// and a comparison of its result with 0, one [`Op::AndJump`]. The others stay in place (they
+/// are not jumped to: they are one expression's), as a superinstruction's do.
+pub fn fuse_with_constants(
     ops: &mut [Op],
     temps: &std::ops::Range<Reg>,
     constant: &dyn Fn(Reg) -> Option<f64>,
@@ -1709,7 +1710,7 @@ mod tests {
         };
         let fused = |jump: Op| {
             let mut ops = [and, jump, Op::End];
-            fuse_offsets(&mut ops, &(100..108), &constant);
+            fuse_with_constants(&mut ops, &(100..108), &constant);
             assert_eq!(ops[1], jump, "the jump stays in place");
             match ops[0] {
                 Op::AndJump {
@@ -1751,7 +1752,7 @@ mod tests {
     }
 
     #[test]
-    fn fuse_offsets_joins_a_two_subscript_offset_only_as_the_compiler_makes_it() {
+    fn fuse_with_constants_joins_a_two_subscript_offset_only_as_the_compiler_makes_it() {
         let (t, i, j, k, other) = (100, 1, 2, 50, 51);
         let constant = |r: Reg| match r {
             50 => Some(5.0),
@@ -1786,7 +1787,7 @@ mod tests {
             ]
         };
         let fused = |mut ops: Vec<Op>| {
-            fuse_offsets(&mut ops, &(100..108), &constant);
+            fuse_with_constants(&mut ops, &(100..108), &constant);
             ops[0]
         };
         let want = Op::Offset2 {

@@ -320,7 +320,7 @@ impl<'a> Compiler<'a> {
         let temps = self.layout.temp_base()..self.layout.temp_base() + MAX_TEMPS;
         let sure = whole::operands(&self.ops, &temps, &|r| self.layout.is_whole(r));
         bytecode::fuse(&mut self.ops, temps.clone());
-        bytecode::fuse_offsets(&mut self.ops, &temps, &|r| self.layout.constant_value(r));
+        bytecode::fuse_with_constants(&mut self.ops, &temps, &|r| self.layout.constant_value(r));
         let sure = whole::per_instruction(&self.ops, &sure);
         let regs_end = self
             .ops

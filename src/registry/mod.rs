@@ -134,7 +134,10 @@ impl Registry {
                             BasicVar::Array(shape, ty) => {
                                 // An array is found by its first element (`A(0)`, `G(0,0)`):
                                 // the others need no entry, nor a name until one is asked for.
-                                names.insert(shape.element(0).to_ascii_lowercase(), count);
+                                names.insert(
+                                    slot_name::array_key(&shape.written, shape.bounds.len()),
+                                    count,
+                                );
                                 display.extend((0..shape.len() as u32).map(|index| {
                                     SlotName::Element {
                                         array: shape.clone(),
@@ -251,9 +254,9 @@ impl Registry {
             .map(|s| s.trim().parse().ok())
             .collect::<Option<_>>()?;
         let vars = self.of(Kind::BasicVar);
-        let zeros = vec!["0"; subs.len()].join(",");
-        let first = format!("{}({zeros})", base.trim()).to_ascii_lowercase();
-        let &i = vars.names.get(&first)?;
+        let &i = vars
+            .names
+            .get(&slot_name::array_key(base.trim(), subs.len()))?;
         let SlotName::Element { array, .. } = vars.display.get(i as usize)? else {
             return None;
         };

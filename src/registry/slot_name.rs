@@ -73,6 +73,12 @@ impl ArrayShape {
     }
 }
 
+/// The key the registry finds an array by: its first element's name in lower case (`g(0,0)`
+/// for `G` with two subscripts), the one name of the array it keeps.
+pub fn array_key(written: &str, dimensions: usize) -> String {
+    format!("{written}({})", vec!["0"; dimensions].join(",")).to_ascii_lowercase()
+}
+
 /// Whether a MotionBASIC variable or array element of this registry name holds a string.
 pub fn is_text_name(name: &str) -> bool {
     name.split('(')
