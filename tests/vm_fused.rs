@@ -470,7 +470,9 @@ fn powertools_quotients_and_multiples_give_the_values_of_their_instructions() {
     };
     let ops = &loaded.image.chunks[0].ops;
     let count = |f: fn(&Op) -> bool| ops.iter().filter(|op| f(op)).count();
-    assert_eq!(count(|op| matches!(op, Op::SubMod { .. })), 3);
+    // `Var.Q + (Var.A - Var.A MOD 3) / 3` is chained (tested below).
+    assert_eq!(count(|op| matches!(op, Op::SubMod { .. })), 2);
+    assert_eq!(count(|op| matches!(op, Op::QuotAddFixed { .. })), 1);
     assert_eq!(count(|op| matches!(op, Op::DivAddFixed { .. })), 5);
     let run = run_loaded(loaded);
     assert_eq!(run_error(&run), (12, "division by zero".to_string()));
@@ -731,5 +733,202 @@ fn later_subscripts_fused_with_their_offset_give_the_values_faults_and_counts() 
     assert_eq!(run.summary.instructions, 1845);
     for (name, v) in [("C(2,3,4)", 436.0), ("C(1,0,2)", 102.0)] {
         assert_eq!(val(&run, name), v, "{name}");
+    }
+}
+
+/// The PowerTools machine of [`chained_superinstructions_give_the_values_faults_and_counts`]:
+/// whole variables, `F` with 2 decimals and `G` with 1.
+const CHAIN_PT_VARS: &str = "[variables.A]\n[variables.B]\n[variables.H]\n[variables.I]\n[variables.Q]\n[variables.Z]\n[variables.Y]\n[variables.W]\n[variables.F]\ndecimals = 2\n[variables.G]\ndecimals = 1\n";
+
+/// Load the PowerTools `program` on that machine, and count its instructions of each of the
+/// chained kinds: `MulAddModWhole`, `QuotAddFixed`.
+fn load_chain_pt(name: &str, program: &str) -> (Loaded, usize, usize) {
+    let machine = format!("[machine]\nname = \"e\"\nbudget = 10000\n{CHAIN_PT_VARS}");
+    let loaded = match load_memory(
+        name,
+        &[("program0.pt", program), ("machine.toml", &machine)],
+    ) {
+        Ok(l) => l,
+        Err(d) => panic!("{}", d.render_plain()),
+    };
+    let ops = &loaded.image.chunks[0].ops;
+    let muls = ops
+        .iter()
+        .filter(|op| matches!(op, Op::MulAddModWhole { .. }))
+        .count();
+    let quots = ops
+        .iter()
+        .filter(|op| matches!(op, Op::QuotAddFixed { .. }))
+        .count();
+    (loaded, muls, quots)
+}
+
+/// Chained superinstructions (one that also does the work of the superinstruction after it,
+/// reading that one's operands where it stays): `(a * b + x) MOD m` into a whole PowerTools
+/// variable (`MulAddModWhole`) or a long (`MulAddCheckModLong`), and PowerTools' quotient `v +
+/// (a - a MOD b) / b` (`QuotAddFixed`: one integer division where the operands are whole), give
+/// the values, faults and instruction counts of the instructions they replace: negative
+/// operands and divisors, products past 32 bits, fixed-point operands with decimals, the
+/// divisor a variable, -2^31 / -1, MOD by zero, an Overflow in either half of a long's
+/// multiply-add. The expected figures are those of the build before chaining (9ab26a7), which
+/// ran the superinstructions one by one.
+#[test]
+fn chained_superinstructions_give_the_values_faults_and_counts() {
+    let program = "Var.A = 12345\nVar.B = 40\nVar.F = 1.25\nFor Var.I = 1 To 30\n\
+        \x20 Var.A = (Var.A * 75 + 74) MOD 65537\n\
+        \x20 Var.Z = (Var.A * -3 + -7) MOD 10\n\
+        \x20 Var.W = (Var.A * Var.A + Var.I) MOD 1000003\n\
+        \x20 Var.Y = (Var.F * 3 + 1) MOD 4 + Var.Y\n\
+        \x20 Var.Q = Var.Q + (Var.A - Var.A MOD 3) / 3\n\
+        \x20 Var.H = Var.H + (Var.Z - Var.Z MOD -4) / -4\n\
+        \x20 Var.H = (Var.A - Var.A MOD Var.B) / Var.B + Var.H\n\
+        \x20 Var.G = Var.G + (Var.F - Var.F MOD 0.75) / 0.75\n\
+        \x20 Var.F = Var.F + 0.37\n\
+        \x20 Var.B = Var.B - 1\n\
+        Next\nEnd\n";
+    let (loaded, muls, quots) = load_chain_pt("chain-pt-values", program);
+    assert_eq!((muls, quots), (2, 3));
+    let run = run_loaded(loaded);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    assert_eq!(run.summary.instructions, 1088);
+    let want = [
+        ("Var.A", 50111.0),
+        ("Var.B", 10.0),
+        ("Var.F", 12.35),
+        ("Var.W", 104818.0),
+        ("Var.Y", 59.0),
+        ("Var.Q", 315625.0),
+        ("Var.H", 42322.0),
+        ("Var.G", 253.0),
+        ("Var.Z", 0.0),
+    ];
+    for (name, v) in want {
+        assert_eq!(val(&run, name), v, "{name}");
+    }
+
+    // Operands with decimals, a real addend, a quotient divided by another divisor (not fused).
+    let program = "Var.F = 2.5\nVar.G = 0\nVar.A = 7\n\
+        Var.G = Var.G + (Var.F - Var.F MOD 0.5) / 0.5\n\
+        Var.Q = Var.Q + (Var.F - Var.F MOD 3) / 3\n\
+        Var.Y = (Var.F * 2 + Var.F) MOD 3\n\
+        Var.Z = (Var.A * 2 + 0.5) MOD 4\n\
+        Var.W = (Var.A - Var.A MOD 2) / 3 + Var.W\n\
+        End\n";
+    let (loaded, muls, quots) = load_chain_pt("chain-pt-decimals", program);
+    assert_eq!((muls, quots), (2, 2));
+    let run = run_loaded(loaded);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    assert_eq!(run.summary.instructions, 22);
+    for (name, v) in [
+        ("Var.G", 5.0),
+        ("Var.Q", 0.0),
+        ("Var.Y", 2.0),
+        ("Var.Z", 3.0),
+        ("Var.W", 2.0),
+    ] {
+        assert_eq!(val(&run, name), v, "{name}");
+    }
+
+    // Negative divisors in a variable, then -2^31 / -1 = 2^31, which does not fit.
+    let program = "Var.Z = -2147483648\nVar.A = 2\nVar.B = -3\nVar.H = 0\n\
+        Var.H = Var.H + (Var.A - Var.A MOD Var.B) / Var.B\n\
+        Var.Y = Var.Y + (Var.Z - Var.Z MOD Var.B) / Var.B\n\
+        Var.B = -1\n\
+        Var.W = Var.W + (Var.A - Var.A MOD Var.B) / Var.B\n\
+        Var.Q = 5\n\
+        Var.Q = Var.Q + (Var.Z - Var.Z MOD Var.B) / Var.B\n\
+        End\n";
+    let (loaded, _, quots) = load_chain_pt("chain-pt-min", program);
+    assert_eq!(quots, 4);
+    let run = run_loaded(loaded);
+    let (line, message) = run_error(&run);
+    assert_eq!(line, 10);
+    assert!(
+        message.starts_with("overflow: 2147483653 does not fit Var.Q"),
+        "{message}"
+    );
+    assert_eq!(run.summary.instructions, 25);
+    for (name, v) in [
+        ("Var.H", 0.0),
+        ("Var.Y", 715827882.0),
+        ("Var.W", -2.0),
+        ("Var.Q", 5.0),
+    ] {
+        assert_eq!(val(&run, name), v, "{name}");
+    }
+
+    // A product past 32 bits, then MOD by zero in the second part.
+    let program = "Var.A = 100000\nVar.H = 1\n\
+        Var.H = (Var.A * Var.A + 1) MOD 3\n\
+        Var.H = (Var.A * 21475 + 0) MOD 2147483647\n\
+        Var.B = 0\n\
+        Var.Q = (Var.A * 2 + 1) MOD Var.B\n\
+        End\n";
+    let (loaded, muls, _) = load_chain_pt("chain-pt-mod0", program);
+    assert_eq!(muls, 3);
+    let run = run_loaded(loaded);
+    assert_eq!(run_error(&run), (6, "MOD by zero".to_string()));
+    assert_eq!(run.summary.instructions, 12);
+    assert_eq!(val(&run, "Var.H"), 16353.0);
+
+    // MotionBASIC: `(a * b + c) MOD m` into longs, the divisor a variable running down to 0.
+    let loop_mb = "A& = 12345\nB& = 7\nFOR I& = 1 TO 40\n\
+        \x20 A& = (A& * 75 + 74) MOD 65537\n\
+        \x20 Z& = (A& * -3 - 7) MOD 10\n\
+        \x20 W& = (3 * A& + I&) MOD B&\n\
+        \x20 V& = (A& * 2 + 0.5) MOD 3\n\
+        \x20 U& = (I& + A& * 2) MOD 1000\n\
+        \x20 B& = B& - 1 + (B& = 1) * -39\n\
+        NEXT\n";
+    let loaded = load_mb("chain-mb-values", loop_mb, 10_000);
+    let chained = loaded.image.chunks[0]
+        .ops
+        .iter()
+        .filter(|op| matches!(op, Op::MulAddCheckModLong { .. }))
+        .count();
+    assert_eq!(chained, 3);
+    let run = run_loaded(loaded);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    assert_eq!(run.summary.instructions, 1647);
+    for (name, v) in [
+        ("A&", 46966.0),
+        ("B&", 6.0),
+        ("W&", 0.0),
+        ("V&", 2.0),
+        ("U&", 972.0),
+        ("Z&", -5.0),
+    ] {
+        assert_eq!(val(&run, name), v, "{name}");
+    }
+    let run = run_mb(
+        "chain-mb-mod0",
+        &loop_mb.replace("B& = 7", "B& = 0"),
+        10_000,
+    );
+    assert_eq!(run_error(&run), (6, "MOD by zero".to_string()));
+    assert_eq!(run.summary.instructions, 25);
+    assert_eq!(val(&run, "A&"), 8431.0);
+    // An Overflow in the multiply, then in the add: the store is not reached.
+    for (program, counted, past) in [
+        (
+            "A& = 100000\nC& = 1\nC& = (A& * A& + 1) MOD 7\n",
+            4,
+            "10000000000",
+        ),
+        (
+            "A& = 2147483647\nC& = 1\nC& = (A& * 1 + 1) MOD 7\n",
+            6,
+            "2147483648",
+        ),
+    ] {
+        let run = run_mb("chain-mb-overflow", program, 10_000);
+        let (line, message) = run_error(&run);
+        assert_eq!(line, 3);
+        assert!(
+            message.starts_with(&format!("Overflow: {past} does not fit a long")),
+            "{message}"
+        );
+        assert_eq!(run.summary.instructions, counted);
+        assert_eq!(val(&run, "C&"), 1.0);
     }
 }

@@ -209,6 +209,25 @@ pub enum Op {
         m: Reg,
         t_first: bool,
     },
+    /// `mul t <- a * b`, then the [`Op::AddModWhole`] after it, whose operands it reads there
+    /// (a chained superinstruction: it does the work of three instructions and keeps the
+    /// product in a register): `(a * b + x) MOD m` into a whole fixed-point slot.
+    MulAddModWhole { t: Reg, a: Reg, b: Reg },
+    /// A [`Op::MulAddCheck`] (`mul`, `chk.long`, `add`, `chk.long` through `t`), then the
+    /// [`Op::ModLong`] four instructions on (`imod t <- t MOD m`, `store.l dst <- t`), whose
+    /// operands it reads there: a long's `(a * b + c) MOD m`.
+    MulAddCheckModLong {
+        t: Reg,
+        a: Reg,
+        b: Reg,
+        c: Reg,
+        t_first: bool,
+    },
+    /// `mod t <- a MOD b`, `sub t <- a - t`, then the [`Op::DivAddFixed`] two instructions on
+    /// (`div t <- t / b`, `add.f dst <- dst + t`), whose operands it reads there: PowerTools'
+    /// whole quotient `(a - a MOD b) / b` (it has no `\\`) added to a variable. Both divisions
+    /// by `b` are one when the operands are whole within 32 bits.
+    QuotAddFixed { t: Reg, a: Reg, b: Reg },
     /// `bnot t <- NOT a`, `band t <- t AND b` (or `b AND t`), `store.l dst <- t`.
     NotAndLong {
         t: Reg,
@@ -728,7 +747,8 @@ fn gives_way(op: Op) -> bool {
 /// multiplier is the constant `n2` (`constant` gives a constant register's value) and both
 /// lengths are below 2^16; where only the last three are so, an [`Op::OffsetTail`]; a `band`
 /// and a comparison of its result with 0, one [`Op::AndJump`]. The others stay in place (they
-/// are not jumped to: they are one expression's), as a superinstruction's do.
+/// are not jumped to: they are one expression's), as a superinstruction's do. Last, the
+/// chained superinstructions ([`chain`]).
 pub fn fuse_with_constants(
     ops: &mut [Op],
     temps: &std::ops::Range<Reg>,
@@ -847,6 +867,58 @@ pub fn fuse_with_constants(
             target,
             nonzero,
         };
+    }
+    chain(ops, temps, constant);
+}
+
+/// Chained superinstructions: where a superinstruction follows the instruction that computes
+/// its temporary, one instruction does both, reading the second's operands where it stays
+/// (for a jump to it, as a superinstruction's halves stay): [`Op::MulAddModWhole`],
+/// [`Op::MulAddCheckModLong`], and [`Op::QuotAddFixed`] where both divisors are the same
+/// register or the same constant.
+fn chain(ops: &mut [Op], temps: &std::ops::Range<Reg>, constant: &dyn Fn(Reg) -> Option<f64>) {
+    for i in 0..ops.len() {
+        let chained = match (ops[i], ops.get(i + 1), ops.get(i + 2), ops.get(i + 4)) {
+            (Op::Mul { dst: t, a, b }, Some(&Op::AddModWhole { t: u, .. }), _, _)
+                if u == t && temps.contains(&t) =>
+            {
+                Op::MulAddModWhole { t, a, b }
+            }
+            (
+                Op::MulAddCheck {
+                    t,
+                    a,
+                    b,
+                    c,
+                    t_first,
+                },
+                _,
+                _,
+                Some(&Op::ModLong { t: u, a: x, .. }),
+            ) if u == t && x == t => Op::MulAddCheckModLong {
+                t,
+                a,
+                b,
+                c,
+                t_first,
+            },
+            (
+                Op::SubMod { t, a, b, x },
+                _,
+                Some(&Op::DivAddFixed {
+                    t: u, a: q, b: k, ..
+                }),
+                _,
+            ) if x == a
+                && u == t
+                && q == t
+                && (k == b || constant(k).is_some_and(|v| constant(b) == Some(v))) =>
+            {
+                Op::QuotAddFixed { t, a, b }
+            }
+            _ => continue,
+        };
+        ops[i] = chained;
     }
 }
 
@@ -1215,6 +1287,7 @@ impl Op {
             | Op::SubReal { t, dst, a, b }
             | Op::MulReal { t, dst, a, b } => t.max(dst).max(a).max(b),
             Op::MulAddCheck { t, a, b, c, .. }
+            | Op::MulAddCheckModLong { t, a, b, c, .. }
             | Op::AddAdd { t, a, b, c }
             | Op::AddSub { t, a, b, c }
             | Op::SubAdd { t, a, b, c }
@@ -1232,6 +1305,8 @@ impl Op {
             | Op::DivAddLong { t, a, b, dst, .. }
             | Op::DivAddFixed { t, a, b, dst, .. } => t.max(a).max(b).max(dst),
             Op::SubMod { t, a, b, x } => t.max(a).max(b).max(x),
+            // The chained instruction's second part is checked where it stays.
+            Op::MulAddModWhole { t, a, b } | Op::QuotAddFixed { t, a, b } => t.max(a).max(b),
             Op::Offset2 { p, i, j, .. } => (p + 1).max(i).max(j),
             Op::OffsetTail { p, x, .. } => (p + 1).max(x),
             Op::AndJump { t, a, b, .. } => t.max(a).max(b),

@@ -116,7 +116,9 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::MulAdd { t, a, b, .. }
             | Op::MulAcc { p: t, a, b, .. }
             | Op::MulDec { p: t, a, b, .. } => format!("mul       {} <- {} * {}", r(t), r(a), r(b)),
-            Op::MulAddCheck { t, a, b, .. } => {
+            Op::MulAddCheck { t, a, b, .. }
+            | Op::MulAddCheckModLong { t, a, b, .. }
+            | Op::MulAddModWhole { t, a, b } => {
                 format!("mul       {} <- {} * {}", r(t), r(a), r(b))
             }
             Op::AddModLong { t, x, t_first, .. } | Op::AddModWhole { t, x, t_first, .. } => {
@@ -129,7 +131,7 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             | Op::AndXorWhole { t, a, b, .. } => {
                 format!("band      {} <- {} AND {}", r(t), r(a), r(b))
             }
-            Op::SubMod { t, a, b, .. } => {
+            Op::SubMod { t, a, b, .. } | Op::QuotAddFixed { t, a, b } => {
                 format!("mod       {} <- {} MOD {}", r(t), r(a), r(b))
             }
             Op::DivAddFixed { t, a, b, .. } => {

@@ -258,7 +258,12 @@ fn covers(op: Op) -> usize {
         | Op::NotAndWhole { .. }
         | Op::AndOr { .. }
         | Op::AndXorWhole { .. } => 2,
-        Op::AddModWhole { .. } | Op::SubMod { .. } | Op::DivAddFixed { .. } => 2,
+        // A chained instruction's flags are those of its first superinstruction; the second's
+        // are read where it stays.
+        Op::AddModWhole { .. }
+        | Op::SubMod { .. }
+        | Op::QuotAddFixed { .. }
+        | Op::DivAddFixed { .. } => 2,
         Op::NotAndLong { .. }
         | Op::AndXorLong { .. }
         | Op::DivAddLong { .. }

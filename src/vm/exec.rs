@@ -825,6 +825,76 @@ pub fn run<'a>(
                     check_long!(t, rd!(p as usize) + rd!(q as usize), here + 3);
                     pc = here + 4;
                 }
+                // Chained superinstructions: the second part's operands are read where it
+                // stays; the product or quotient is kept in a register between the parts.
+                Op::MulAddModWhole { t, a, b } => {
+                    // `mul` (here), then the `AddModWhole` after it (here + 1, here + 2).
+                    let Some(&Op::AddModWhole { x, dst, m, .. }) = ops.get(here as usize + 1)
+                    else {
+                        pc = here;
+                        fault!("internal error: a chained instruction without its second part");
+                    };
+                    n += 2;
+                    let p = rd!(a as usize) * rd!(b as usize);
+                    // `x` is read after the product is written to `t`: it may be `t` itself.
+                    let s = p + if x == t { p } else { rd!(x as usize) };
+                    wr!(t as usize, s);
+                    mod_whole!(dst, s, m, here + 2, false, wide!(here + 1));
+                    pc = here + 3;
+                }
+                Op::MulAddCheckModLong {
+                    t,
+                    a,
+                    b,
+                    c,
+                    t_first: _,
+                } => {
+                    // A `MulAddCheck` (here to here + 3), then a `ModLong` (here + 4, here + 5).
+                    let Some(&Op::ModLong { dst, b: m, .. }) = ops.get(here as usize + 4) else {
+                        pc = here;
+                        fault!("internal error: a chained instruction without its second part");
+                    };
+                    n += 1;
+                    let p = rd!(a as usize) * rd!(b as usize);
+                    check_long!(t, p, here + 1);
+                    n += 2;
+                    // The operator commutes (IEEE addition too): `t_first` is for the listing
+                    // only; `c`, read after `t` is written, may be `t` itself.
+                    let s = p + if c == t { p } else { rd!(c as usize) };
+                    check_long!(t, s, here + 3);
+                    n += 2;
+                    mod_long!(t, dst, s, m, here + 4, sure!(here + 4), wide!(here + 4));
+                }
+                Op::QuotAddFixed { t, a, b } => {
+                    // A `SubMod` (here, here + 1), then a `DivAddFixed` (here + 2, here + 3)
+                    // dividing `t` by `b`'s value.
+                    let Some(&Op::DivAddFixed { dst, decimals, .. }) = ops.get(here as usize + 2)
+                    else {
+                        pc = here;
+                        fault!("internal error: a chained instruction without its second part");
+                    };
+                    let y = rd!(b as usize);
+                    if y == 0.0 {
+                        pc = here;
+                        fault!("MOD by zero");
+                    }
+                    n += 3;
+                    let x = rd!(a as usize);
+                    let q = if sure!(here) {
+                        whole_quotient(x, y)
+                    } else {
+                        (x - int_rem_of(x, y, false)) / y
+                    };
+                    wr!(t as usize, q);
+                    store_fixed!(
+                        dst,
+                        q + rd!(dst as usize),
+                        decimals,
+                        here + 3,
+                        sure!(here + 2) && decimals == 0
+                    );
+                    pc = here + 4;
+                }
                 Op::AndLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, &, here, sure!(here)),
                 Op::OrLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, |, here, sure!(here)),
                 Op::XorLong { t, dst, a, b } => bitwise_long!(t, dst, a, b, ^, here, sure!(here)),
@@ -2269,6 +2339,24 @@ fn mod_int_path(x: f64, y: f64, sure: bool, wide: bool) -> bool {
         fits_i32(x)
     } else {
         f64::from(trunc_i32(x)) == x && f64::from(trunc_i32(y)) == y
+    }
+}
+
+/// `(x - x MOD y) / y` (PowerTools' whole quotient, [`int_rem_of`] then a division) of two
+/// whole numbers within 32 bits, `y` not 0: one integer division gives it, with the sign of a
+/// zero quotient the float division gives (`+0 / y`: -0 when `y` is negative).
+#[inline(always)]
+fn whole_quotient(x: f64, y: f64) -> f64 {
+    let (i, j) = (trunc_i32(x), trunc_i32(y));
+    debug_assert!(
+        f64::from(i) == x && f64::from(j) == y && j != 0,
+        "{x}, {y} not sure"
+    );
+    match i.checked_div(j) {
+        Some(0) => 0.0 / y,
+        Some(q) => f64::from(q),
+        // -2^31 / -1: 2^31, outside 32 bits but exact as a float.
+        None => -x,
     }
 }
 
