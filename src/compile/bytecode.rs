@@ -223,10 +223,6 @@ pub enum Op {
         c: Reg,
         t_first: bool,
     },
-    /// An [`Op::AddCheck`] (`a + b`) or, `minus`, an [`Op::SubCheck`] (`a - b`) into `t`, then
-    /// the [`Op::LoadIdx`] two instructions on, subscripted by `t`, whose operands it reads
-    /// there: an element next to another (`A&(J& + 1)`, `X(I& - 1)`).
-    OffsetLoadIdx { t: Reg, a: Reg, b: Reg, minus: bool },
     /// `mod t <- a MOD b`, `sub t <- a - t`, then the [`Op::DivAddFixed`] two instructions on
     /// (`div t <- t / b`, `add.f dst <- dst + t`), whose operands it reads there: PowerTools'
     /// whole quotient `(a - a MOD b) / b` (it has no `\\`) added to a variable. Both divisions
@@ -878,8 +874,8 @@ pub fn fuse_with_constants(
 /// Chained superinstructions: where a superinstruction follows the instruction that computes
 /// its temporary, one instruction does both, reading the second's operands where it stays
 /// (for a jump to it, as a superinstruction's halves stay): [`Op::MulAddModWhole`],
-/// [`Op::MulAddCheckModLong`], [`Op::OffsetLoadIdx`], and [`Op::QuotAddFixed`] where both
-/// divisors are the same register or the same constant.
+/// [`Op::MulAddCheckModLong`], and [`Op::QuotAddFixed`] where both divisors are the same
+/// register or the same constant.
 fn chain(ops: &mut [Op], temps: &std::ops::Range<Reg>, constant: &dyn Fn(Reg) -> Option<f64>) {
     for i in 0..ops.len() {
         let chained = match (ops[i], ops.get(i + 1), ops.get(i + 2), ops.get(i + 4)) {
@@ -905,17 +901,6 @@ fn chain(ops: &mut [Op], temps: &std::ops::Range<Reg>, constant: &dyn Fn(Reg) ->
                 b,
                 c,
                 t_first,
-            },
-            (
-                op @ (Op::AddCheck { dst: t, a, b } | Op::SubCheck { dst: t, a, b }),
-                _,
-                Some(&Op::LoadIdx { idx, .. }),
-                _,
-            ) if idx == t && temps.contains(&t) => Op::OffsetLoadIdx {
-                t,
-                a,
-                b,
-                minus: matches!(op, Op::SubCheck { .. }),
             },
             (
                 Op::SubMod { t, a, b, x },
@@ -1321,9 +1306,7 @@ impl Op {
             | Op::DivAddFixed { t, a, b, dst, .. } => t.max(a).max(b).max(dst),
             Op::SubMod { t, a, b, x } => t.max(a).max(b).max(x),
             // The chained instruction's second part is checked where it stays.
-            Op::MulAddModWhole { t, a, b }
-            | Op::QuotAddFixed { t, a, b }
-            | Op::OffsetLoadIdx { t, a, b, .. } => t.max(a).max(b),
+            Op::MulAddModWhole { t, a, b } | Op::QuotAddFixed { t, a, b } => t.max(a).max(b),
             Op::Offset2 { p, i, j, .. } => (p + 1).max(i).max(j),
             Op::OffsetTail { p, x, .. } => (p + 1).max(x),
             Op::AndJump { t, a, b, .. } => t.max(a).max(b),

@@ -150,18 +150,6 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::OrWhole { dst, a, b } => fused("bor", 0, r(dst), r(a), "OR", r(b)),
             Op::XorWhole { dst, a, b } => fused("bxor", 0, r(dst), r(a), "XOR", r(b)),
             Op::AddCheck { dst, a, b } => format!("add       {} <- {} + {}", r(dst), r(a), r(b)),
-            Op::OffsetLoadIdx {
-                t,
-                a,
-                b,
-                minus: false,
-            } => format!("add       {} <- {} + {}", r(t), r(a), r(b)),
-            Op::OffsetLoadIdx {
-                t,
-                a,
-                b,
-                minus: true,
-            } => format!("sub       {} <- {} - {}", r(t), r(a), r(b)),
             Op::SubCheck { dst, a, b } => format!("sub       {} <- {} - {}", r(dst), r(a), r(b)),
             Op::MulCheck { dst, a, b } => format!("mul       {} <- {} * {}", r(dst), r(a), r(b)),
             Op::Compare { cmp, dst, a, b } => {

@@ -2,7 +2,6 @@
 //! its budget.
 
 use super::task::Frame;
-use super::tight;
 use crate::compile::bytecode::{BinaryOp, KernelFunc, Op, Reg, INT_STORE, REAL_STORE};
 use crate::compile::Chunk;
 use crate::devices::command::{Domain, StartRef};
@@ -357,14 +356,15 @@ pub fn run<'a>(
             }
         }};
     }
-    // The value a `for.next` at instruction `$here` stores into its variable `$var`: `$v`, the
-    // variable's value, plus the step `$s`, checked as the variable's kind (`$decimals`) says.
+    // The end of a `For` body at instruction `$here` (see `Op::ForNext`).
     // `$sure`: a whole variable (a long, an INTEGER, a PowerTools variable without decimals)
     // and a step known to be whole (`Chunk::sure`): their sum is whole (or not finite), and
     // not -0 (the variable never is), so it is stored as it is when within range.
-    macro_rules! next_value {
-        ($var:expr, $v:expr, $s:expr, $decimals:expr, $here:expr, $sure:expr) => {{
-            let (var, v, s, decimals): (u32, f64, f64, u8) = ($var, $v, $s, $decimals);
+    macro_rules! for_next {
+        ($var:expr, $limit:expr, $body:expr, $decimals:expr, $here:expr, $sure:expr) => {{
+            let (var, limit, body, decimals) = ($var, $limit, $body, $decimals);
+            let s = rd!(limit as usize + 1);
+            let v = rd!(var as usize);
             let x = v + s;
             let val = if $sure {
                 debug_assert!(
@@ -389,16 +389,6 @@ pub fn run<'a>(
                 let message = overflow_message(ctx, var, x, decimals);
                 fault!("{message}");
             };
-            val
-        }};
-    }
-    // The end of a `For` body at instruction `$here` (see `Op::ForNext`); `$sure` as
-    // `next_value!`'s.
-    macro_rules! for_next {
-        ($var:expr, $limit:expr, $body:expr, $decimals:expr, $here:expr, $sure:expr) => {{
-            let (var, limit, body, decimals) = ($var, $limit, $body, $decimals);
-            let s = rd!(limit as usize + 1);
-            let val = next_value!(var, rd!(var as usize), s, decimals, $here, $sure);
             wr!(var as usize, val);
             if var < trace_below {
                 traced_write(ctx, var, val);
@@ -430,17 +420,11 @@ pub fn run<'a>(
     // `$base`, stored as its kind (`$decimals`) says.
     macro_rules! store_idx {
         ($base:expr, $idx:expr, $src:expr, $len:expr, $decimals:expr, $here:expr) => {{
-            store_at!($base, rd!($idx as usize), $src, $len, $decimals, $here)
-        }};
-    }
-    // `store.idx` at `$here` with the subscript's value `$x`.
-    macro_rules! store_at {
-        ($base:expr, $x:expr, $src:expr, $len:expr, $decimals:expr, $here:expr) => {{
-            let (base, xi, src, len, decimals, here): (u32, f64, u32, u32, u8, u32) =
-                ($base, $x, $src, $len, $decimals, $here);
-            let Some(i) = subscript(xi, len) else {
+            let (base, idx, src, len, decimals, here): (u32, u32, u32, u32, u8, u32) =
+                ($base, $idx, $src, $len, $decimals, $here);
+            let Some(i) = subscript(rd!(idx as usize), len) else {
                 pc = here;
-                fault!("{}", out_of_range(xi, len));
+                fault!("{}", out_of_range(rd!(idx as usize), len));
             };
             let dst = base + i;
             let x = rd!(src as usize);
@@ -881,26 +865,6 @@ pub fn run<'a>(
                     n += 2;
                     mod_long!(t, dst, s, m, here + 4, sure!(here + 4), wide!(here + 4));
                 }
-                Op::OffsetLoadIdx { t, a, b, minus } => {
-                    // An `AddCheck` or `SubCheck` (here, here + 1), then the `LoadIdx` it
-                    // subscripts (here + 2).
-                    let Some(&Op::LoadIdx { dst, base, len, .. }) = ops.get(here as usize + 2)
-                    else {
-                        pc = here;
-                        fault!("internal error: a chained instruction without its second part");
-                    };
-                    n += 1;
-                    let (p, q) = (rd!(a as usize), rd!(b as usize));
-                    let x = if minus { p - q } else { p + q };
-                    check_long!(t, x, here + 1);
-                    n += 1;
-                    let Some(i) = subscript(x, len) else {
-                        pc = here + 2;
-                        fault!("{}", out_of_range(x, len));
-                    };
-                    wr!(dst as usize, rd!(base as usize + i as usize));
-                    pc = here + 3;
-                }
                 Op::QuotAddFixed { t, a, b } => {
                     // A `SubMod` (here, here + 1), then a `DivAddFixed` (here + 2, here + 3)
                     // dividing `t` by `b`'s value.
@@ -1291,51 +1255,7 @@ pub fn run<'a>(
                     limit,
                     body,
                     decimals,
-                } => {
-                    if body == here {
-                        // An empty loop (a delay, `FOR I& = 1 TO 5000: NEXT`): the variable
-                        // stays in a register from one iteration to the next instead of going
-                        // through its slot (still written, and traced, each time), which only
-                        // this instruction reads.
-                        let (s, l) = (rd!(limit as usize + 1), rd!(limit as usize));
-                        let sure = sure!(here);
-                        if sure && var >= trace_below {
-                            let lp = tight::Loop {
-                                var: var as usize,
-                                step: s,
-                                limit: l,
-                                int16: decimals == INT_STORE,
-                            };
-                            match tight::run::<{ tight::LONG }>(v, lp, None, &mut n, budget) {
-                                tight::End::Done => continue,
-                                tight::End::Budget => {
-                                    *executed = n;
-                                    return Exit::Yield(here);
-                                }
-                                tight::End::Slow => {}
-                            }
-                        }
-                        let mut cur = rd!(var as usize);
-                        loop {
-                            cur = next_value!(var, cur, s, decimals, here, sure);
-                            wr!(var as usize, cur);
-                            if var < trace_below {
-                                traced_write(ctx, var, cur);
-                            }
-                            if !((s > 0.0 && cur <= l) || (s < 0.0 && cur >= l)) {
-                                break;
-                            }
-                            if n >= budget {
-                                *executed = n;
-                                return Exit::Yield(here);
-                            }
-                            // This instruction again.
-                            n += 1;
-                        }
-                    } else {
-                        for_next!(var, limit, body, decimals, here, sure!(here))
-                    }
-                }
+                } => for_next!(var, limit, body, decimals, here, sure!(here)),
                 Op::JumpNext {
                     var,
                     limit,
@@ -1587,147 +1507,24 @@ pub fn run<'a>(
                     decimals,
                 } => {
                     // `store.idx` (here), then the `for.next` (here + 1) it was fused with.
+                    store_idx!(base, idx, src, len, decimals, here);
+                    n += 1;
+                    pc = here + 2;
                     let next = here + 1;
                     debug_assert!((next as usize) < ops.len());
                     // SAFETY: a superinstruction is never the chunk's last instruction (`End`
                     // is), so the one after it is inside the chunk.
-                    let Op::ForNext {
-                        var,
-                        limit,
-                        body,
-                        decimals: kind,
-                    } = *(unsafe { ops.get_unchecked(next as usize) })
-                    else {
-                        pc = next;
-                        fault!("internal error: a store fused with a for.next that is not one");
-                    };
-                    // The array's slots: a store into one of them never changes the loop's
-                    // variable, limit or step.
-                    let array = u64::from(base)..u64::from(base) + u64::from(len);
-                    let apart = [var, limit, limit + 1]
-                        .iter()
-                        .all(|&r| !array.contains(&u64::from(r)));
-                    if body == here && apart {
-                        // The store is the loop's whole body (a fill, a clear, a sieve's
-                        // marking): the variable stays in a register from one iteration to the
-                        // next instead of going through its slot (still written, and traced,
-                        // each time); the subscript is read from it when it is the variable.
-                        let (s, l) = (rd!(limit as usize + 1), rd!(limit as usize));
-                        let (sure, sure_elem) = (sure!(next), sure!(here));
-                        // The loop's test, by the step's sign, which does not change.
-                        let (up, down) = (s > 0.0, s < 0.0);
-                        // A subscript that is a sure variable is a whole number within 32 bits:
-                        // only its range is tested.
-                        let whole_index = sure && idx == var;
-                        let kinds = match decimals {
-                            0 if sure_elem => Some(tight::LONG),
-                            INT_STORE if sure_elem => Some(tight::INT),
-                            REAL_STORE => Some(tight::REAL),
-                            _ => None,
-                        };
-                        if let Some(k) =
-                            kinds.filter(|_| whole_index && var.max(base) >= trace_below)
-                        {
-                            let lp = tight::Loop {
-                                var: var as usize,
-                                step: s,
-                                limit: l,
-                                int16: kind == INT_STORE,
-                            };
-                            let fill = Some(tight::Fill {
-                                base: base as usize,
-                                len,
-                                src: src as usize,
-                            });
-                            let end = match k {
-                                tight::LONG => {
-                                    tight::run::<{ tight::LONG }>(v, lp, fill, &mut n, budget)
-                                }
-                                tight::INT => {
-                                    tight::run::<{ tight::INT }>(v, lp, fill, &mut n, budget)
-                                }
-                                _ => tight::run::<{ tight::REAL }>(v, lp, fill, &mut n, budget),
-                            };
-                            match end {
-                                tight::End::Done => {
-                                    pc = here + 2;
-                                    continue;
-                                }
-                                tight::End::Budget => {
-                                    *executed = n;
-                                    return Exit::Yield(here);
-                                }
-                                tight::End::Slow => {}
-                            }
+                    match *unsafe { ops.get_unchecked(next as usize) } {
+                        Op::ForNext {
+                            var,
+                            limit,
+                            body,
+                            decimals,
+                        } => for_next!(var, limit, body, decimals, next, sure!(next)),
+                        _ => {
+                            pc = next;
+                            fault!("internal error: a store fused with a for.next that is not one");
                         }
-                        let mut cur = rd!(var as usize);
-                        // The loop, made once for each kind of element (`$store`), so that
-                        // the kind is not chosen again at each iteration.
-                        macro_rules! self_loop {
-                            ($store:ident) => {{
-                                loop {
-                                    let x = if idx == var { cur } else { rd!(idx as usize) };
-                                    let found = if whole_index {
-                                        let i = trunc_i32(x);
-                                        (i >= 0 && (i as u32) < len).then_some(i as u32)
-                                    } else {
-                                        subscript(x, len)
-                                    };
-                                    let Some(i) = found else {
-                                        pc = here;
-                                        fault!("{}", out_of_range(x, len));
-                                    };
-                                    $store!(base + i, rd!(src as usize));
-                                    n += 1;
-                                    cur = next_value!(var, cur, s, kind, next, sure);
-                                    wr!(var as usize, cur);
-                                    if var < trace_below {
-                                        traced_write(ctx, var, cur);
-                                    }
-                                    if !(if up { cur <= l } else { down && cur >= l }) {
-                                        pc = here + 2;
-                                        break;
-                                    }
-                                    if n >= budget {
-                                        *executed = n;
-                                        return Exit::Yield(here);
-                                    }
-                                    // This instruction again.
-                                    n += 1;
-                                }
-                            }};
-                        }
-                        macro_rules! into_long {
-                            ($dst:expr, $x:expr) => {
-                                store_long!($dst, $x, here, sure_elem)
-                            };
-                        }
-                        macro_rules! into_int {
-                            ($dst:expr, $x:expr) => {
-                                store_int!($dst, $x, here, sure_elem)
-                            };
-                        }
-                        macro_rules! into_real {
-                            ($dst:expr, $x:expr) => {
-                                store_real!($dst, $x, here)
-                            };
-                        }
-                        macro_rules! into_fixed {
-                            ($dst:expr, $x:expr) => {
-                                store_fixed!($dst, $x, decimals, here, false)
-                            };
-                        }
-                        match decimals {
-                            0 => self_loop!(into_long),
-                            INT_STORE => self_loop!(into_int),
-                            REAL_STORE => self_loop!(into_real),
-                            _ => self_loop!(into_fixed),
-                        }
-                    } else {
-                        store_idx!(base, idx, src, len, decimals, here);
-                        n += 1;
-                        pc = here + 2;
-                        for_next!(var, limit, body, kind, next, sure!(next));
                     }
                 }
                 Op::Subscript { dst, src, len } => {

@@ -19,7 +19,6 @@ pub mod rnd;
 pub mod stop;
 pub mod stuck;
 pub mod task;
-pub mod tight;
 pub mod using;
 
 use crate::compile::Chunk;
