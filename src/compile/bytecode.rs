@@ -225,7 +225,7 @@ pub enum Op {
     },
     /// `mod t <- a MOD b`, `sub t <- a - t`, then the [`Op::DivAddFixed`] two instructions on
     /// (`div t <- t / b`, `add.f dst <- dst + t`), whose operands it reads there: PowerTools'
-    /// whole quotient `(a - a MOD b) / b` (it has no `\\`) added to a variable. Both divisions
+    /// whole quotient `(a - a MOD b) / b` (it has no `\`) added to a variable. Both divisions
     /// by `b` are one when the operands are whole within 32 bits.
     QuotAddFixed { t: Reg, a: Reg, b: Reg },
     /// `bnot t <- NOT a`, `band t <- t AND b` (or `b AND t`), `store.l dst <- t`.
