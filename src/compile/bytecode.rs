@@ -397,6 +397,10 @@ pub enum Op {
     /// Leave the loop at `exit` when `var` is past `limit` in the direction of the step, which
     /// is in the register after `limit`.
     ForCheck { var: Reg, limit: Reg, exit: u32 },
+    /// A [`Op::ForCheck`] entering a loop whose body is one instruction the machine may run
+    /// outside the interpreter (`compile::tight`): when it has enough iterations, the
+    /// interpreter leaves it to its caller (`exec::Exit::Loop`).
+    ForTight { var: Reg, limit: Reg, exit: u32 },
     /// The end of a `For` body: `var += step` (the step is in the register after `limit`;
     /// stored as `decimals`, or as a real when
     /// [`REAL_STORE`]), then back to `body` unless past `limit`; the task may yield there.
@@ -1215,7 +1219,7 @@ impl Op {
             | Op::JumpWhenNe { target, .. }
             | Op::AndJump { target, .. }
             | Op::Gosub { target } => Some(target),
-            Op::ForCheck { exit, .. } => Some(exit),
+            Op::ForCheck { exit, .. } | Op::ForTight { exit, .. } => Some(exit),
             Op::ForNext { body, .. } => Some(body),
             // Both ways on: the loop's body, or past the `for.next` at `at` (never the last
             // instruction, which is `End`); the larger is checked inside the chunk.
@@ -1361,6 +1365,7 @@ impl Op {
                 ..
             } => off.max(src).max(base + len.saturating_sub(1)),
             Op::ForCheck { var, limit, .. }
+            | Op::ForTight { var, limit, .. }
             | Op::ForNext { var, limit, .. }
             | Op::JumpNext { var, limit, .. } => var.max(limit.saturating_add(1)),
             _ => return None,

@@ -239,7 +239,7 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 if master { "master units" } else { "s" },
                 if last { " using last" } else { "" }
             ),
-            Op::ForCheck { var, limit, exit } => {
+            Op::ForCheck { var, limit, exit } | Op::ForTight { var, limit, exit } => {
                 format!(
                     "for.check {} to {} step {} exit @{exit}",
                     r(var),

@@ -5,6 +5,7 @@
 
 pub mod bytecode;
 pub mod disasm;
+pub mod tight;
 pub mod whole;
 
 use crate::check::typed::{
@@ -322,6 +323,7 @@ impl<'a> Compiler<'a> {
         bytecode::fuse(&mut self.ops, temps.clone());
         bytecode::fuse_with_constants(&mut self.ops, &temps, &|r| self.layout.constant_value(r));
         let sure = whole::per_instruction(&self.ops, &sure);
+        tight::mark(&mut self.ops, &sure);
         let regs_end = self
             .ops
             .iter()

@@ -19,8 +19,10 @@ pub mod rnd;
 pub mod stop;
 pub mod stuck;
 pub mod task;
+pub mod tight;
 pub mod using;
 
+use crate::compile::bytecode::Op;
 use crate::compile::Chunk;
 use crate::devices::command::StartRef;
 use crate::devices::{ActOutcome, Device, Devices, Now, Target, When};
@@ -32,6 +34,7 @@ use crate::world::{Edge, InputActivity, World};
 pub use error::RunError;
 use exec::{Ctx, Exit};
 use indexmap::IndexMap;
+use std::cmp::Ordering;
 pub use stop::StopReason;
 use task::{Frame, Task, TaskState};
 
@@ -184,6 +187,8 @@ pub struct Machine {
     rnd: rnd::Rnd,
     /// The `DATA` place of a probe or a task that has none (never read: probes run no READ).
     no_data: u32,
+    /// How many runs of loops the machine ran outside the interpreter (`vm::tight`).
+    tight_runs: u64,
 }
 
 /// Trace every registry slot whose value differs from the snapshot, in slot order.
@@ -251,6 +256,7 @@ impl Machine {
             scratch: String::new(),
             rnd: rnd::Rnd::new(image.seed),
             no_data: 0,
+            tight_runs: 0,
             image,
         };
         m.devices.start(&mut m.values);
@@ -276,6 +282,12 @@ impl Machine {
     /// The state of task `task` (exporters draw it; `None` past the last task).
     pub fn task_state(&self, task: usize) -> Option<TaskState> {
         self.tasks.get(task).map(|t| t.state)
+    }
+
+    /// How many runs of loops of one instruction (an empty `FOR`, a fill) the machine has run
+    /// outside the interpreter (`vm::tight`): what tests read to see that it did.
+    pub fn tight_runs(&self) -> u64 {
+        self.tight_runs
     }
 
     /// Current value of a member by name, e.g. `Queue.0.QueueOffset` (for tests and tools).
@@ -905,6 +917,100 @@ impl Machine {
         exit
     }
 
+    /// Do the `for.check` of the [`Op::ForTight`] at `pc` of `chunk` (the interpreter left
+    /// it, its dispatch not counted), then run its loop here when [`Machine::run_loop`] can.
+    /// Where the task goes on, and whether its budget is spent; or the `for.check`'s fault.
+    fn enter_loop(
+        &mut self,
+        chunk: usize,
+        pc: u32,
+        budget_end: u64,
+    ) -> Result<(u32, bool), String> {
+        self.instructions += 1;
+        let internal = || "internal error: a loop left to the machine that is not one".to_string();
+        let c = self.image.chunks.get(chunk).ok_or_else(internal)?;
+        let Some(&Op::ForTight { var, limit, exit }) = c.ops.get(pc as usize) else {
+            return Err(internal());
+        };
+        let get = |r: u32| self.values.get(r as usize).copied();
+        let (Some(x), Some(l), Some(s)) = (get(var), get(limit), get(limit + 1)) else {
+            return Err(internal());
+        };
+        // As the interpreter's `for.check`.
+        if s == 0.0 {
+            return Err(exec::STEP_ZERO.into());
+        }
+        if (s > 0.0 && x > l) || (s < 0.0 && x < l) {
+            return Ok((exit, false));
+        }
+        Ok(self
+            .run_loop(chunk, pc + 1, budget_end)
+            .unwrap_or((pc + 1, false)))
+    }
+
+    /// Run here (`tight::run_plan`) the loop of one instruction starting at `start` of `chunk`,
+    /// about to run an iteration, when it has at least [`tight::FEWEST`] more and writes
+    /// nothing traced (`tight::plan`). Where the task goes on, and whether its budget is spent;
+    /// `None` when the interpreter is to run it.
+    fn run_loop(&mut self, chunk: usize, start: u32, budget_end: u64) -> Option<(u32, bool)> {
+        let traced_below = self.traced_below();
+        let c = self.image.chunks.get(chunk)?;
+        let plan = tight::plan(&c.ops, &c.sure, start, traced_below)?;
+        let get = |r: u32| self.values.get(r as usize).copied();
+        let (x, l, s) = (get(plan.var)?, get(plan.limit)?, get(plan.limit + 1)?);
+        // NaN (a step of 0, an infinite one) is not long.
+        let long = ((l - x) / s).partial_cmp(&(tight::FEWEST - 1.0));
+        if !matches!(long, Some(Ordering::Greater | Ordering::Equal)) {
+            return None;
+        }
+        // The next iteration's dispatch counted first, as the interpreter counts it.
+        let mut n = self.instructions + 1;
+        let (end, next) = tight::run_plan(&mut self.values, plan, start, &mut n, budget_end);
+        self.tight_runs += 1;
+        self.instructions = match end {
+            // The interpreter runs that iteration (and counts its dispatch).
+            tight::End::Slow => n - 1,
+            tight::End::Done | tight::End::Budget => n,
+        };
+        Some((next, end == tight::End::Budget))
+    }
+
+    /// The loop of one instruction at the top frame of task `ti`, whose last turn ended in it
+    /// (its budget spent), goes on here when [`Machine::run_loop`] can: whether the turn is
+    /// over.
+    fn resume_loop(&mut self, ti: usize, budget_end: u64) -> bool {
+        let Some(frame) = self.tasks[ti].frames.last().copied() else {
+            return false;
+        };
+        let entered = frame.pc.checked_sub(1).is_some_and(|p| {
+            let c = self.image.chunks.get(frame.chunk);
+            matches!(
+                c.and_then(|c| c.ops.get(p as usize)),
+                Some(Op::ForTight { .. })
+            )
+        });
+        if !entered {
+            return false;
+        }
+        let Some((next, spent)) = self.run_loop(frame.chunk, frame.pc, budget_end) else {
+            return false;
+        };
+        if let Some(f) = self.tasks[ti].frames.last_mut() {
+            f.pc = next;
+        }
+        spent
+    }
+
+    /// The slots a program's write to which is traced: those below this (the interpreter's
+    /// `trace_below`).
+    fn traced_below(&self) -> u32 {
+        if self.trace.enabled() {
+            self.image.registry.slot_count() as u32
+        } else {
+            0
+        }
+    }
+
     /// A run-time error of task `ti` at instruction `pc` of `chunk`: traced and kept with the
     /// place in the program (the expression or statement the instruction evaluates).
     fn fault(&mut self, ti: usize, chunk: usize, pc: u32, message: String) {
@@ -963,6 +1069,9 @@ impl Machine {
     /// Run task `ti` for one turn: until it blocks, ends, or spends its instruction budget.
     fn run_task(&mut self, ti: usize) {
         let budget_end = self.instructions.saturating_add(self.image.budget);
+        if self.resume_loop(ti, budget_end) {
+            return;
+        }
         loop {
             let Some(frame) = self.tasks[ti].frames.last().copied() else {
                 self.end_task(ti, ProgramEvent::End);
@@ -1109,6 +1218,18 @@ impl Machine {
                     return;
                 }
                 Exit::Probed { .. } => return,
+                Exit::Loop { pc } => match self.enter_loop(frame.chunk, pc, budget_end) {
+                    Ok((next, spent)) => {
+                        set_pc(self, next);
+                        if spent {
+                            return;
+                        }
+                    }
+                    Err(message) => {
+                        self.fault(ti, frame.chunk, pc, message);
+                        return;
+                    }
+                },
             }
         }
     }
