@@ -4,7 +4,8 @@
 # mb/), bench.lua and bench.py. The script checks that all of them compute the same results,
 # then times them interleaved (each round runs every program once, so a slow moment of the
 # machine hits all of them alike) and prints the best of RUNS rounds (default 5) and the ratios
-# pacer/Lua and pacer/Python.
+# pacer/Lua and pacer/Python. The rounds differ in the size of the environment they pass
+# (BENCH_PAD), so that the stack's place is sampled, not fixed (see the timing loop).
 #
 #   bash bench/run.sh                 # the whole set
 #   RUNS=3 bash bench/run.sh int      # a quicker look at some benchmarks
@@ -70,6 +71,12 @@ echo "  all agree"
 echo
 echo "timing (best of $RUNS, interleaved, wall clock) ..." >&2
 for ((round = 0; round < RUNS; round++)); do
+    # Each round pads the environment by another size, spread over 4 KiB: where the stack lands
+    # modulo a page moves an interpreter's time (by 20 % and more for one pacer binary here),
+    # and one fixed size would make a layout's luck, good or bad, part of every figure. All the
+    # programs of a round get the same padding; the best of the rounds is taken as before.
+    export BENCH_PAD
+    BENCH_PAD="$(head -c $((round * 4096 / RUNS / 16 * 16)) /dev/zero | tr '\0' x)"
     for b in "${BENCHES[@]}"; do
         while read -r dir label; do
             keep "pacer $label" "$(seconds "$PACER" run -q "$dir")"
