@@ -9,8 +9,43 @@ pub const POW10: [f64; 10] = [1.0, 10.0, 100.0, 1e3, 1e4, 1e5, 1e6, 1e7, 1e8, 1e
 /// A decimal such as 1.005 has no exact binary form (it is 1.00499999999999989…), so its scaled
 /// value lands a hair below the half. Values within a few units in the last place of a half are
 /// taken as the half the user wrote. Avoids a libm call for anything a 32-bit store can keep.
+///
+/// Every fixed-point store of a PowerTools program with decimals goes through here, often on a
+/// dependency chain (a filter's `Var.Y = Var.Y + K * (Var.X - Var.Y)`): below 2^49 the rounding
+/// stays in floating point (two additions round to nearest), which waits for no conversion
+/// between the number units; its result is that of [`round_scaled_wide`] (`tests` compare them).
 #[inline(always)]
 pub fn round_scaled(y: f64) -> f64 {
+    // 1.5 × 2^52: adding it to |y| < 2^51 leaves a number whose last place is 1, so the sum is
+    // y rounded to a whole number (ties to even), and subtracting it again is exact.
+    const MAGIC: f64 = 6_755_399_441_055_744.0;
+    const NARROW: f64 = 562_949_953_421_312.0; // 2^49: below it the slack is under a half
+    let a = y.abs();
+    // NaN fails the comparison and takes the wide path too.
+    if !(a < NARROW) {
+        return round_scaled_wide(y);
+    }
+    let near = (y + MAGIC) - MAGIC;
+    let d = y - near; // exact, within ±0.5
+    let slack = a * (4.0 * f64::EPSILON);
+    // Within the slack of a half, the half is taken and rounds away from zero: `near` moves one
+    // away when it lies toward zero from y (then d has y's sign). Selects of constants, no
+    // branch: how often a value is near a half depends on the data.
+    let half = d.abs() + slack >= 0.5;
+    let toward = d * y > 0.0;
+    let step = if half && toward {
+        1.0f64.copysign(y)
+    } else {
+        0.0
+    };
+    // Never -0, as an integer converted is not: `near` is a difference of equal numbers (+0)
+    // or whole, and `near + step` is 0 only as -1 + 1 or 1 - 1 (+0).
+    near + step
+}
+
+/// [`round_scaled`] through a 64-bit integer, for every magnitude: the values of 2^49 and more
+/// (none fits a 32-bit store), infinities and NaN.
+pub fn round_scaled_wide(y: f64) -> f64 {
     const LIMIT: f64 = 4_503_599_627_370_496.0; // 2^52: above it every f64 is whole
     if y.abs() >= LIMIT || y.is_nan() {
         return y.round();
@@ -98,6 +133,85 @@ pub fn range_text(decimals: u8) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use proptest::prelude::*;
+
+    /// The two roundings agree bit for bit, zeros' signs included.
+    fn same(y: f64) {
+        let (quick, wide) = (round_scaled(y), round_scaled_wide(y));
+        assert_eq!(
+            quick.to_bits(),
+            wide.to_bits(),
+            "{y:e}: {quick} against {wide}"
+        );
+    }
+
+    #[test]
+    fn both_roundings_agree_at_halves_zeros_and_limits() {
+        for y in [
+            0.0,
+            -0.0,
+            0.3,
+            -0.3,
+            0.5,
+            -0.5,
+            0.7,
+            -0.7,
+            1.5,
+            -1.5,
+            2.5,
+            -2.5,
+            3.5,
+            -3.5,
+            100_499.999_999_999_99,
+            1_004.999_999_999_999_9,
+            -1_004.999_999_999_999_9,
+            2_147_483_647.5,
+            -2_147_483_648.5,
+            2_147_483_646.499_999_9,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            f64::MIN_POSITIVE,
+            -f64::MIN_POSITIVE,
+            562_949_953_421_311.5,
+            562_949_953_421_312.0,
+            -562_949_953_421_311.5,
+            1e15 + 0.5,
+        ] {
+            if y.is_nan() {
+                assert!(round_scaled(y).is_nan());
+            } else {
+                same(y);
+            }
+        }
+        // Every decimal with up to 6 places a program writes, scaled as a store scales it.
+        for decimals in 1..=6u8 {
+            let scale = POW10[decimals as usize];
+            for k in -3000..3000 {
+                let v = f64::from(k) / scale + f64::from(k % 7) * 0.25;
+                same(v * scale);
+                same((v + 0.5 / scale) * scale);
+            }
+        }
+    }
+
+    proptest! {
+        #[test]
+        fn both_roundings_agree_everywhere(bits in any::<u64>()) {
+            let y = f64::from_bits(bits);
+            if !y.is_nan() {
+                same(y);
+            }
+        }
+
+        #[test]
+        fn both_roundings_agree_near_halves(k in -(1i64 << 50)..(1i64 << 50), ulps in -40i64..40) {
+            let half = k as f64 + 0.5;
+            let y = f64::from_bits((half.to_bits() as i64 + ulps) as u64);
+            same(y);
+            same(y / 1e6 * 1e6);
+        }
+    }
 
     #[test]
     fn halves_round_away_from_zero_on_the_decimal_value() {
