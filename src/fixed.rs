@@ -21,8 +21,7 @@ pub fn round_scaled(y: f64) -> f64 {
     const MAGIC: f64 = 6_755_399_441_055_744.0;
     const NARROW: f64 = 562_949_953_421_312.0; // 2^49: below it the slack is under a half
     let a = y.abs();
-    // NaN fails the comparison and takes the wide path too.
-    if !(a < NARROW) {
+    if a >= NARROW || y.is_nan() {
         return round_scaled_wide(y);
     }
     let near = (y + MAGIC) - MAGIC;
@@ -145,6 +144,11 @@ mod tests {
         );
     }
 
+    /// The double next below a positive `x`.
+    fn below(x: f64) -> f64 {
+        f64::from_bits(x.to_bits() - 1)
+    }
+
     #[test]
     fn both_roundings_agree_at_halves_zeros_and_limits() {
         for y in [
@@ -162,12 +166,12 @@ mod tests {
             -2.5,
             3.5,
             -3.5,
-            100_499.999_999_999_99,
-            1_004.999_999_999_999_9,
-            -1_004.999_999_999_999_9,
+            below(100_500.0),
+            below(1_005.0),
+            -below(1_005.0),
             2_147_483_647.5,
             -2_147_483_648.5,
-            2_147_483_646.499_999_9,
+            below(2_147_483_646.5),
             f64::INFINITY,
             f64::NEG_INFINITY,
             f64::NAN,
