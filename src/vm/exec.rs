@@ -43,6 +43,17 @@ pub enum Exit {
 /// The fault of a `for.check` with a step of 0.
 pub const STEP_ZERO: &str = "For loop with a Step of 0 never ends";
 
+/// A program's write to a slot below this is traced: the registry's `slot_count` slots when
+/// tracing, none when not (one comparison per store instead of two tests).
+#[inline(always)]
+pub fn traced_below(trace_on: bool, slot_count: u32) -> u32 {
+    if trace_on {
+        slot_count
+    } else {
+        0
+    }
+}
+
 /// What the interpreter needs besides the values.
 pub struct Ctx<'a, 'b> {
     /// The machine's devices.
@@ -139,9 +150,7 @@ pub fn run<'a>(
         }};
     }
     let trace_on = ctx.now.trace.enabled();
-    // A write to a slot below this is traced: the registry's slots when tracing, none when not
-    // (one comparison per store instead of two tests).
-    let trace_below: u32 = if trace_on { ctx.slot_count } else { 0 };
+    let trace_below = traced_below(trace_on, ctx.slot_count);
     let mut n: u64 = *executed;
     macro_rules! fault {
         ($($arg:tt)*) => {{
@@ -1330,7 +1339,7 @@ pub fn run<'a>(
                     );
                     if s == 0.0 {
                         pc = here;
-                        fault!("For loop with a Step of 0 never ends");
+                        fault!("{STEP_ZERO}");
                     }
                     if (s > 0.0 && x > l) || (s < 0.0 && x < l) {
                         pc = exit;

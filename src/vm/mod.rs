@@ -1004,11 +1004,10 @@ impl Machine {
     /// The slots a program's write to which is traced: those below this (the interpreter's
     /// `trace_below`).
     fn traced_below(&self) -> u32 {
-        if self.trace.enabled() {
-            self.image.registry.slot_count() as u32
-        } else {
-            0
-        }
+        exec::traced_below(
+            self.trace.enabled(),
+            self.image.registry.slot_count() as u32,
+        )
     }
 
     /// A run-time error of task `ti` at instruction `pc` of `chunk`: traced and kept with the
