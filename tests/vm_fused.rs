@@ -932,3 +932,146 @@ fn chained_superinstructions_give_the_values_faults_and_counts() {
         assert_eq!(val(&run, "C&"), 1.0);
     }
 }
+
+/// INTEGER (`%`) arithmetic: an `add`/`sub`/`mul` fused with its `chk.int` or its `store.i`,
+/// an integer operator (`MOD`, `\`, `AND`, `OR`, `XOR`) fused with its `store.i`, all give
+/// the values and instruction counts of their instructions (the figures of the build before
+/// these fusions, e019472), at every budget.
+#[test]
+fn integer_chains_give_the_values_and_counts_of_their_instructions() {
+    let program = "A% = 0\nB% = 1\nK% = 7\nX = 2.5\nFOR I& = 1 TO 30\n\
+        \x20 C% = (A% + B%) MOD 10007\n  A% = B%\n  B% = C%\n\
+        \x20 IF B% > 5000 THEN B% = B% - 5000\n\
+        \x20 D% = A% * K% - B% * K%\n  E% = (A% AND 255) OR 4096\n\
+        \x20 F% = A% \\ K% + (B% XOR 21845)\n  G% = X * 3 + I&\n  H% = -A%\n\
+        \x20 M% = X * K%\n  Q% = A% \\ K%\n  R% = A% XOR B%\n  T% = A% - B%\n\
+        \x20 U% = (A% - B%) AND 1023\n\
+        \x20 S% = S% + (I& MOD 3) * 2\nNEXT\n";
+    let loaded = load_mb("fused-int", program, 10_000);
+    let ops = &loaded.image.chunks[0].ops;
+    let count = |f: fn(&Op) -> bool| ops.iter().filter(|op| f(op)).count();
+    let fused = [
+        count(|op| matches!(op, Op::AddCheckInt { .. })),
+        count(|op| matches!(op, Op::SubCheckInt { .. })),
+        count(|op| matches!(op, Op::MulCheckInt { .. })),
+        count(|op| matches!(op, Op::IntInt { .. })),
+        count(|op| matches!(op, Op::AddInt { .. })),
+        count(|op| matches!(op, Op::SubInt { .. })),
+        count(|op| matches!(op, Op::MulInt { .. })),
+    ];
+    assert_eq!(fused, [1, 1, 2, 4, 3, 3, 1]);
+    for (budget, ticks) in [(3, 30), (7, 30), (20, 30), (10_000, 1)] {
+        let run = run_mb("fused-int", program, budget);
+        assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+        assert_eq!(
+            (run.summary.instructions, run.summary.ticks),
+            (1341, ticks),
+            "budget {budget}"
+        );
+        for (name, v) in [
+            ("A%", 2040.0),
+            ("B%", 1269.0),
+            ("C%", 6269.0),
+            ("D%", 5397.0),
+            ("E%", 4344.0),
+            ("F%", 21187.0),
+            // 2.5 * 3 + 30 = 37.5, rounded half to even.
+            ("G%", 38.0),
+            ("H%", -2040.0),
+            // 2.5 * 7 = 17.5, rounded half to even.
+            ("M%", 18.0),
+            ("Q%", 291.0),
+            ("R%", 781.0),
+            ("T%", 771.0),
+            ("S%", 60.0),
+            ("U%", 771.0),
+        ] {
+            assert_eq!(val(&run, name), v, "{name} at budget {budget}");
+        }
+    }
+}
+
+/// The faults of fused INTEGER arithmetic are those of its instructions, at the same place
+/// and count: an Overflow in the `chk.int` half, in the `store.i` half (of a real product, of
+/// an `AND` past 16 bits), `MOD` and `\` by zero in the first half (the store not reached).
+#[test]
+fn integer_chains_fault_where_their_instructions_do() {
+    let cases = [
+        (
+            "A% = 32767\nB% = 1\nB% = (A% + B%) \\ 2\nB% = 9\n",
+            "Overflow: 32768 does not fit an integer (-32768 to 32767)",
+        ),
+        (
+            "X = 2.5\nB% = 1\nB% = X * 20000\nB% = 9\n",
+            "Overflow: 50000 does not fit B% (an integer: -32768 to 32767)",
+        ),
+        (
+            "A% = 7\nB% = 1\nZ% = 0\nB% = A% MOD Z%\nB% = 9\n",
+            "MOD by zero",
+        ),
+        (
+            "A% = 7\nB% = 1\nZ% = 0\nB% = A% \\ Z%\nB% = 9\n",
+            "division by zero",
+        ),
+        (
+            "L& = 100000\nB% = 1\nB% = L& AND 65535\nB% = 9\n",
+            "Overflow: 34464 does not fit B% (an integer: -32768 to 32767)",
+        ),
+    ];
+    for (program, want) in cases {
+        let run = run_mb("fused-int-fault", program, 10_000);
+        let (line, message) = run_error(&run);
+        let last = program.lines().count() as u32 - 1;
+        assert_eq!(line, last, "{program}");
+        assert!(message.starts_with(want), "{message}");
+        assert_eq!(val(&run, "B%"), 1.0, "{program}");
+        // Three stores before it, and the instruction that faults.
+        assert_eq!(run.summary.instructions, 4, "{program}");
+    }
+}
+
+/// A string comparison, the `neg` of MotionBASIC's -1 and the jump on it run as one
+/// instruction (`TextJump`): every comparison operator, both ways of a jump, comparisons
+/// joined by `AND`/`OR` (not fused: their results are combined), `NOT`, `WHILE`, and the empty
+/// string; values, counts and budget yields are those of the build before the fusion
+/// (e019472).
+#[test]
+fn string_comparisons_fused_with_their_jump_give_the_values_and_counts_of_all() {
+    let program = "DIM N$(5)\n\
+        N$(0) = \"AB\": N$(1) = \"ABC\": N$(2) = \"B\": N$(3) = \"\": N$(4) = \"ab\"\n\
+        FOR I& = 0 TO 49\n  K$ = N$(I& MOD 5)\n\
+        \x20 IF K$ = \"ABC\" THEN C& = C& + 1\n\
+        \x20 IF K$ < \"B\" AND K$ <> \"\" THEN D& = D& + 1\n\
+        \x20 IF K$ >= \"AB\" OR K$ = \"\" THEN E& = E& + 1\n\
+        \x20 IF NOT (K$ > \"a\") THEN F& = F& + 1\n\
+        \x20 IF K$ <= \"AB\" THEN G& = G& + 1 ELSE G& = G& - 1\n\
+        \x20 WHILE K$ <> \"\" AND LEN(K$) < 3: K$ = K$ + \"Z\": W& = W& + 1: WEND\n\
+        \x20 IF K$ > \"B\" THEN H& = H& + 1\nNEXT\n";
+    let loaded = load_mb("fused-text", program, 10_000);
+    let fused = loaded.image.chunks[0]
+        .ops
+        .iter()
+        .filter(|op| matches!(op, Op::TextJump { .. }))
+        .count();
+    assert_eq!(fused, 8);
+    for (budget, ticks) in [(3, 90), (7, 90), (20, 61), (10_000, 1)] {
+        let run = run_mb("fused-text", program, budget);
+        assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+        assert_eq!(
+            (run.summary.instructions, run.summary.ticks),
+            (2555, ticks),
+            "budget {budget}"
+        );
+        for (name, v) in [
+            ("C&", 10.0),
+            ("D&", 20.0),
+            ("E&", 50.0),
+            ("F&", 40.0),
+            ("G&", -10.0),
+            ("H&", 20.0),
+            ("W&", 40.0),
+        ] {
+            assert_eq!(val(&run, name), v, "{name} at budget {budget}");
+        }
+    }
+}

@@ -131,6 +131,21 @@ pub enum Op {
     OrLong { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// `bxor t <- a XOR b` then `store.l dst <- t`.
     XorLong { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `add t <- a + b` then `store.i dst <- t` (an INTEGER, `%`).
+    AddInt { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `sub t <- a - b` then `store.i dst <- t`.
+    SubInt { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `mul t <- a * b` then `store.i dst <- t`.
+    MulInt { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// An integer operator (`op`: `imod`, `idiv`, `band`, `bor`, `bxor`) `t <- a op b`, then
+    /// `store.i dst <- t`.
+    IntInt {
+        op: BinaryOp,
+        t: Reg,
+        dst: Reg,
+        a: Reg,
+        b: Reg,
+    },
     /// `mul t <- a * b` then `add t <- t + c` or `c + t` (no fused multiply-add: the product is
     /// rounded first, as the two instructions round it).
     MulAdd { t: Reg, a: Reg, b: Reg, c: Reg },
@@ -177,6 +192,12 @@ pub enum Op {
     SubCheck { dst: Reg, a: Reg, b: Reg },
     /// `mul dst <- a * b` then `chk.long dst`.
     MulCheck { dst: Reg, a: Reg, b: Reg },
+    /// `add dst <- a + b` then `chk.int dst` (INTEGER arithmetic's 16 bits).
+    AddCheckInt { dst: Reg, a: Reg, b: Reg },
+    /// `sub dst <- a - b` then `chk.int dst`.
+    SubCheckInt { dst: Reg, a: Reg, b: Reg },
+    /// `mul dst <- a * b` then `chk.int dst`.
+    MulCheckInt { dst: Reg, a: Reg, b: Reg },
     // Superinstructions of three or four instructions, made by [`fuse`] as the pairs are (and
     // with the same rules: each counts as the instructions it replaces, reports a fault at the
     // place of the instruction that failed, writes the temporary as they do, and is listed as
@@ -509,6 +530,16 @@ pub enum Op {
     /// each counts as the copy into a call's argument registers it stands for (as a kernel
     /// call's still are), so budgets yield where they did when those copies were made.
     Ext { at: u32, copies: u8 },
+    /// A superinstruction ([`fuse_text`]): the string comparison of the side table's
+    /// [`ExtOp::CompareText`] at `at` (an `Op::Ext` counting as one), the `neg` of its result
+    /// when `negate` (MotionBASIC's true is -1), and the `jump.t` (`nonzero`) or `jump.f` on
+    /// it. Listed as the comparison, the others following.
+    TextJump {
+        at: u32,
+        target: u32,
+        nonzero: bool,
+        negate: bool,
+    },
     /// `RETURN` from a subroutine.
     Return,
     /// End of this program (returns to a caller if called).
@@ -704,6 +735,10 @@ fn joined(op: Op, temps: &std::ops::Range<Reg>) -> bool {
         | Op::AndLong { t, .. }
         | Op::OrLong { t, .. }
         | Op::XorLong { t, .. }
+        | Op::AddInt { t, .. }
+        | Op::SubInt { t, .. }
+        | Op::MulInt { t, .. }
+        | Op::IntInt { t, .. }
         | Op::MulAdd { t, .. }
         | Op::MulAcc { p: t, .. }
         | Op::MulDec { p: t, .. }
@@ -723,7 +758,10 @@ fn joined(op: Op, temps: &std::ops::Range<Reg>) -> bool {
         | Op::MulReal { t, .. }
         | Op::AddCheck { dst: t, .. }
         | Op::SubCheck { dst: t, .. }
-        | Op::MulCheck { dst: t, .. } => temps.contains(&t),
+        | Op::MulCheck { dst: t, .. }
+        | Op::AddCheckInt { dst: t, .. }
+        | Op::SubCheckInt { dst: t, .. }
+        | Op::MulCheckInt { dst: t, .. } => temps.contains(&t),
         _ => false,
     }
 }
@@ -926,6 +964,35 @@ fn chain(ops: &mut [Op], temps: &std::ops::Range<Reg>, constant: &dyn Fn(Reg) ->
     }
 }
 
+/// After [`fuse_with_constants`], a string comparison into a temporary (`ext` is the side
+/// table), the `neg` of it that may follow, and the `jump.t`/`jump.f` on it: one
+/// [`Op::TextJump`]. The others stay in place, as a superinstruction's halves do.
+pub fn fuse_text(ops: &mut [Op], ext: &[ExtOp], temps: &std::ops::Range<Reg>) {
+    for i in 0..ops.len() {
+        let Op::Ext { at, copies: 0 } = ops[i] else {
+            continue;
+        };
+        let Some(&ExtOp::CompareText { dst, .. }) = ext.get(at as usize) else {
+            continue;
+        };
+        if !temps.contains(&dst) {
+            continue;
+        }
+        let negate = matches!(ops.get(i + 1), Some(&Op::Neg { dst: d, a }) if d == dst && a == dst);
+        let (target, nonzero) = match ops.get(i + 1 + usize::from(negate)) {
+            Some(&Op::JumpIfTrue { cond, target }) if cond == dst => (target, true),
+            Some(&Op::JumpIfFalse { cond, target }) if cond == dst => (target, false),
+            _ => continue,
+        };
+        ops[i] = Op::TextJump {
+            at,
+            target,
+            nonzero,
+            negate,
+        };
+    }
+}
+
 /// The superinstruction doing the work of `first`, `second` and `third`, and the temporary
 /// joining them, if there is one.
 fn triple(first: Op, second: Op, third: Op) -> Option<(Op, Reg)> {
@@ -1062,6 +1129,44 @@ fn pair(first: Op, second: Op) -> Option<Op> {
         }
         (Op::BitXor { dst: t, a, b }, Op::StoreLong { dst, src }) if src == t => {
             Some(Op::XorLong { t, dst, a, b })
+        }
+        (Op::Add { dst: t, a, b }, Op::StoreInt { dst, src }) if src == t => {
+            Some(Op::AddInt { t, dst, a, b })
+        }
+        (Op::Sub { dst: t, a, b }, Op::StoreInt { dst, src }) if src == t => {
+            Some(Op::SubInt { t, dst, a, b })
+        }
+        (Op::Mul { dst: t, a, b }, Op::StoreInt { dst, src }) if src == t => {
+            Some(Op::MulInt { t, dst, a, b })
+        }
+        (
+            Op::IMod { dst: t, a, b }
+            | Op::IDiv { dst: t, a, b }
+            | Op::BitAnd { dst: t, a, b }
+            | Op::BitOr { dst: t, a, b }
+            | Op::BitXor { dst: t, a, b },
+            Op::StoreInt { dst, src },
+        ) if src == t => Some(Op::IntInt {
+            op: match first {
+                Op::IMod { .. } => BinaryOp::BasicMod,
+                Op::IDiv { .. } => BinaryOp::IntDiv,
+                Op::BitAnd { .. } => BinaryOp::BitAnd,
+                Op::BitOr { .. } => BinaryOp::BitOr,
+                _ => BinaryOp::BitXor,
+            },
+            t,
+            dst,
+            a,
+            b,
+        }),
+        (Op::Add { dst, a, b }, Op::CheckInt { r }) if r == dst => {
+            Some(Op::AddCheckInt { dst, a, b })
+        }
+        (Op::Sub { dst, a, b }, Op::CheckInt { r }) if r == dst => {
+            Some(Op::SubCheckInt { dst, a, b })
+        }
+        (Op::Mul { dst, a, b }, Op::CheckInt { r }) if r == dst => {
+            Some(Op::MulCheckInt { dst, a, b })
         }
         // `c + t` is `t + c` (IEEE addition is commutative).
         (Op::Mul { dst: t, a, b }, Op::Add { dst, a: x, b: y })
@@ -1218,6 +1323,7 @@ impl Op {
             | Op::JumpWhenEq { target, .. }
             | Op::JumpWhenNe { target, .. }
             | Op::AndJump { target, .. }
+            | Op::TextJump { target, .. }
             | Op::Gosub { target } => Some(target),
             Op::ForCheck { exit, .. } | Op::ForTight { exit, .. } => Some(exit),
             Op::ForNext { body, .. } => Some(body),
@@ -1259,6 +1365,9 @@ impl Op {
             | Op::AddCheck { dst, a, b }
             | Op::SubCheck { dst, a, b }
             | Op::MulCheck { dst, a, b }
+            | Op::AddCheckInt { dst, a, b }
+            | Op::SubCheckInt { dst, a, b }
+            | Op::MulCheckInt { dst, a, b }
             | Op::AddFixed { dst, a, b, .. }
             | Op::SubFixed { dst, a, b, .. }
             | Op::MulFixed { dst, a, b, .. }
@@ -1274,6 +1383,10 @@ impl Op {
             | Op::AndLong { t, dst, a, b }
             | Op::OrLong { t, dst, a, b }
             | Op::XorLong { t, dst, a, b }
+            | Op::AddInt { t, dst, a, b }
+            | Op::SubInt { t, dst, a, b }
+            | Op::MulInt { t, dst, a, b }
+            | Op::IntInt { t, dst, a, b, .. }
             | Op::MulAdd { t, c: dst, a, b }
             | Op::MulAcc {
                 p: t,

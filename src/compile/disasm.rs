@@ -85,21 +85,25 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             // A superinstruction is listed as the first of the two instructions it runs; the
             // second follows it.
             Op::AddLong { t, a, b, .. }
+            | Op::AddInt { t, a, b, .. }
             | Op::AddReal { t, a, b, .. }
             | Op::AddAdd { t, a, b, .. }
             | Op::AddSub { t, a, b, .. } => {
                 format!("add       {} <- {} + {}", r(t), r(a), r(b))
             }
             Op::SubLong { t, a, b, .. }
+            | Op::SubInt { t, a, b, .. }
             | Op::SubReal { t, a, b, .. }
             | Op::SubAdd { t, a, b, .. }
             | Op::SubSub { t, a, b, .. } => {
                 format!("sub       {} <- {} - {}", r(t), r(a), r(b))
             }
-            Op::MulLong { t, a, b, .. } | Op::MulReal { t, a, b, .. } => {
+            Op::MulLong { t, a, b, .. }
+            | Op::MulInt { t, a, b, .. }
+            | Op::MulReal { t, a, b, .. } => {
                 format!("mul       {} <- {} * {}", r(t), r(a), r(b))
             }
-            Op::IntLong { op, t, a, b, .. } => {
+            Op::IntLong { op, t, a, b, .. } | Op::IntInt { op, t, a, b, .. } => {
                 let (name, sym) = op_names(op);
                 format!("{name:<9} {} <- {} {sym} {}", r(t), r(a), r(b))
             }
@@ -149,9 +153,15 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::AndWhole { dst, a, b } => fused("band", 0, r(dst), r(a), "AND", r(b)),
             Op::OrWhole { dst, a, b } => fused("bor", 0, r(dst), r(a), "OR", r(b)),
             Op::XorWhole { dst, a, b } => fused("bxor", 0, r(dst), r(a), "XOR", r(b)),
-            Op::AddCheck { dst, a, b } => format!("add       {} <- {} + {}", r(dst), r(a), r(b)),
-            Op::SubCheck { dst, a, b } => format!("sub       {} <- {} - {}", r(dst), r(a), r(b)),
-            Op::MulCheck { dst, a, b } => format!("mul       {} <- {} * {}", r(dst), r(a), r(b)),
+            Op::AddCheck { dst, a, b } | Op::AddCheckInt { dst, a, b } => {
+                format!("add       {} <- {} + {}", r(dst), r(a), r(b))
+            }
+            Op::SubCheck { dst, a, b } | Op::SubCheckInt { dst, a, b } => {
+                format!("sub       {} <- {} - {}", r(dst), r(a), r(b))
+            }
+            Op::MulCheck { dst, a, b } | Op::MulCheckInt { dst, a, b } => {
+                format!("mul       {} <- {} * {}", r(dst), r(a), r(b))
+            }
             Op::Compare { cmp, dst, a, b } => {
                 format!("cmp       {} <- {} {} {}", r(dst), r(a), cmp.symbol(), r(b))
             }
@@ -352,7 +362,7 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 let kind = store_kind(decimals);
                 format!("store.at.{kind} {}[{}] <- {}", r(base), r(off), r(src))
             }
-            Op::Ext { at, .. } => match chunk.ext.get(at as usize) {
+            Op::Ext { at, .. } | Op::TextJump { at, .. } => match chunk.ext.get(at as usize) {
                 Some(ext) => ext_text(ext, &r, &text, chunk),
                 None => format!("ext       #{at}?"),
             },

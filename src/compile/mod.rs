@@ -322,6 +322,7 @@ impl<'a> Compiler<'a> {
         let sure = whole::operands(&self.ops, &temps, &|r| self.layout.is_whole(r));
         bytecode::fuse(&mut self.ops, temps.clone());
         bytecode::fuse_with_constants(&mut self.ops, &temps, &|r| self.layout.constant_value(r));
+        bytecode::fuse_text(&mut self.ops, &self.ext, &temps);
         let sure = whole::per_instruction(&self.ops, &sure);
         tight::mark(&mut self.ops, &sure);
         let regs_end = self

@@ -255,6 +255,10 @@ fn covers(op: Op) -> usize {
         | Op::AndLong { .. }
         | Op::OrLong { .. }
         | Op::XorLong { .. }
+        | Op::AddInt { .. }
+        | Op::SubInt { .. }
+        | Op::MulInt { .. }
+        | Op::IntInt { .. }
         | Op::NotAndWhole { .. }
         | Op::AndOr { .. }
         | Op::AndXorWhole { .. } => 2,

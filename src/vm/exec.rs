@@ -2,7 +2,7 @@
 //! its budget.
 
 use super::task::Frame;
-use crate::compile::bytecode::{BinaryOp, KernelFunc, Op, Reg, INT_STORE, REAL_STORE};
+use crate::compile::bytecode::{BinaryOp, ExtOp, KernelFunc, Op, Reg, INT_STORE, REAL_STORE};
 use crate::compile::Chunk;
 use crate::devices::command::{Domain, StartRef};
 use crate::devices::{ActOutcome, Devices, Now, Target, When};
@@ -224,6 +224,16 @@ pub fn run<'a>(
                 fault!("Overflow: {x} does not fit a long integer (-2147483648 to 2147483647)");
             }
             wr!($dst as usize, x);
+        }};
+    }
+    // An Overflow at `$here` if `$x` is outside 16 bits (INTEGER arithmetic's `chk.int`).
+    macro_rules! check_int {
+        ($x:expr, $here:expr) => {{
+            let x: f64 = $x;
+            if !fits_i16(x) {
+                pc = $here;
+                fault!("Overflow: {x} does not fit an integer (-32768 to 32767): INTEGER (%) arithmetic is 16-bit; make an operand long (CLNG, a & variable)");
+            }
         }};
     }
     // Store `$x` into the MotionBASIC INTEGER `$dst`: rounded as a long is, an Overflow outside
@@ -965,6 +975,64 @@ pub fn run<'a>(
                 Op::AndWhole { dst, a, b } => bitwise_whole!(dst, a, b, &, here, sure!(here)),
                 Op::OrWhole { dst, a, b } => bitwise_whole!(dst, a, b, |, here, sure!(here)),
                 Op::XorWhole { dst, a, b } => bitwise_whole!(dst, a, b, ^, here, sure!(here)),
+                Op::AddInt { t, dst, a, b } => {
+                    n += 1;
+                    let x = rd!(a as usize) + rd!(b as usize);
+                    wr!(t as usize, x);
+                    store_int!(dst, x, here + 1, sure!(here));
+                    pc = here + 2;
+                }
+                Op::SubInt { t, dst, a, b } => {
+                    n += 1;
+                    let x = rd!(a as usize) - rd!(b as usize);
+                    wr!(t as usize, x);
+                    store_int!(dst, x, here + 1, sure!(here));
+                    pc = here + 2;
+                }
+                Op::MulInt { t, dst, a, b } => {
+                    n += 1;
+                    let x = rd!(a as usize) * rd!(b as usize);
+                    wr!(t as usize, x);
+                    store_int!(dst, x, here + 1, sure!(here));
+                    pc = here + 2;
+                }
+                Op::IntInt { op, t, dst, a, b } => {
+                    n += 1;
+                    match integer(op, rd!(a as usize), rd!(b as usize), sure!(here)) {
+                        Ok(x) => {
+                            wr!(t as usize, x);
+                            store_int!(dst, x, here + 1, sure!(here));
+                            pc = here + 2;
+                        }
+                        Err(message) => {
+                            // The first half failed: the second was not reached.
+                            n -= 1;
+                            pc = here;
+                            fault!("{message}");
+                        }
+                    }
+                }
+                Op::AddCheckInt { dst, a, b } => {
+                    n += 1;
+                    let x = rd!(a as usize) + rd!(b as usize);
+                    wr!(dst as usize, x);
+                    check_int!(x, here + 1);
+                    pc = here + 2;
+                }
+                Op::SubCheckInt { dst, a, b } => {
+                    n += 1;
+                    let x = rd!(a as usize) - rd!(b as usize);
+                    wr!(dst as usize, x);
+                    check_int!(x, here + 1);
+                    pc = here + 2;
+                }
+                Op::MulCheckInt { dst, a, b } => {
+                    n += 1;
+                    let x = rd!(a as usize) * rd!(b as usize);
+                    wr!(dst as usize, x);
+                    check_int!(x, here + 1);
+                    pc = here + 2;
+                }
                 Op::AddCheck { dst, a, b } => {
                     n += 1;
                     check_long!(dst, rd!(a as usize) + rd!(b as usize), here + 1);
@@ -1011,13 +1079,7 @@ pub fn run<'a>(
                 }
                 Op::StoreInt { dst, src } => store_int!(dst, rd!(src as usize), here, sure!(here)),
                 Op::CheckLong { r } => check_long!(r, rd!(r as usize), here),
-                Op::CheckInt { r } => {
-                    let x = rd!(r as usize);
-                    if !fits_i16(x) {
-                        pc = here;
-                        fault!("Overflow: {x} does not fit an integer (-32768 to 32767): INTEGER (%) arithmetic is 16-bit; make an operand long (CLNG, a & variable)");
-                    }
-                }
+                Op::CheckInt { r } => check_int!(rd!(r as usize), here),
                 Op::Binary { op, dst, a, b } => {
                     match binary(op, rd!(a as usize), rd!(b as usize)) {
                         Ok(x) => wr!(dst as usize, x),
@@ -1616,9 +1678,52 @@ pub fn run<'a>(
                         store_fixed!(dst, x, decimals, here, false)
                     }
                 }
+                Op::TextJump {
+                    at,
+                    target,
+                    nonzero,
+                    negate,
+                } => {
+                    // The comparison (here), its `neg` when `negate`, then the jump. Its
+                    // registers are in the side table, outside `regs_end`: read with checks.
+                    let compared = match chunk.ext.get(at as usize) {
+                        Some(&ExtOp::CompareText { cmp, dst, a, b }) => {
+                            match (v.get(a as usize), v.get(b as usize)) {
+                                (Some(&x), Some(&y)) if (dst as usize) < v.len() => {
+                                    compare_text(cmp, x, y, ctx.strings).map(|h| (h, dst))
+                                }
+                                _ => Err(NO_REGISTER.to_string()),
+                            }
+                        }
+                        _ => Err(NO_REGISTER.to_string()),
+                    };
+                    let (holds, dst) = match compared {
+                        Ok(c) => c,
+                        Err(message) => {
+                            pc = here;
+                            fault!("{message}");
+                        }
+                    };
+                    let x = f64::from(u8::from(holds));
+                    v[dst as usize] = if negate { -x } else { x };
+                    n += 1 + u64::from(negate);
+                    pc = here + 2 + u32::from(negate);
+                    if holds == nonzero {
+                        taken!(target);
+                    }
+                }
                 Op::Ext { at, copies } => {
                     n += u64::from(copies);
-                    if let Err(message) = ext(at, chunk, v, ctx) {
+                    // A string store (the commonest) without the call into the side table's
+                    // interpreter, whose entry saves every register it uses.
+                    let done = match chunk.ext.get(at as usize) {
+                        Some(&ExtOp::StoreText { dst, src }) => match v.get(src as usize) {
+                            Some(&x) => store_text(dst as usize, x, v, ctx),
+                            None => Err(NO_REGISTER.to_string()),
+                        },
+                        _ => ext(at, chunk, v, ctx),
+                    };
+                    if let Err(message) = done {
                         pc = here;
                         fault!("{message}");
                     }
@@ -1734,6 +1839,32 @@ fn handle(x: f64, strings: &[String]) -> Result<usize, String> {
     } else {
         Err(not_a_string(x))
     }
+}
+
+/// Whether the strings whose handles are `a` and `b` compare as `cmp` says (byte order).
+/// Inlined into the interpreter's fused comparison: the call and its result cost more than
+/// comparing two short strings; an equality test of strings of different lengths reads none.
+#[inline(always)]
+fn compare_text(
+    cmp: crate::compile::bytecode::Cmp,
+    a: f64,
+    b: f64,
+    strings: &[String],
+) -> Result<bool, String> {
+    use crate::compile::bytecode::Cmp;
+    let (x, y) = (handle(a, strings)?, handle(b, strings)?);
+    let (Some(x), Some(y)) = (strings.get(x), strings.get(y)) else {
+        return Err(NO_REGISTER.to_string());
+    };
+    let (x, y) = (x.as_bytes(), y.as_bytes());
+    Ok(match cmp {
+        Cmp::Eq => x == y,
+        Cmp::Ne => x != y,
+        Cmp::Lt => x < y,
+        Cmp::Le => x <= y,
+        Cmp::Gt => x > y,
+        Cmp::Ge => x >= y,
+    })
 }
 
 /// [`handle`]'s error, apart: its formatting would otherwise be laid out in every caller.
@@ -1931,17 +2062,7 @@ fn ext(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(
             }
         }
         ExtOp::CompareText { cmp, dst, a, b } => {
-            let a = &ctx.strings[handle(v[a as usize], ctx.strings)?];
-            let b = &ctx.strings[handle(v[b as usize], ctx.strings)?];
-            let order = a.cmp(b);
-            let holds = match cmp {
-                crate::compile::bytecode::Cmp::Eq => order.is_eq(),
-                crate::compile::bytecode::Cmp::Ne => order.is_ne(),
-                crate::compile::bytecode::Cmp::Lt => order.is_lt(),
-                crate::compile::bytecode::Cmp::Le => order.is_le(),
-                crate::compile::bytecode::Cmp::Gt => order.is_gt(),
-                crate::compile::bytecode::Cmp::Ge => order.is_ge(),
-            };
+            let holds = compare_text(cmp, v[a as usize], v[b as usize], ctx.strings)?;
             v[dst as usize] = f64::from(u8::from(holds));
         }
         ExtOp::Rnd { dst, arg } => {
@@ -2097,6 +2218,9 @@ fn kernel_call(
 }
 
 /// The fault of a MotionBASIC axis instruction on a machine without DSP axes.
+/// A string instruction without its registers or strings (never compiled so).
+const NO_REGISTER: &str = "internal error: a string instruction without its operands";
+
 const NO_AXES: &str = "this machine has no DSP axes: define them in machine.toml ([axis.1] …)";
 
 /// The MotionBASIC instructions that write to the axes: apart from [`motionbasic`], whose reads
