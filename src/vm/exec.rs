@@ -1684,28 +1684,14 @@ pub fn run<'a>(
                     nonzero,
                     negate,
                 } => {
-                    // The comparison (here), its `neg` when `negate`, then the jump. Its
-                    // registers are in the side table, outside `regs_end`: read with checks.
-                    let compared = match chunk.ext.get(at as usize) {
-                        Some(&ExtOp::CompareText { cmp, dst, a, b }) => {
-                            match (v.get(a as usize), v.get(b as usize)) {
-                                (Some(&x), Some(&y)) if (dst as usize) < v.len() => {
-                                    compare_text(cmp, x, y, ctx.strings).map(|h| (h, dst))
-                                }
-                                _ => Err(NO_REGISTER.to_string()),
-                            }
-                        }
-                        _ => Err(NO_REGISTER.to_string()),
-                    };
-                    let (holds, dst) = match compared {
-                        Ok(c) => c,
+                    // The comparison (here), its `neg` when `negate`, then the jump.
+                    let holds = match text_jump(at, negate, chunk, v, ctx.strings) {
+                        Ok(holds) => holds,
                         Err(message) => {
                             pc = here;
                             fault!("{message}");
                         }
                     };
-                    let x = f64::from(u8::from(holds));
-                    v[dst as usize] = if negate { -x } else { x };
                     n += 1 + u64::from(negate);
                     pc = here + 2 + u32::from(negate);
                     if holds == nonzero {
@@ -1714,16 +1700,7 @@ pub fn run<'a>(
                 }
                 Op::Ext { at, copies } => {
                     n += u64::from(copies);
-                    // A string store (the commonest) without the call into the side table's
-                    // interpreter, whose entry saves every register it uses.
-                    let done = match chunk.ext.get(at as usize) {
-                        Some(&ExtOp::StoreText { dst, src }) => match v.get(src as usize) {
-                            Some(&x) => store_text(dst as usize, x, v, ctx),
-                            None => Err(NO_REGISTER.to_string()),
-                        },
-                        _ => ext(at, chunk, v, ctx),
-                    };
-                    if let Err(message) = done {
+                    if let Err(message) = ext(at, chunk, v, ctx) {
                         pc = here;
                         fault!("{message}");
                     }
@@ -1841,9 +1818,35 @@ fn handle(x: f64, strings: &[String]) -> Result<usize, String> {
     }
 }
 
+/// The work of an [`Op::TextJump`] but its jump: the comparison of the side table's `at`,
+/// its result (negated when `negate`) into its register; whether it holds. Its registers are
+/// in the side table, outside `regs_end`: read with checks. Apart from the interpreter's loop,
+/// where its registers would cost every instruction a spill.
+#[inline(never)]
+fn text_jump(
+    at: u32,
+    negate: bool,
+    chunk: &Chunk,
+    v: &mut [f64],
+    strings: &[String],
+) -> Result<bool, String> {
+    let Some(&ExtOp::CompareText { cmp, dst, a, b }) = chunk.ext.get(at as usize) else {
+        return Err(NO_REGISTER.to_string());
+    };
+    let (Some(&x), Some(&y)) = (v.get(a as usize), v.get(b as usize)) else {
+        return Err(NO_REGISTER.to_string());
+    };
+    let holds = compare_text(cmp, x, y, strings)?;
+    let Some(out) = v.get_mut(dst as usize) else {
+        return Err(NO_REGISTER.to_string());
+    };
+    let x = f64::from(u8::from(holds));
+    *out = if negate { -x } else { x };
+    Ok(holds)
+}
+
 /// Whether the strings whose handles are `a` and `b` compare as `cmp` says (byte order).
-/// Inlined into the interpreter's fused comparison: the call and its result cost more than
-/// comparing two short strings; an equality test of strings of different lengths reads none.
+/// An equality test of strings of different lengths reads none.
 #[inline(always)]
 fn compare_text(
     cmp: crate::compile::bytecode::Cmp,
@@ -2218,8 +2221,8 @@ fn kernel_call(
 }
 
 /// The fault of a MotionBASIC axis instruction on a machine without DSP axes.
-/// A string instruction without its registers or strings (never compiled so).
-const NO_REGISTER: &str = "internal error: a string instruction without its operands";
+/// A fused string comparison without its registers or strings (never compiled so).
+const NO_REGISTER: &str = "internal error: a string comparison without its operands";
 
 const NO_AXES: &str = "this machine has no DSP axes: define them in machine.toml ([axis.1] …)";
 
