@@ -532,6 +532,28 @@ pub fn run<'a>(
                 pc = $target;
             }};
         }
+        // The superinstruction at `$here` whose first half gives `$x` (`Err`: its fault) into
+        // the temporary `$t`, and whose second (at `$here + 1`) stores it into `$dst` with
+        // `$store!` (`store_long!`, `store_int!`).
+        macro_rules! then_store {
+            ($t:expr, $dst:expr, $x:expr, $here:expr, $store:ident) => {{
+                n += 1;
+                let first: Result<f64, &str> = $x;
+                match first {
+                    Ok(x) => {
+                        wr!($t as usize, x);
+                        $store!($dst, x, $here + 1, sure!($here));
+                        pc = $here + 2;
+                    }
+                    Err(message) => {
+                        // The first half failed: the second was not reached.
+                        n -= 1;
+                        pc = $here;
+                        fault!("{message}");
+                    }
+                }
+            }};
+        }
         loop {
             debug_assert!((pc as usize) < ops.len());
             // SAFETY: pc is inside the chunk: it was on entry (checked above) and every way it
@@ -606,41 +628,35 @@ pub fn run<'a>(
                 // Superinstructions: the work of this instruction and the next, which is skipped;
                 // they count as two, and a fault in the second half is reported at the second.
                 Op::AddLong { t, dst, a, b } => {
-                    n += 1;
-                    let x = rd!(a as usize) + rd!(b as usize);
-                    wr!(t as usize, x);
-                    store_long!(dst, x, here + 1, sure!(here));
-                    pc = here + 2;
+                    then_store!(
+                        t,
+                        dst,
+                        Ok(rd!(a as usize) + rd!(b as usize)),
+                        here,
+                        store_long
+                    )
                 }
                 Op::SubLong { t, dst, a, b } => {
-                    n += 1;
-                    let x = rd!(a as usize) - rd!(b as usize);
-                    wr!(t as usize, x);
-                    store_long!(dst, x, here + 1, sure!(here));
-                    pc = here + 2;
+                    then_store!(
+                        t,
+                        dst,
+                        Ok(rd!(a as usize) - rd!(b as usize)),
+                        here,
+                        store_long
+                    )
                 }
                 Op::MulLong { t, dst, a, b } => {
-                    n += 1;
-                    let x = rd!(a as usize) * rd!(b as usize);
-                    wr!(t as usize, x);
-                    store_long!(dst, x, here + 1, sure!(here));
-                    pc = here + 2;
+                    then_store!(
+                        t,
+                        dst,
+                        Ok(rd!(a as usize) * rd!(b as usize)),
+                        here,
+                        store_long
+                    )
                 }
                 Op::IntLong { op, t, dst, a, b } => {
-                    n += 1;
-                    match integer(op, rd!(a as usize), rd!(b as usize), sure!(here)) {
-                        Ok(x) => {
-                            wr!(t as usize, x);
-                            store_long!(dst, x, here + 1, sure!(here));
-                            pc = here + 2;
-                        }
-                        Err(message) => {
-                            // The first half failed: the second was not reached.
-                            n -= 1;
-                            pc = here;
-                            fault!("{message}");
-                        }
-                    }
+                    let x = integer(op, rd!(a as usize), rd!(b as usize), sure!(here));
+                    then_store!(t, dst, x, here, store_long)
                 }
                 Op::ModLong { t, dst, a, b } => {
                     n += 1;
@@ -976,41 +992,35 @@ pub fn run<'a>(
                 Op::OrWhole { dst, a, b } => bitwise_whole!(dst, a, b, |, here, sure!(here)),
                 Op::XorWhole { dst, a, b } => bitwise_whole!(dst, a, b, ^, here, sure!(here)),
                 Op::AddInt { t, dst, a, b } => {
-                    n += 1;
-                    let x = rd!(a as usize) + rd!(b as usize);
-                    wr!(t as usize, x);
-                    store_int!(dst, x, here + 1, sure!(here));
-                    pc = here + 2;
+                    then_store!(
+                        t,
+                        dst,
+                        Ok(rd!(a as usize) + rd!(b as usize)),
+                        here,
+                        store_int
+                    )
                 }
                 Op::SubInt { t, dst, a, b } => {
-                    n += 1;
-                    let x = rd!(a as usize) - rd!(b as usize);
-                    wr!(t as usize, x);
-                    store_int!(dst, x, here + 1, sure!(here));
-                    pc = here + 2;
+                    then_store!(
+                        t,
+                        dst,
+                        Ok(rd!(a as usize) - rd!(b as usize)),
+                        here,
+                        store_int
+                    )
                 }
                 Op::MulInt { t, dst, a, b } => {
-                    n += 1;
-                    let x = rd!(a as usize) * rd!(b as usize);
-                    wr!(t as usize, x);
-                    store_int!(dst, x, here + 1, sure!(here));
-                    pc = here + 2;
+                    then_store!(
+                        t,
+                        dst,
+                        Ok(rd!(a as usize) * rd!(b as usize)),
+                        here,
+                        store_int
+                    )
                 }
                 Op::IntInt { op, t, dst, a, b } => {
-                    n += 1;
-                    match integer(op, rd!(a as usize), rd!(b as usize), sure!(here)) {
-                        Ok(x) => {
-                            wr!(t as usize, x);
-                            store_int!(dst, x, here + 1, sure!(here));
-                            pc = here + 2;
-                        }
-                        Err(message) => {
-                            // The first half failed: the second was not reached.
-                            n -= 1;
-                            pc = here;
-                            fault!("{message}");
-                        }
-                    }
+                    let x = integer(op, rd!(a as usize), rd!(b as usize), sure!(here));
+                    then_store!(t, dst, x, here, store_int)
                 }
                 Op::AddCheckInt { dst, a, b } => {
                     n += 1;
