@@ -1865,11 +1865,9 @@ fn compare_text(
     strings: &[String],
 ) -> Result<bool, String> {
     use crate::compile::bytecode::Cmp;
-    let (x, y) = (handle(a, strings)?, handle(b, strings)?);
-    let (Some(x), Some(y)) = (strings.get(x), strings.get(y)) else {
-        return Err(NO_REGISTER.to_string());
-    };
-    let (x, y) = (x.as_bytes(), y.as_bytes());
+    // `handle` gives only indices within the table.
+    let x = strings[handle(a, strings)?].as_bytes();
+    let y = strings[handle(b, strings)?].as_bytes();
     Ok(match cmp {
         Cmp::Eq => x == y,
         Cmp::Ne => x != y,
@@ -2230,10 +2228,10 @@ fn kernel_call(
     Ok(())
 }
 
-/// The fault of a MotionBASIC axis instruction on a machine without DSP axes.
-/// A fused string comparison without its registers or strings (never compiled so).
+/// A fused string comparison without its registers (never compiled so).
 const NO_REGISTER: &str = "internal error: a string comparison without its operands";
 
+/// The fault of a MotionBASIC axis instruction on a machine without DSP axes.
 const NO_AXES: &str = "this machine has no DSP axes: define them in machine.toml ([axis.1] …)";
 
 /// The MotionBASIC instructions that write to the axes: apart from [`motionbasic`], whose reads
