@@ -1075,3 +1075,150 @@ fn string_comparisons_fused_with_their_jump_give_the_values_and_counts_of_all() 
         }
     }
 }
+
+/// The string functions programs call most run as instructions of their own in the side
+/// table (`LEN`, `ASC`, `VAL`, `INSTR` from the start, `LEFT$`, `RIGHT$`, `MID$` of two and
+/// three arguments, `CHR$`, `STR$`), and two side-table instructions in a row as one call
+/// (`ExtPair`). Values, counts and budget yields are those of the build before (1a8a6a4):
+/// a non-ASCII character, an empty string found by `INSTR`, `STR$` of an INTEGER, a long, a
+/// SINGLE and a DOUBLE, and the general functions (`UCASE$`, `SPACE$`, `HEX$`) among them.
+#[test]
+fn string_functions_of_their_own_and_in_pairs_give_the_values_and_counts_of_before() {
+    use pacer::compile::bytecode::ExtOp;
+    let program = "DEFINT K\nW# = 7\n\
+        S$ = \"K-1234/XY\": D$ = CHR$(176) + \"C\" + STR$(-12)\n\
+        FOR I& = 1 TO 12\n\
+        \x20 C$ = CHR$(64 + I&) + LEFT$(S$, I& MOD 4) + RIGHT$(D$, I& MOD 5) + MID$(S$, I&)\n\
+        \x20 L& = L& + LEN(C$) + LEN(D$) + ASC(C$) + ASC(D$)\n\
+        \x20 P& = P& + INSTR(C$, \"/\") * 3 + INSTR(I& MOD 3 + 1, D$, \"C\") + INSTR(C$, \"\")\n\
+        \x20 T = T + VAL(MID$(S$, 3, I& MOD 6)) + VAL(D$) + VAL(RIGHT$(D$, 3))\n\
+        \x20 K = I& * 7: E$ = STR$(K) + STR$(I& / 4) + STR$(-I& * 1000000) + STR$(T / W#)\n\
+        \x20 G$ = G$ + MID$(C$, 2, 1) + LEFT$(E$, 2)\n\
+        \x20 U$ = UCASE$(LCASE$(C$)) + SPACE$(I& MOD 3) + HEX$(I& * 37)\n\
+        \x20 H& = (H& * 31 + LEN(E$) + LEN(U$) + ASC(RIGHT$(G$, 1))) MOD 1000003\n\
+        NEXT\n";
+    let loaded = load_mb("own-text", program, 10_000);
+    let chunk = &loaded.image.chunks[0];
+    let own = chunk
+        .ext
+        .iter()
+        .filter(|op| {
+            matches!(
+                op,
+                ExtOp::Len { .. }
+                    | ExtOp::Asc { .. }
+                    | ExtOp::Val { .. }
+                    | ExtOp::Instr { .. }
+                    | ExtOp::Left { .. }
+                    | ExtOp::Right { .. }
+                    | ExtOp::Mid { .. }
+                    | ExtOp::MidN { .. }
+                    | ExtOp::Chr { .. }
+                    | ExtOp::Str { .. }
+            )
+        })
+        .count();
+    // All but INSTR from a start, UCASE$, LCASE$, SPACE$ and HEX$.
+    assert_eq!(own, 27);
+    let pairs = chunk
+        .ops
+        .iter()
+        .filter(|op| matches!(op, Op::ExtPair { .. }))
+        .count();
+    assert_eq!(pairs, 18);
+    // Each listed as the `text` instruction it stands for.
+    let listing =
+        pacer::compile::disasm::disassemble(chunk, &loaded.layout, &loaded.image.registry);
+    for line in [
+        "text      t0 <- LEN(C$)",
+        "text      t0 <- INSTR(C$, \"/\")",
+        "text      t0 <- MID$(S$, 3, t0) (cell 17)",
+        "text      t1 <- MID$(S$, I&) (cell 14)",
+        "text      t0 <- STR$(K%) (cell 19)",
+        "text      t1 <- INSTR(t1, D$, \"C\")",
+    ] {
+        assert!(listing.contains(line), "no `{line}` in\n{listing}");
+    }
+    for (budget, ticks) in [(3, 12), (7, 12), (20, 12), (10_000, 1)] {
+        let run = run_mb("own-text", program, budget);
+        assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+        assert_eq!(
+            (run.summary.instructions, run.summary.ticks),
+            (1672, ticks),
+            "budget {budget}"
+        );
+        for (name, v) in [
+            ("L&", 3116.0),
+            ("P&", 208.0),
+            ("T", 5064.0),
+            ("H&", 895664.0),
+        ] {
+            assert_eq!(val(&run, name), v, "{name} at budget {budget}");
+        }
+        let text = |name: &str| {
+            let slot = slot_value(&run.machine, name).unwrap_or_else(|| panic!("no {name}"));
+            run.machine.strings()[slot as usize].clone()
+        };
+        assert_eq!(text("E$"), " 84 3-12000000 723.4285714285714");
+        assert_eq!(text("U$"), "L121BC");
+        assert_eq!(text("G$"), "K 7K 1K 2C 2K 3K 4K 4- 5K 6K 7K 71 8");
+    }
+}
+
+/// A fault in either instruction of an `ExtPair` is where that instruction is, counted as
+/// when they ran one by one, the string stored before left as it was (figures of 1a8a6a4).
+#[test]
+fn string_instructions_in_pairs_fault_where_each_is() {
+    let cases = [
+        // The second of the pair (LEFT$, MID$) faults; then the first of (MID$, LEFT$).
+        (
+            "C$ = LEFT$(B$, 1) + MID$(B$, 0)",
+            21,
+            13,
+            "Illegal function call: MID$ takes a start",
+        ),
+        (
+            "C$ = MID$(B$, 0) + LEFT$(B$, 1)",
+            6,
+            10,
+            "Illegal function call: MID$ takes a start",
+        ),
+        // The join after a LEFT$ in its pair.
+        (
+            "C$ = A$ + LEFT$(A$, 100)",
+            6,
+            11,
+            "String too long: a string holds at most 255",
+        ),
+        (
+            "C& = LEN(C$) + ASC(E$)",
+            16,
+            11,
+            "Illegal function call: ASC of an empty string",
+        ),
+        (
+            "C$ = RIGHT$(B$, 1) + CHR$(256)",
+            22,
+            12,
+            "Illegal function call: CHR$ takes a code",
+        ),
+        (
+            "C& = INSTR(B$, \"Y\") + INSTR(0, B$, \"Y\")",
+            23,
+            14,
+            "Illegal function call: INSTR",
+        ),
+    ];
+    for (line, column, count, want) in cases {
+        let program = format!(
+            "A$ = STRING$(200, \"A\"): B$ = \"XY\": E$ = \"\"\nC$ = \"Q\"\n{line}\nC$ = \"Z\"\n"
+        );
+        let run = run_mb("pair-fault", &program, 10_000);
+        let e = run.summary.error.as_ref().expect("a fault");
+        assert_eq!((e.line, e.column), (3, column), "{line}: {}", e.message);
+        assert!(e.message.starts_with(want), "{line}: {}", e.message);
+        assert_eq!(run.summary.instructions, count, "{line}");
+        let slot = slot_value(&run.machine, "C$").unwrap_or(-1.0);
+        assert_eq!(run.machine.strings()[slot as usize], "Q", "{line}");
+    }
+}

@@ -312,7 +312,7 @@ fn chars(s: &str, from: usize, n: usize, out: &mut String) {
 }
 
 /// The number of characters of `s` (its length in bytes when it is ASCII, as it mostly is).
-fn count(s: &str) -> usize {
+pub fn count(s: &str) -> usize {
     if s.is_ascii() {
         s.len()
     } else {
@@ -366,41 +366,20 @@ pub fn apply<A: Args + ?Sized>(
     match func {
         TextFunc::Len => return Ok(Some(count(args.text(0)?) as f64)),
         TextFunc::Val => return Ok(Some(val(args.text(0)?))),
-        TextFunc::Asc => {
-            let Some(c) = args.text(0)?.chars().next() else {
-                return Err(illegal("ASC of an empty string"));
-            };
-            return Ok(Some(f64::from(u32::from(c))));
-        }
+        TextFunc::Asc => return asc(args.text(0)?).map(Some),
         TextFunc::Instr => {
-            let (start, hay, needle) = if args.count() == 3 {
-                (
-                    whole(args.num(0), 1, 255, "a start", func)?,
-                    args.text(1)?,
-                    args.text(2)?,
-                )
+            return if args.count() == 3 {
+                instr_from(args.num(0), args.text(1)?, args.text(2)?)
             } else {
-                (1, args.text(0)?, args.text(1)?)
-            };
-            return Ok(Some(instr(start as usize, hay, needle)));
+                Ok(instr(1, args.text(0)?, args.text(1)?))
+            }
+            .map(Some);
         }
-        TextFunc::Left => {
-            let n = whole(args.num(1), 0, 255, "a count", func)?;
-            chars(args.text(0)?, 0, n as usize, out);
-        }
-        TextFunc::Right => {
-            let n = whole(args.num(1), 0, 255, "a count", func)? as usize;
-            let s = args.text(0)?;
-            chars(s, count(s).saturating_sub(n), n, out);
-        }
+        TextFunc::Left => left(args.text(0)?, args.num(1), out)?,
+        TextFunc::Right => right(args.text(0)?, args.num(1), out)?,
         TextFunc::Mid => {
-            let start = whole(args.num(1), 1, 255, "a start", func)? as usize;
-            let n = if args.count() > 2 {
-                whole(args.num(2), 0, 255, "a count", func)? as usize
-            } else {
-                MAX_LEN
-            };
-            chars(args.text(0)?, start - 1, n, out);
+            let n = (args.count() > 2).then(|| args.num(2));
+            mid(args.text(0)?, args.num(1), n, out)?;
         }
         TextFunc::MidSet => {
             let (target, replacement) = (args.text(0)?, args.text(2)?);
@@ -422,19 +401,8 @@ pub fn apply<A: Args + ?Sized>(
             chars(replacement, 0, n, out);
             chars(target, start - 1 + n, MAX_LEN, out);
         }
-        TextFunc::Str(how) => {
-            let x = args.num(0);
-            if !crate::vm::print::push_plain(x, how, false, out) {
-                crate::vm::print::push_number(x, how, out);
-                out.truncate(out.trim_end_matches(' ').len());
-            }
-        }
-        TextFunc::Chr => {
-            let code = whole(args.num(0), 0, 255, "a code", func)?;
-            // Codes 128–255 are Latin-1 here (what pacer reads Windows-1252 programs as is
-            // the same for letters such as `°` and `µ`).
-            out.push(char::from(code as u8));
-        }
+        TextFunc::Str(how) => str_of(args.num(0), how, out),
+        TextFunc::Chr => chr(args.num(0), out)?,
         TextFunc::Space => {
             let n = whole(args.num(0), 0, 255, "a count", func)?;
             out.extend(std::iter::repeat_n(' ', n as usize));
@@ -479,9 +447,75 @@ pub fn apply<A: Args + ?Sized>(
     Ok(None)
 }
 
+// The functions programs call most, each on its arguments as they are: [`apply`] calls them,
+// and the interpreter on the registers its specialised instructions name.
+
+/// `ASC(s)`.
+#[inline]
+pub fn asc(s: &str) -> Result<f64, String> {
+    match s.chars().next() {
+        Some(c) => Ok(f64::from(u32::from(c))),
+        None => Err(illegal("ASC of an empty string")),
+    }
+}
+
+/// `INSTR(start, hay, needle)`.
+#[inline]
+pub fn instr_from(start: f64, hay: &str, needle: &str) -> Result<f64, String> {
+    let start = whole(start, 1, 255, "a start", TextFunc::Instr)?;
+    Ok(instr(start as usize, hay, needle))
+}
+
+/// `LEFT$(s, n)`, written to `out`.
+#[inline]
+pub fn left(s: &str, n: f64, out: &mut String) -> Result<(), String> {
+    let n = whole(n, 0, 255, "a count", TextFunc::Left)?;
+    chars(s, 0, n as usize, out);
+    Ok(())
+}
+
+/// `RIGHT$(s, n)`, written to `out`.
+#[inline]
+pub fn right(s: &str, n: f64, out: &mut String) -> Result<(), String> {
+    let n = whole(n, 0, 255, "a count", TextFunc::Right)? as usize;
+    chars(s, count(s).saturating_sub(n), n, out);
+    Ok(())
+}
+
+/// `MID$(s, start[, n])`, written to `out`.
+#[inline]
+pub fn mid(s: &str, start: f64, n: Option<f64>, out: &mut String) -> Result<(), String> {
+    let start = whole(start, 1, 255, "a start", TextFunc::Mid)? as usize;
+    let n = match n {
+        Some(n) => whole(n, 0, 255, "a count", TextFunc::Mid)? as usize,
+        None => MAX_LEN,
+    };
+    chars(s, start - 1, n, out);
+    Ok(())
+}
+
+/// `STR$(x)` of a value of type `how`, written to `out`.
+#[inline]
+pub fn str_of(x: f64, how: PrintHow, out: &mut String) {
+    if !crate::vm::print::push_plain(x, how, false, out) {
+        crate::vm::print::push_number(x, how, out);
+        out.truncate(out.trim_end_matches(' ').len());
+    }
+}
+
+/// `CHR$(code)`, written to `out`.
+#[inline]
+pub fn chr(code: f64, out: &mut String) -> Result<(), String> {
+    let code = whole(code, 0, 255, "a code", TextFunc::Chr)?;
+    // Codes 128–255 are Latin-1 here (what pacer reads Windows-1252 programs as is the same
+    // for letters such as `°` and `µ`).
+    out.push(char::from(code as u8));
+    Ok(())
+}
+
 /// INSTR from character `start` (1-based, at least 1): where `needle` first occurs in `hay`,
 /// from 1; 0 when nowhere.
-fn instr(start: usize, hay: &str, needle: &str) -> f64 {
+pub fn instr(start: usize, hay: &str, needle: &str) -> f64 {
     let from = start - 1;
     // One pass says whether byte positions are character positions.
     let ascii = hay.is_ascii();

@@ -540,6 +540,18 @@ pub enum Op {
         nonzero: bool,
         negate: bool,
     },
+    /// A superinstruction ([`fuse_ext_pairs`]): the [`Op::Ext`] of side-table entry `at`
+    /// (counting `1 + copies`) and the `Op::Ext` after it, of entry `next` (counting
+    /// `1 + next_copies`), in one call out of the interpreter's loop. A string expression is
+    /// mostly such instructions one after the other (a function, the join of its result, the
+    /// store), and each paid for the call alone. A fault is at the one that faults. Listed as
+    /// the first, the second following.
+    ExtPair {
+        at: u32,
+        copies: u8,
+        next: u32,
+        next_copies: u8,
+    },
     /// `RETURN` from a subroutine.
     Return,
     /// End of this program (returns to a caller if called).
@@ -570,6 +582,45 @@ pub enum ExtOp {
         argc: u8,
         texts: u8,
     },
+    // The string functions programs call most, each naming only the registers it reads
+    // ([`specialize_text`] makes them of [`ExtOp::Text`], and [`ExtOp::general`] gives that
+    // back): the interpreter reads no argument count or kinds, and branches once.
+    /// `LEN(s)`.
+    Len { dst: Reg, s: Reg },
+    /// `ASC(s)`.
+    Asc { dst: Reg, s: Reg },
+    /// `VAL(s)`.
+    Val { dst: Reg, s: Reg },
+    /// `INSTR(hay, needle)`, from the first character.
+    Instr { dst: Reg, hay: Reg, needle: Reg },
+    /// `LEFT$(s, n)` into `cell`; `dst` = the cell.
+    Left { dst: Reg, cell: u32, s: Reg, n: Reg },
+    /// `RIGHT$(s, n)` into `cell`; `dst` = the cell.
+    Right { dst: Reg, cell: u32, s: Reg, n: Reg },
+    /// `MID$(s, start)` into `cell`; `dst` = the cell.
+    Mid {
+        dst: Reg,
+        cell: u32,
+        s: Reg,
+        start: Reg,
+    },
+    /// `MID$(s, start, n)` into `cell`; `dst` = the cell.
+    MidN {
+        dst: Reg,
+        cell: u32,
+        s: Reg,
+        start: Reg,
+        n: Reg,
+    },
+    /// `CHR$(code)` into `cell`; `dst` = the cell.
+    Chr { dst: Reg, cell: u32, code: Reg },
+    /// `STR$(x)` of a value of type `how` into `cell`; `dst` = the cell.
+    Str {
+        dst: Reg,
+        cell: u32,
+        x: Reg,
+        how: PrintHow,
+    },
     /// `dst` = 1 when the strings compare as `cmp` says (character codes, a prefix first), else 0.
     CompareText { cmp: Cmp, dst: Reg, a: Reg, b: Reg },
     /// `dst` = RND, or RND(`arg`).
@@ -594,6 +645,116 @@ pub enum ExtOp {
         count: u32,
         texts: u64,
     },
+}
+
+impl ExtOp {
+    /// The [`ExtOp::Text`] a specialised string function stands for (what the listing shows);
+    /// any other instruction as it is.
+    pub fn general(&self) -> ExtOp {
+        use crate::check::text::TextFunc as F;
+        let text = |func, dst, cell, given: &[Reg], texts| {
+            let mut args = [0; 4];
+            args[..given.len()].copy_from_slice(given);
+            ExtOp::Text {
+                func,
+                dst,
+                cell,
+                args,
+                argc: given.len() as u8,
+                texts,
+            }
+        };
+        match *self {
+            ExtOp::Len { dst, s } => text(F::Len, dst, 0, &[s], 0b1),
+            ExtOp::Asc { dst, s } => text(F::Asc, dst, 0, &[s], 0b1),
+            ExtOp::Val { dst, s } => text(F::Val, dst, 0, &[s], 0b1),
+            ExtOp::Instr { dst, hay, needle } => text(F::Instr, dst, 0, &[hay, needle], 0b11),
+            ExtOp::Left { dst, cell, s, n } => text(F::Left, dst, cell, &[s, n], 0b1),
+            ExtOp::Right { dst, cell, s, n } => text(F::Right, dst, cell, &[s, n], 0b1),
+            ExtOp::Mid {
+                dst,
+                cell,
+                s,
+                start,
+            } => text(F::Mid, dst, cell, &[s, start], 0b1),
+            ExtOp::MidN {
+                dst,
+                cell,
+                s,
+                start,
+                n,
+            } => text(F::Mid, dst, cell, &[s, start, n], 0b1),
+            ExtOp::Chr { dst, cell, code } => text(F::Chr, dst, cell, &[code], 0),
+            ExtOp::Str { dst, cell, x, how } => text(F::Str(how), dst, cell, &[x], 0),
+            ref other => other.clone(),
+        }
+    }
+}
+
+/// Make each [`ExtOp::Text`] of a function with a specialised instruction that instruction,
+/// when [`ExtOp::general`] gives the same `Text` back (arguments of the kinds the checker
+/// gives that function, nothing in the registers it does not read).
+pub fn specialize_text(ext: &mut [ExtOp]) {
+    use crate::check::text::TextFunc as F;
+    for op in ext.iter_mut() {
+        let ExtOp::Text {
+            func,
+            dst,
+            cell,
+            args: [a, b, c, _],
+            argc,
+            ..
+        } = *op
+        else {
+            continue;
+        };
+        let special = match (func, argc) {
+            (F::Len, 1) => ExtOp::Len { dst, s: a },
+            (F::Asc, 1) => ExtOp::Asc { dst, s: a },
+            (F::Val, 1) => ExtOp::Val { dst, s: a },
+            (F::Instr, 2) => ExtOp::Instr {
+                dst,
+                hay: a,
+                needle: b,
+            },
+            (F::Left, 2) => ExtOp::Left {
+                dst,
+                cell,
+                s: a,
+                n: b,
+            },
+            (F::Right, 2) => ExtOp::Right {
+                dst,
+                cell,
+                s: a,
+                n: b,
+            },
+            (F::Mid, 2) => ExtOp::Mid {
+                dst,
+                cell,
+                s: a,
+                start: b,
+            },
+            (F::Mid, 3) => ExtOp::MidN {
+                dst,
+                cell,
+                s: a,
+                start: b,
+                n: c,
+            },
+            (F::Chr, 1) => ExtOp::Chr { dst, cell, code: a },
+            (F::Str(how), 1) => ExtOp::Str {
+                dst,
+                cell,
+                x: a,
+                how,
+            },
+            _ => continue,
+        };
+        if special.general() == *op {
+            *op = special;
+        }
+    }
 }
 
 /// A `DATA` constant of a compiled program.
@@ -990,6 +1151,32 @@ pub fn fuse_text(ops: &mut [Op], ext: &[ExtOp], temps: &std::ops::Range<Reg>) {
             nonzero,
             negate,
         };
+    }
+}
+
+/// Make an [`Op::Ext`] followed by another an [`Op::ExtPair`] of the two, pairing a run of
+/// them from its first (the second of a pair stays as it is: a jump to it runs it alone).
+pub fn fuse_ext_pairs(ops: &mut [Op]) {
+    let mut i = 0;
+    while i + 1 < ops.len() {
+        if let (
+            Op::Ext { at, copies },
+            Op::Ext {
+                at: next,
+                copies: next_copies,
+            },
+        ) = (ops[i], ops[i + 1])
+        {
+            ops[i] = Op::ExtPair {
+                at,
+                copies,
+                next,
+                next_copies,
+            };
+            i += 2;
+        } else {
+            i += 1;
+        }
     }
 }
 

@@ -362,10 +362,12 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 let kind = store_kind(decimals);
                 format!("store.at.{kind} {}[{}] <- {}", r(base), r(off), r(src))
             }
-            Op::Ext { at, .. } | Op::TextJump { at, .. } => match chunk.ext.get(at as usize) {
-                Some(ext) => ext_text(ext, &r, &text, chunk),
-                None => format!("ext       #{at}?"),
-            },
+            Op::Ext { at, .. } | Op::ExtPair { at, .. } | Op::TextJump { at, .. } => {
+                match chunk.ext.get(at as usize) {
+                    Some(ext) => ext_text(ext, &r, &text, chunk),
+                    None => format!("ext       #{at}?"),
+                }
+            }
             Op::Return => "return".to_string(),
             Op::End => "end".to_string(),
         };
@@ -495,6 +497,17 @@ fn ext_text(
             count,
             ..
         } => format!("print.using {} ; {count} from {}", r(*format), r(*args)),
+        // Listed as the `text` instruction each stands for.
+        ExtOp::Len { .. }
+        | ExtOp::Asc { .. }
+        | ExtOp::Val { .. }
+        | ExtOp::Instr { .. }
+        | ExtOp::Left { .. }
+        | ExtOp::Right { .. }
+        | ExtOp::Mid { .. }
+        | ExtOp::MidN { .. }
+        | ExtOp::Chr { .. }
+        | ExtOp::Str { .. } => ext_text(&op.general(), r, text, chunk),
         ExtOp::Restore { item } => {
             let line = chunk.data.get(*item as usize).map(|d| d.line);
             match line {

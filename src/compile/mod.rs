@@ -323,6 +323,8 @@ impl<'a> Compiler<'a> {
         bytecode::fuse(&mut self.ops, temps.clone());
         bytecode::fuse_with_constants(&mut self.ops, &temps, &|r| self.layout.constant_value(r));
         bytecode::fuse_text(&mut self.ops, &self.ext, &temps);
+        bytecode::fuse_ext_pairs(&mut self.ops);
+        bytecode::specialize_text(&mut self.ext);
         let sure = whole::per_instruction(&self.ops, &sure);
         tight::mark(&mut self.ops, &sure);
         let regs_end = self

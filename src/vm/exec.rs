@@ -1715,6 +1715,23 @@ pub fn run<'a>(
                         fault!("{message}");
                     }
                 }
+                Op::ExtPair {
+                    at,
+                    copies,
+                    next,
+                    next_copies,
+                } => {
+                    // Each counts as when it ran alone (the loop counted the first's 1).
+                    n += u64::from(copies);
+                    if let Err(fault) = ext_pair(at, next, chunk, v, ctx) {
+                        let second = fault.0;
+                        n += u64::from(second) * (1 + u64::from(next_copies));
+                        pc = here + u32::from(second);
+                        fault!("{}", fault.1);
+                    }
+                    n += 1 + u64::from(next_copies);
+                    pc = here + 2;
+                }
                 Op::End => {
                     // The end of a called program: back to its caller's frame, as the machine's
                     // loop does it (the program's subroutine frames go with it). The end of the
@@ -1999,6 +2016,12 @@ impl crate::check::text::Args for Given<'_> {
     }
 }
 
+/// The string whose handle is in register `r`.
+#[inline(always)]
+fn arg_text<'a>(v: &[f64], strings: &'a [String], r: Reg) -> Result<&'a str, String> {
+    Ok(&strings[handle(v[r as usize], strings)?])
+}
+
 /// Cell `a` to change and cell `b` to read: two different cells of `strings` (`a != b`).
 #[inline(always)]
 fn two(strings: &mut [String], a: usize, b: usize) -> (&mut String, &String) {
@@ -2011,16 +2034,93 @@ fn two(strings: &mut [String], a: usize, b: usize) -> (&mut String, &String) {
     }
 }
 
-/// The instructions of the side table ([`Op::Ext`]): strings, `DATA`, random numbers.
+/// The instructions of the side table ([`Op::Ext`]): strings, `DATA`, random numbers. The
+/// error boxed, so that the result comes back in registers and not through memory.
 #[cold]
 #[inline(never)]
-fn ext(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(), String> {
+fn ext(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(), Box<str>> {
+    side_table(at, chunk, v, ctx).map_err(String::into_boxed_str)
+}
+
+/// The work of an [`Op::ExtPair`]: the side table's `at`, then its `next`. Err: whether the
+/// second faulted, and why (boxed, as [`ext`]'s).
+#[cold]
+#[inline(never)]
+fn ext_pair(
+    at: u32,
+    next: u32,
+    chunk: &Chunk,
+    v: &mut [f64],
+    ctx: &mut Ctx<'_, '_>,
+) -> Result<(), Box<(bool, String)>> {
+    side_table(at, chunk, v, ctx).map_err(|message| Box::new((false, message)))?;
+    side_table(next, chunk, v, ctx).map_err(|message| Box::new((true, message)))
+}
+
+/// [`ext`]'s work, and each half of an [`ext_pair`]'s.
+#[inline(always)]
+fn side_table(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> Result<(), String> {
     use crate::check::text::{self, Value as Arg};
     use crate::compile::bytecode::ExtOp;
     let Some(op) = chunk.ext.get(at as usize) else {
         return Err("internal error: no such instruction".into());
     };
     match *op {
+        ExtOp::Len { dst, s } => {
+            v[dst as usize] = text::count(arg_text(v, ctx.strings, s)?) as f64;
+        }
+        ExtOp::Asc { dst, s } => v[dst as usize] = text::asc(arg_text(v, ctx.strings, s)?)?,
+        ExtOp::Val { dst, s } => v[dst as usize] = text::val(arg_text(v, ctx.strings, s)?),
+        ExtOp::Instr { dst, hay, needle } => {
+            let (hay, needle) = (
+                arg_text(v, ctx.strings, hay)?,
+                arg_text(v, ctx.strings, needle)?,
+            );
+            v[dst as usize] = text::instr(1, hay, needle);
+        }
+        ExtOp::Left { dst, cell, s, n } => {
+            ctx.scratch.clear();
+            text::left(arg_text(v, ctx.strings, s)?, v[n as usize], ctx.scratch)?;
+            give_text(dst, cell, v, ctx)?;
+        }
+        ExtOp::Right { dst, cell, s, n } => {
+            ctx.scratch.clear();
+            text::right(arg_text(v, ctx.strings, s)?, v[n as usize], ctx.scratch)?;
+            give_text(dst, cell, v, ctx)?;
+        }
+        ExtOp::Mid {
+            dst,
+            cell,
+            s,
+            start,
+        } => {
+            ctx.scratch.clear();
+            let s = arg_text(v, ctx.strings, s)?;
+            text::mid(s, v[start as usize], None, ctx.scratch)?;
+            give_text(dst, cell, v, ctx)?;
+        }
+        ExtOp::MidN {
+            dst,
+            cell,
+            s,
+            start,
+            n,
+        } => {
+            ctx.scratch.clear();
+            let s = arg_text(v, ctx.strings, s)?;
+            text::mid(s, v[start as usize], Some(v[n as usize]), ctx.scratch)?;
+            give_text(dst, cell, v, ctx)?;
+        }
+        ExtOp::Chr { dst, cell, code } => {
+            ctx.scratch.clear();
+            text::chr(v[code as usize], ctx.scratch)?;
+            give_text(dst, cell, v, ctx)?;
+        }
+        ExtOp::Str { dst, cell, x, how } => {
+            ctx.scratch.clear();
+            text::str_of(v[x as usize], how, ctx.scratch);
+            give_text(dst, cell, v, ctx)?;
+        }
         ExtOp::StoreText { dst, src } => store_text(dst as usize, v[src as usize], v, ctx)?,
         ExtOp::StoreTextAt { base, off, src } => {
             let slot = base as usize + v[off as usize] as usize;
