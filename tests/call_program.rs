@@ -196,3 +196,38 @@ fn a_call_after_another_in_the_same_turn_still_sees_the_program_on_another_task(
     );
     assert!(out.contains("\"name\":\"Var.X\",\"value\":5"), "{out}");
 }
+
+#[test]
+fn programs_numbered_apart_from_their_order_are_each_called() {
+    // Program n is looked up as the n-th loaded first: here Program.1 is third and the second
+    // is Program.5, which a lookup by place alone would run for `Call Program.1`.
+    let m = r#"[machine]
+name = "order"
+budget = 1000
+[[program]]
+number = 0
+file = "p0.pt"
+autostart = true
+[[program]]
+number = 5
+file = "p1.pt"
+[[program]]
+number = 1
+file = "p2.pt"
+[variables.X]
+decimals = 0
+"#;
+    let d = machine(
+        "order",
+        m,
+        &[
+            "Var.X = 2\nCall Program.1\nCall Program.5\nCall Program.1\nEnd\n",
+            "Var.X = Var.X * 10\nEnd\n",
+            "Var.X = Var.X + 1\nEnd\n",
+        ],
+    );
+    let out = run(&d);
+    // ((2 + 1) * 10) + 1; a mix-up would give (2 * 10 + 1) * 10 or another.
+    assert!(out.contains("\"name\":\"Var.X\",\"value\":31"), "{out}");
+    assert!(!out.contains("error"), "{out}");
+}

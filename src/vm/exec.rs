@@ -1775,8 +1775,12 @@ fn call_target<'c>(
     program: u32,
     values: usize,
 ) -> Option<(usize, &'c Chunk)> {
-    // A machine has few programs: comparing their numbers is quicker than hashing one.
-    let (_, &c) = ctx.programs.iter().find(|(&p, _)| p == program)?;
+    // Program n is mostly the n-th loaded; else a machine has few programs, and comparing
+    // their numbers is quicker than hashing one.
+    let c = match ctx.programs.get_index(program as usize) {
+        Some((&p, &c)) if p == program => c,
+        _ => *ctx.programs.iter().find(|(&p, _)| p == program)?.1,
+    };
     let tasks = ctx.other_tasks;
     let elsewhere = if c < 64 {
         let mask = *ctx.elsewhere.get_or_insert_with(|| busy_chunks(tasks));
