@@ -296,7 +296,9 @@ fn rounded(x: f64, lo: i64, hi: i64, what: &str, func: TextFunc) -> Result<i64, 
     Ok(r as i64)
 }
 
-/// `s` from character `from` (0-based), at most `n` characters.
+/// `s` from character `from` (0-based), at most `n` characters. Inlined where it is called,
+/// the walk through characters of a string that is not ASCII apart.
+#[inline(always)]
 fn chars(s: &str, from: usize, n: usize, out: &mut String) {
     if s.is_ascii() {
         // One byte a character: a slice, without walking the characters one by one.
@@ -308,6 +310,13 @@ fn chars(s: &str, from: usize, n: usize, out: &mut String) {
         out.push_str(unsafe { std::str::from_utf8_unchecked(part) });
         return;
     }
+    wide_chars(s, from, n, out);
+}
+
+/// [`chars`] of a string with a character beyond ASCII.
+#[cold]
+#[inline(never)]
+fn wide_chars(s: &str, from: usize, n: usize, out: &mut String) {
     out.extend(s.chars().skip(from).take(n));
 }
 
@@ -478,7 +487,12 @@ pub fn left(s: &str, n: f64, out: &mut String) -> Result<(), String> {
 #[inline]
 pub fn right(s: &str, n: f64, out: &mut String) -> Result<(), String> {
     let n = whole(n, 0, 255, "a count", TextFunc::Right)? as usize;
-    chars(s, count(s).saturating_sub(n), n, out);
+    if s.is_ascii() {
+        // One byte a character: the last `n` bytes, the string read once.
+        out.push_str(&s[s.len().saturating_sub(n)..]);
+    } else {
+        wide_chars(s, s.chars().count().saturating_sub(n), n, out);
+    }
     Ok(())
 }
 
@@ -514,8 +528,25 @@ pub fn chr(code: f64, out: &mut String) -> Result<(), String> {
 }
 
 /// INSTR from character `start` (1-based, at least 1): where `needle` first occurs in `hay`,
-/// from 1; 0 when nowhere.
+/// from 1; 0 when nowhere. Inlined where it is called for the common search, a character of
+/// a short ASCII string from its start; [`instr_any`] for the others.
+#[inline(always)]
 pub fn instr(start: usize, hay: &str, needle: &str) -> f64 {
+    if let (1, &[byte]) = (start, needle.as_bytes()) {
+        let b = hay.as_bytes();
+        if b.len() < 32 && hay.is_ascii() {
+            return b
+                .iter()
+                .position(|&c| c == byte)
+                .map_or(0.0, |i| (i + 1) as f64);
+        }
+    }
+    instr_any(start, hay, needle)
+}
+
+/// [`instr`], every case.
+#[inline(never)]
+fn instr_any(start: usize, hay: &str, needle: &str) -> f64 {
     let from = start - 1;
     // One pass says whether byte positions are character positions.
     let ascii = hay.is_ascii();
@@ -555,10 +586,24 @@ pub fn concat(a: &str, b: &str, out: &mut String) -> Result<(), String> {
     append(out, b)
 }
 
-/// Put `b` on the end of `a`.
+/// Put `b` on the end of `a`. Inlined where it is called, the count of characters of a join
+/// longer in bytes than a string may be in characters apart.
+#[inline(always)]
 pub fn append(a: &mut String, b: &str) -> Result<(), String> {
     // Never more characters than bytes: most strings need no count.
-    if a.len() + b.len() > MAX_LEN && count(a) + count(b) > MAX_LEN {
+    if a.len() + b.len() > MAX_LEN {
+        return append_long(a, b);
+    }
+    a.push_str(b);
+    Ok(())
+}
+
+/// [`append`] of a join of more than [`MAX_LEN`] bytes: too long unless characters beyond
+/// ASCII (two bytes or more each) make it short enough.
+#[cold]
+#[inline(never)]
+fn append_long(a: &mut String, b: &str) -> Result<(), String> {
+    if count(a) + count(b) > MAX_LEN {
         return Err(too_long());
     }
     a.push_str(b);
@@ -572,13 +617,21 @@ pub fn too_long() -> String {
 
 /// Microsoft BASIC's VAL: blanks are skipped, then the longest number at the start is read
 /// (`&H`/`&O` prefixes for hexadecimal and octal); 0 when there is none.
+#[inline(always)]
 pub fn val(s: &str) -> f64 {
     // The common case, a plain whole number of at most 15 digits (exact in an f64), read
-    // without the copies the general way makes; it gives what the general way gives.
+    // where it is called, without the copies the general way makes; it gives what the general
+    // way gives.
     let b = s.as_bytes();
     if !b.is_empty() && b.len() <= 15 && b.iter().all(u8::is_ascii_digit) {
         return b.iter().fold(0u64, |acc, d| acc * 10 + u64::from(d - b'0')) as f64;
     }
+    val_any(s)
+}
+
+/// [`val`], every case.
+#[inline(never)]
+fn val_any(s: &str) -> f64 {
     let t: String = s
         .chars()
         .filter(|c| !matches!(c, ' ' | '\t' | '\n'))
@@ -770,6 +823,22 @@ mod tests {
         assert_eq!(val("-"), 0.0);
     }
 
+    /// A join longer than 255 bytes is too long only when it is longer than 255 characters.
+    #[test]
+    fn joins_count_characters_past_255_bytes() {
+        let mu = "µ".repeat(120); // 240 bytes, 120 characters
+        let mut a = mu.clone();
+        assert!(super::append(&mut a, &"A".repeat(135)).is_ok());
+        assert_eq!(a.chars().count(), 255);
+        let mut b = mu.clone();
+        assert!(super::append(&mut b, &"A".repeat(136)).is_err());
+        assert_eq!(b, mu, "a join refused leaves the string as it was");
+        let mut c = "A".repeat(200);
+        assert!(super::append(&mut c, &"B".repeat(56)).is_err());
+        assert!(super::append(&mut c, &"B".repeat(55)).is_ok());
+        assert_eq!(c.len(), 255);
+    }
+
     /// The ASCII quick ways (slices, byte search, digits read directly) give what walking the
     /// characters gives: the same strings written with a µ take the general way.
     #[test]
@@ -813,6 +882,44 @@ mod tests {
             }
         }
         assert_eq!(num(TextFunc::Instr, &[T("AB-1234/XY"), T("/")]), Some(8.0));
+        // RIGHT$ reads an ASCII string once, as bytes: the characters' answer.
+        for (s, n) in [
+            ("HELLO", 2.0),
+            ("HELLµ", 2.0),
+            ("µB", 5.0),
+            ("AB", 0.0),
+            ("", 3.0),
+        ] {
+            let want: String = {
+                let c: Vec<char> = s.chars().collect();
+                c[c.len().saturating_sub(n as usize)..].iter().collect()
+            };
+            assert_eq!(
+                text(TextFunc::Right, &[T(s), N(n)]).unwrap(),
+                want,
+                "{s} {n}"
+            );
+        }
+        // INSTR of one character from the start searches a string shorter than 32 bytes in
+        // place; longer ones, and any with a character beyond ASCII, the general way.
+        let long = format!("{}/{}", "A".repeat(31), "B".repeat(8));
+        let long_mu = format!("µ{}/{}", "A".repeat(30), "B".repeat(8));
+        for (hay, find, want) in [
+            ("A".repeat(31), "A", 1.0),
+            (format!("{}/", "A".repeat(30)), "/", 31.0),
+            (long.clone(), "/", 32.0),
+            (long.clone(), "B", 33.0),
+            (long_mu.clone(), "/", 32.0),
+            (long_mu, "µ", 1.0),
+            ("µ/".to_string(), "/", 2.0),
+            (long, "Z", 0.0),
+        ] {
+            assert_eq!(
+                num(TextFunc::Instr, &[T(&hay), T(find)]),
+                Some(want),
+                "{hay} {find}"
+            );
+        }
         for s in [
             "0",
             "7",
