@@ -2069,6 +2069,16 @@ fn side_table(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> R
     let Some(op) = chunk.ext.get(at as usize) else {
         return Err("internal error: no such instruction".into());
     };
+    // A string function's result, built by `$work` in the scratch string (`$out`), given to
+    // `$cell`; `$dst` = the cell.
+    macro_rules! into_cell {
+        ($dst:expr, $cell:expr, $out:ident => $work:expr) => {{
+            ctx.scratch.clear();
+            let $out = &mut *ctx.scratch;
+            $work?;
+            give_text($dst, $cell, v, ctx)?;
+        }};
+    }
     match *op {
         ExtOp::Len { dst, s } => {
             v[dst as usize] = text::count(arg_text(v, ctx.strings, s)?) as f64;
@@ -2082,49 +2092,37 @@ fn side_table(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> R
             );
             v[dst as usize] = text::instr(1, hay, needle);
         }
-        ExtOp::Left { dst, cell, s, n } => {
-            ctx.scratch.clear();
-            text::left(arg_text(v, ctx.strings, s)?, v[n as usize], ctx.scratch)?;
-            give_text(dst, cell, v, ctx)?;
-        }
-        ExtOp::Right { dst, cell, s, n } => {
-            ctx.scratch.clear();
-            text::right(arg_text(v, ctx.strings, s)?, v[n as usize], ctx.scratch)?;
-            give_text(dst, cell, v, ctx)?;
-        }
+        ExtOp::Left { dst, cell, s, n } => into_cell!(dst, cell, out => {
+            text::left(arg_text(v, ctx.strings, s)?, v[n as usize], out)
+        }),
+        ExtOp::Right { dst, cell, s, n } => into_cell!(dst, cell, out => {
+            text::right(arg_text(v, ctx.strings, s)?, v[n as usize], out)
+        }),
         ExtOp::Mid {
             dst,
             cell,
             s,
             start,
-        } => {
-            ctx.scratch.clear();
-            let s = arg_text(v, ctx.strings, s)?;
-            text::mid(s, v[start as usize], None, ctx.scratch)?;
-            give_text(dst, cell, v, ctx)?;
-        }
+        } => into_cell!(dst, cell, out => {
+            text::mid(arg_text(v, ctx.strings, s)?, v[start as usize], None, out)
+        }),
         ExtOp::MidN {
             dst,
             cell,
             s,
             start,
             n,
-        } => {
-            ctx.scratch.clear();
-            let s = arg_text(v, ctx.strings, s)?;
-            text::mid(s, v[start as usize], Some(v[n as usize]), ctx.scratch)?;
-            give_text(dst, cell, v, ctx)?;
-        }
+        } => into_cell!(dst, cell, out => {
+            let n = Some(v[n as usize]);
+            text::mid(arg_text(v, ctx.strings, s)?, v[start as usize], n, out)
+        }),
         ExtOp::Chr { dst, cell, code } => {
-            ctx.scratch.clear();
-            text::chr(v[code as usize], ctx.scratch)?;
-            give_text(dst, cell, v, ctx)?;
+            into_cell!(dst, cell, out => text::chr(v[code as usize], out));
         }
-        ExtOp::Str { dst, cell, x, how } => {
-            ctx.scratch.clear();
-            text::str_of(v[x as usize], how, ctx.scratch);
-            give_text(dst, cell, v, ctx)?;
-        }
+        ExtOp::Str { dst, cell, x, how } => into_cell!(dst, cell, out => {
+            text::str_of(v[x as usize], how, out);
+            Ok::<(), String>(())
+        }),
         ExtOp::StoreText { dst, src } => store_text(dst as usize, v[src as usize], v, ctx)?,
         ExtOp::StoreTextAt { base, off, src } => {
             let slot = base as usize + v[off as usize] as usize;
