@@ -1919,7 +1919,8 @@ fn set_text(strings: &mut [String], cell: usize, src: usize) -> bool {
 fn copy_text(strings: &mut [String], cell: usize, src: usize) {
     if cell != src {
         let (dst, from) = two(strings, cell, src);
-        dst.clone_from(from);
+        dst.clear();
+        crate::check::text::push(dst, from);
     }
 }
 
