@@ -1737,20 +1737,22 @@ pub fn run<'a>(
                     // loop does it (the program's subroutine frames go with it). The end of the
                     // task's own program, or a caller this loop could not run unchecked, returns.
                     let back = match frames.as_deref_mut() {
-                        Some(frames) => frames
-                            .iter()
-                            .rposition(|f| !f.gosub)
-                            .filter(|&k| k >= 1)
-                            .and_then(|k| {
-                                let caller = frames[k - 1];
-                                let next = ctx.chunks.get(caller.chunk).filter(|c| {
-                                    c.closed
-                                        && v.len() >= c.regs_end
-                                        && (caller.pc as usize) < c.ops.len()
-                                })?;
-                                frames.truncate(k);
-                                Some((next, caller.pc))
-                            }),
+                        Some(frames) => match frames.last() {
+                            // The called program's own frame on top (no subroutine of it left).
+                            Some(top) if !top.gosub => Some(frames.len() - 1),
+                            _ => frames.iter().rposition(|f| !f.gosub),
+                        }
+                        .filter(|&k| k >= 1)
+                        .and_then(|k| {
+                            let caller = frames[k - 1];
+                            let next = ctx.chunks.get(caller.chunk).filter(|c| {
+                                c.closed
+                                    && v.len() >= c.regs_end
+                                    && (caller.pc as usize) < c.ops.len()
+                            })?;
+                            frames.truncate(k);
+                            Some((next, caller.pc))
+                        }),
                         None => None,
                     };
                     let Some((next, resume)) = back else {
@@ -1781,12 +1783,15 @@ fn call_target<'c>(
         Some((&p, &c)) if p == program => c,
         _ => *ctx.programs.iter().find(|(&p, _)| p == program)?.1,
     };
-    let tasks = ctx.other_tasks;
     let elsewhere = if c < 64 {
-        let mask = *ctx.elsewhere.get_or_insert_with(|| busy_chunks(tasks));
+        // The other tasks are read at the turn's first call only.
+        let mask = match ctx.elsewhere {
+            Some(mask) => mask,
+            None => *ctx.elsewhere.insert(busy_chunks(ctx.other_tasks)),
+        };
         mask & (1 << c) != 0
     } else {
-        tasks
+        ctx.other_tasks
             .iter()
             .flat_map(|tasks| tasks.iter())
             .any(|t| t.busy() && t.frames.iter().any(|f| f.chunk == c))
