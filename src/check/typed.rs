@@ -93,6 +93,12 @@ impl Cmp {
     /// Compare two values.
     #[inline(always)]
     pub fn test(self, a: f64, b: f64) -> bool {
+        self.test_ord(&a, &b)
+    }
+
+    /// Compare two values of any ordered kind (numbers, a string's bytes).
+    #[inline(always)]
+    pub fn test_ord<T: PartialOrd + ?Sized>(self, a: &T, b: &T) -> bool {
         match self {
             Cmp::Eq => a == b,
             Cmp::Ne => a != b,

@@ -1890,18 +1890,10 @@ fn compare_text(
     b: f64,
     strings: &[String],
 ) -> Result<bool, String> {
-    use crate::compile::bytecode::Cmp;
     // `handle` gives only indices within the table.
     let x = strings[handle(a, strings)?].as_bytes();
     let y = strings[handle(b, strings)?].as_bytes();
-    Ok(match cmp {
-        Cmp::Eq => x == y,
-        Cmp::Ne => x != y,
-        Cmp::Lt => x < y,
-        Cmp::Le => x <= y,
-        Cmp::Gt => x > y,
-        Cmp::Ge => x >= y,
-    })
+    Ok(cmp.test_ord(x, y))
 }
 
 /// [`handle`]'s error, apart: its formatting would otherwise be laid out in every caller.
