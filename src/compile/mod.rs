@@ -3,6 +3,7 @@
 //! arithmetic stores, compare-and-jump, short-circuit conditions where they cannot change the
 //! outcome) and lays out the registers.
 
+pub mod body;
 pub mod bytecode;
 pub mod disasm;
 pub mod tight;
@@ -219,6 +220,9 @@ pub struct Chunk {
     pub ext: Vec<ExtOp>,
     /// The program's `DATA` constants, in program order.
     pub data: Vec<DataConst>,
+    /// The loops the machine may run outside the interpreter on typed registers
+    /// ([`body::Body`]), by the instruction their body starts at.
+    pub bodies: BTreeMap<u32, body::Body>,
 }
 
 /// Compile a program that checked without errors. `src` and `file` are its text and name
@@ -320,6 +324,13 @@ impl<'a> Compiler<'a> {
         }
         let temps = self.layout.temp_base()..self.layout.temp_base() + MAX_TEMPS;
         let sure = whole::operands(&self.ops, &temps, &|r| self.layout.is_whole(r));
+        let bodies = body::find(
+            &self.ops,
+            &sure,
+            &temps,
+            &|r| self.layout.is_whole(r),
+            &|r| self.layout.constant_value(r),
+        );
         bytecode::fuse(&mut self.ops, temps.clone());
         bytecode::fuse_with_constants(&mut self.ops, &temps, &|r| self.layout.constant_value(r));
         bytecode::fuse_text(&mut self.ops, &self.ext, &temps);
@@ -327,6 +338,7 @@ impl<'a> Compiler<'a> {
         bytecode::specialize_text(&mut self.ext);
         let sure = whole::per_instruction(&self.ops, &sure);
         tight::mark(&mut self.ops, &sure);
+        body::mark(&mut self.ops, &bodies);
         let regs_end = self
             .ops
             .iter()
@@ -356,6 +368,7 @@ impl<'a> Compiler<'a> {
             source: SourceFile::new(file, src),
             ext: self.ext,
             data: self.data,
+            bodies,
         })
     }
 

@@ -2514,7 +2514,7 @@ fn keep_branch() {
 ///
 /// `sure`: both are whole numbers within 32 bits (not tested again).
 #[inline(always)]
-fn basic_mod_of(x: f64, y: f64, sure: bool) -> Result<f64, &'static str> {
+pub(super) fn basic_mod_of(x: f64, y: f64, sure: bool) -> Result<f64, &'static str> {
     let (i, j) = (trunc_i32(x), trunc_i32(y));
     // An out-of-range or NaN operand does not convert back to itself ([`trunc_i32`]).
     if (sure || (f64::from(i) == x && f64::from(j) == y)) && j != 0 {
@@ -2532,7 +2532,7 @@ fn basic_mod_of(x: f64, y: f64, sure: bool) -> Result<f64, &'static str> {
 ///
 /// `sure`: as [`basic_mod_of`].
 #[inline(always)]
-fn basic_div_of(x: f64, y: f64, sure: bool) -> Result<f64, &'static str> {
+pub(super) fn basic_div_of(x: f64, y: f64, sure: bool) -> Result<f64, &'static str> {
     let (i, j) = (trunc_i32(x), trunc_i32(y));
     if (sure || (f64::from(i) == x && f64::from(j) == y)) && j != 0 && !(i == i32::MIN && j == -1) {
         debug_assert!(f64::from(i) == x && f64::from(j) == y, "{x}, {y} not sure");
@@ -2552,7 +2552,7 @@ fn basic_div_of(x: f64, y: f64, sure: bool) -> Result<f64, &'static str> {
 ///
 /// `sure`: both operands are whole numbers within 32 bits (untested).
 #[inline(always)]
-fn integer(op: BinaryOp, x: f64, y: f64, sure: bool) -> Result<f64, &'static str> {
+pub(super) fn integer(op: BinaryOp, x: f64, y: f64, sure: bool) -> Result<f64, &'static str> {
     match op {
         BinaryOp::BasicMod => basic_mod_of(x, y, sure),
         BinaryOp::IntDiv => basic_div_of(x, y, sure),
@@ -2567,7 +2567,7 @@ fn integer(op: BinaryOp, x: f64, y: f64, sure: bool) -> Result<f64, &'static str
 /// rounded to even (Microsoft BASIC's CLNG), `None` outside 32 bits.
 #[cold]
 #[inline(never)]
-fn round_long(raw: f64) -> Option<f64> {
+pub(super) fn round_long(raw: f64) -> Option<f64> {
     // `+ 0.0` turns a rounded -0.0 into 0.
     let x = raw.round_ties_even() + 0.0;
     fits_i32(x).then_some(x)
@@ -2575,7 +2575,7 @@ fn round_long(raw: f64) -> Option<f64> {
 
 /// The integer a bitwise operator works on: halves rounded to even, as Microsoft BASIC does.
 #[inline]
-fn int(x: f64) -> i64 {
+pub(super) fn int(x: f64) -> i64 {
     // Integers (the common case) convert with one instruction each way; only fractions need
     // rounding, and only values past 32 bits the 64-bit conversion.
     let i = trunc_i32(x);
@@ -2724,7 +2724,7 @@ fn overflow_message(ctx: &Ctx<'_, '_>, slot: u32, x: f64, decimals: u8) -> Strin
 
 /// `x` as a MotionBASIC INTEGER: rounded to the nearest whole number (halves to even), `None`
 /// outside 16 bits.
-fn int16(x: f64) -> Option<f64> {
+pub(super) fn int16(x: f64) -> Option<f64> {
     // A whole number (the common case) needs no rounding: `round_ties_even` is a library call
     // on the x86-64 baseline.
     let r = if f64::from(trunc_i32(x)) == x {
@@ -2762,7 +2762,7 @@ fn int_rem(x: f64, y: f64) -> f64 {
 
 /// [`int_rem`] of operands that are, when `sure`, whole numbers within 32 bits (untested).
 #[inline(always)]
-fn int_rem_of(x: f64, y: f64, sure: bool) -> f64 {
+pub(super) fn int_rem_of(x: f64, y: f64, sure: bool) -> f64 {
     // Within 32 bits (every integer variable) a 32-bit division, quicker than a 64-bit one;
     // both give the same remainder, a zero one as 0.
     let (i, j) = (trunc_i32(x), trunc_i32(y));

@@ -10,6 +10,7 @@
 //! its instruction budget → the changes of the update are traced. The spec puts the task after
 //! the control loop ("each update, after the control loop, one task runs").
 
+pub mod body;
 pub mod error;
 pub mod exec;
 pub mod live;
@@ -955,7 +956,22 @@ impl Machine {
     fn run_loop(&mut self, chunk: usize, start: u32, budget_end: u64) -> Option<(u32, bool)> {
         let traced_below = self.traced_below();
         let c = self.image.chunks.get(chunk)?;
-        let plan = tight::plan(&c.ops, &c.sure, start, traced_below)?;
+        let Some(plan) = tight::plan(&c.ops, &c.sure, start, traced_below) else {
+            let b = c.bodies.get(&start)?;
+            if b.lowest_write < traced_below {
+                return None;
+            }
+            let mut n = self.instructions;
+            let end = body::run(&mut self.values, b, &mut n, budget_end)?;
+            self.tight_runs += 1;
+            self.instructions = n;
+            let next = if end == tight::End::Done {
+                b.after
+            } else {
+                start
+            };
+            return Some((next, end == tight::End::Budget));
+        };
         let get = |r: u32| self.values.get(r as usize).copied();
         let (x, l, s) = (get(plan.var)?, get(plan.limit)?, get(plan.limit + 1)?);
         // NaN (a step of 0, an infinite one) is not long.

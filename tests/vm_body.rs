@@ -1,0 +1,420 @@
+//! Loops whose body is straight-line arithmetic (`IF`s inside) run outside the interpreter on
+//! typed registers (`vm::body`) when nothing they write is traced; traced, every iteration runs
+//! in the interpreter. Both ways must give the same values (to the bit, a -0 included), the
+//! same instruction counts at every budget, and the same faults at the same place: checked here
+//! on a few hundred programs drawn at random (a fixed seed: the same programs on every run) in
+//! both dialects, with every operator the translation knows, overflows, divisions by zero,
+//! values past 32 bits and past 2^53, and on written cases whose values are known.
+
+mod common;
+
+use common::{load_memory, run_loaded, slot_value};
+use pacer::load::Loaded;
+use pacer::trace::Trace;
+use pacer::vm::{Machine, RunSummary};
+
+fn try_load(
+    name: &str,
+    file: &str,
+    program: &str,
+    budget: u32,
+) -> Result<Loaded, pacer::diag::Diagnostics> {
+    // PowerTools variables are declared: Var.D with two decimal places.
+    let variables = if file.ends_with(".pt") {
+        "autostart = true\n[variables.A]\n[variables.B]\n[variables.C]\n[variables.E]\n\
+         [variables.I]\n[variables.D]\ndecimals = 2\n"
+    } else {
+        ""
+    };
+    let machine = format!(
+        "[machine]\nname = \"b\"\nbudget = {budget}\n\n[[program]]\nnumber = 0\nfile = \"{file}\"\n{variables}"
+    );
+    load_memory(name, &[(file, program), ("machine.toml", &machine)])
+}
+
+fn load(name: &str, file: &str, program: &str, budget: u32) -> Loaded {
+    match try_load(name, file, program, budget) {
+        Ok(l) => l,
+        Err(d) => panic!("{}\n{program}", d.render_plain()),
+    }
+}
+
+fn run_untraced(loaded: Loaded) -> (Machine, RunSummary) {
+    let tick = loaded.image.tick_ns;
+    let mut machine = Machine::new(loaded.image, Trace::new(None, tick));
+    let summary = machine.run_observed(None, &mut |_| {});
+    (machine, summary)
+}
+
+/// What a run leaves that a program can see: every slot's bits, the instruction count, the
+/// error's place and message.
+fn outcome(machine: &Machine, summary: &RunSummary) -> (Vec<u64>, u64, Option<(u32, u32, String)>) {
+    let slots = machine.registry().slots.len();
+    let bits = machine.values()[..slots]
+        .iter()
+        .map(|v| v.to_bits())
+        .collect();
+    let error = summary
+        .error
+        .as_ref()
+        .map(|e| (e.line, e.column, e.message.clone()));
+    (bits, summary.instructions, error)
+}
+
+/// Run `program` traced and untraced at `budget`: both outcomes, and how many loops ran
+/// outside the interpreter untraced.
+fn both(file: &str, program: &str, budget: u32) -> (u64, Option<(u32, u32, String)>, u64) {
+    let traced = run_loaded(load("body-traced", file, program, budget));
+    assert_eq!(traced.machine.tight_runs(), 0);
+    let (machine, summary) = run_untraced(load("body-untraced", file, program, budget));
+    let a = outcome(&traced.machine, &traced.summary);
+    let b = outcome(&machine, &summary);
+    if a != b {
+        let names: Vec<String> = machine
+            .registry()
+            .slots
+            .iter()
+            .map(|s| s.name.text().to_string())
+            .collect();
+        let diff: Vec<String> =
+            a.0.iter()
+                .zip(&b.0)
+                .enumerate()
+                .filter(|(_, (x, y))| x != y)
+                .map(|(i, (x, y))| {
+                    format!(
+                        "{} {} vs {}",
+                        names[i],
+                        f64::from_bits(*x),
+                        f64::from_bits(*y)
+                    )
+                })
+                .collect();
+        panic!(
+            "budget {budget}: traced {:?} {:?}, untraced {:?} {:?}; {diff:?}\n{program}",
+            a.1, a.2, b.1, b.2
+        );
+    }
+    (a.1, a.2, machine.tight_runs())
+}
+
+/// A small deterministic generator (xorshift64*), so the programs are the same on every run.
+struct Draw(u64);
+
+impl Draw {
+    fn next(&mut self) -> u64 {
+        self.0 ^= self.0 >> 12;
+        self.0 ^= self.0 << 25;
+        self.0 ^= self.0 >> 27;
+        self.0.wrapping_mul(0x2545_F491_4F6C_DD1D)
+    }
+    fn below(&mut self, n: usize) -> usize {
+        (self.next() % n as u64) as usize
+    }
+    fn pick<'a>(&mut self, xs: &[&'a str]) -> &'a str {
+        xs[self.below(xs.len())]
+    }
+}
+
+/// The words of a dialect the generator writes with.
+struct Dialect {
+    file: &'static str,
+    vars: &'static [&'static str],
+    loop_var: &'static str,
+    constants: &'static [&'static str],
+    ops: &'static [&'static str],
+    not: &'static str,
+    endif: &'static str,
+    end: &'static str,
+}
+
+const MB: Dialect = Dialect {
+    file: "x.mb",
+    vars: &["A&", "B&", "C&", "D&", "P%", "Q%", "X", "Y#"],
+    loop_var: "I&",
+    constants: &[
+        "0",
+        "1",
+        "2",
+        "3",
+        "7",
+        "-5",
+        "31",
+        "255",
+        "65535",
+        "1000003",
+        "2147483647",
+        "0.5",
+        "2.25",
+        "-1.5",
+        "1E+300",
+        "40000",
+        "9007199254740993",
+    ],
+    ops: &[
+        "+", "-", "*", "/", "\\", "MOD", "AND", "OR", "XOR", "+", "-", "*", "MOD",
+    ],
+    not: "NOT",
+    endif: "END IF",
+    end: "",
+};
+
+const PT: Dialect = Dialect {
+    file: "x.pt",
+    vars: &["Var.A", "Var.B", "Var.C", "Var.D", "Var.E"],
+    loop_var: "Var.I",
+    constants: &[
+        "0",
+        "1",
+        "2",
+        "3",
+        "7",
+        "-5",
+        "31",
+        "255",
+        "65535",
+        "1000003",
+        "2147483647",
+        "40000",
+    ],
+    ops: &["+", "-", "*", "/", "MOD", "AND", "OR", "XOR", "+", "-", "*"],
+    not: "NOT",
+    endif: "Endif",
+    end: "End\n",
+};
+
+fn expr(d: &mut Draw, w: &Dialect, depth: u32) -> String {
+    match d.below(if depth == 0 { 2 } else { 6 }) {
+        0 => {
+            let mut vars = w.vars.to_vec();
+            vars.push(w.loop_var);
+            d.pick(&vars).to_string()
+        }
+        1 => d.pick(w.constants).to_string(),
+        2 => format!("({} {})", w.not, expr(d, w, depth - 1)),
+        3 if w.file.ends_with(".mb") => format!("-({})", expr(d, w, depth - 1)),
+        _ => format!(
+            "({} {} {})",
+            expr(d, w, depth - 1),
+            d.pick(w.ops),
+            expr(d, w, depth - 1)
+        ),
+    }
+}
+
+fn condition(d: &mut Draw, w: &Dialect) -> String {
+    let cmp = d.pick(&["=", "<>", "<", "<=", ">", ">="]);
+    format!("{} {cmp} {}", expr(d, w, 1), expr(d, w, 1))
+}
+
+fn statement(d: &mut Draw, w: &Dialect, out: &mut String, depth: u32) {
+    let var = d.pick(w.vars);
+    match d.below(if depth == 0 { 1 } else { 4 }) {
+        0 | 1 => out.push_str(&format!("{var} = {}\n", expr(d, w, 2))),
+        2 => {
+            out.push_str(&format!("If {} Then\n", condition(d, w)));
+            for _ in 0..1 + d.below(2) {
+                statement(d, w, out, depth - 1);
+            }
+            if d.below(2) == 0 {
+                out.push_str("Else\n");
+                statement(d, w, out, depth - 1);
+            }
+            out.push_str(&format!("{}\n", w.endif));
+        }
+        _ => {
+            out.push_str(&format!("If {} Then\n", condition(d, w)));
+            statement(d, w, out, depth - 1);
+            out.push_str(&format!("{}\n", w.endif));
+        }
+    }
+}
+
+fn program(d: &mut Draw, w: &Dialect) -> String {
+    let mut out = String::new();
+    for var in w.vars {
+        let v = d.pick(&["0", "1", "-7", "12345", "3", "100", "-2", "0.75"]);
+        // Only reals take a fraction here (a whole variable rounds it: that is tested too).
+        out.push_str(&format!("{var} = {v}\n"));
+    }
+    for _ in 0..1 + d.below(2) {
+        let from = d.pick(&["1", "0", "-3", "10"]);
+        let to = d.pick(&["20", "60", "3", "-10", "200"]);
+        let step = d.pick(&["1", "2", "-1", "3", "-2"]);
+        out.push_str(&format!(
+            "For {} = {from} To {to} Step {step}\n",
+            w.loop_var
+        ));
+        for _ in 0..1 + d.below(4) {
+            statement(d, w, &mut out, 2);
+        }
+        out.push_str("Next\n");
+    }
+    out.push_str(w.end);
+    out
+}
+
+#[test]
+fn random_loops_give_the_same_values_counts_and_faults_in_or_out_of_the_interpreter() {
+    for (w, seed, count) in [(&MB, 0x5eed_0001u64, 300), (&PT, 0x5eed_0002, 200)] {
+        let mut d = Draw(seed);
+        let (mut outside, mut faults, mut clean, mut refused) = (0u64, 0, 0, 0);
+        for _ in 0..count {
+            let p = program(&mut d, w);
+            let p = if w.file.ends_with(".mb") {
+                p.replace("If ", "IF ")
+                    .replace(" Then\n", " THEN\n")
+                    .replace("Else\n", "ELSE\n")
+                    .replace("For ", "FOR ")
+                    .replace(" To ", " TO ")
+                    .replace(" Step ", " STEP ")
+                    .replace("Next\n", "NEXT\n")
+            } else {
+                p
+            };
+            // The checker refuses some (a constant divisor of 0, a constant that overflows):
+            // those are drawn again.
+            if try_load("body-check", w.file, &p, 7)
+                .is_err_and(|d| d.render_plain().contains("run-time error"))
+            {
+                refused += 1;
+                continue;
+            }
+            for budget in [7, 10_000] {
+                let (_, error, runs) = both(w.file, &p, budget);
+                outside += runs;
+                if budget == 10_000 {
+                    if error.is_some() {
+                        faults += 1;
+                    } else {
+                        clean += 1;
+                    }
+                }
+            }
+        }
+        // The programs exercise both ways: many loops ran outside, many ended in a fault,
+        // many ran to their end.
+        assert!(outside > count as u64, "{} loops outside", outside);
+        eprintln!(
+            "{}: {outside} loops outside, {faults} faults, {clean} clean, {refused} refused",
+            w.file
+        );
+        assert!(faults > count / 20, "{faults} faults of {count}");
+        assert!(clean > count / 10, "{clean} clean of {count}");
+        assert!(refused < count / 3, "{refused} refused of {count}");
+    }
+}
+
+#[test]
+fn a_hash_of_longs_gives_lua_s_value_outside_the_interpreter() {
+    // The hash of `bench/` in small: XOR, AND, *, \, MOD on longs (Lua 5.4 gives 684936 for
+    // 3,000,000 iterations; 10,000 here, checked against the interpreter).
+    let program = "H& = 12345
+FOR I& = 1 TO 10000
+  H& = ((H& XOR I&) AND 65535) * 31 + (I& \\ 7)
+  H& = H& MOD 1000003
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-hash", "x.mb", program, 1_000_000));
+    assert_eq!(machine.tight_runs(), 1);
+    assert!(summary.error.is_none());
+    // 1 + 1 + 3 before the loop, 9 per iteration, the last for.next's fall, `END`.
+    assert_eq!(summary.instructions, 5 + 10_000 * 9 + 1);
+    let h = machine.value_of("H&").expect("H&");
+    let mut want: i64 = 12345;
+    for i in 1..=10_000i64 {
+        want = ((want ^ i) & 65535) * 31 + i / 7;
+        want %= 1_000_003;
+    }
+    assert_eq!(h, want as f64);
+    assert_eq!(both("x.mb", program, 7).1, None);
+}
+
+#[test]
+fn a_filter_with_a_counter_mixes_integers_and_reals_as_the_interpreter_does() {
+    // `bench/unseen` in small: an integer MOD, a real filter, a conditional counter.
+    let program = "C& = 0
+F = 0
+FOR I& = 1 TO 1000
+  M& = I& MOD 7
+  F = F * 0.875 + M& * 0.125
+  IF F > 3.5 THEN C& = C& + 1
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-filter", "x.mb", program, 1_000_000));
+    assert_eq!(machine.tight_runs(), 1);
+    assert!(summary.error.is_none());
+    let (mut c, mut f) = (0.0, 0.0f64);
+    for i in 1..=1000i64 {
+        let m = (i % 7) as f64;
+        f = f * 0.875 + m * 0.125;
+        if f > 3.5 {
+            c += 1.0;
+        }
+    }
+    assert_eq!(machine.value_of("C&"), Some(c));
+    assert_eq!(machine.value_of("F").map(f64::to_bits), Some(f.to_bits()));
+    for budget in [3, 7, 50] {
+        assert_eq!(both("x.mb", program, budget).1, None);
+    }
+}
+
+#[test]
+fn a_fault_inside_a_body_is_the_interpreter_s_at_its_place_with_the_iterations_before_done() {
+    // The 11th iteration divides by zero: the ten before are done outside, the eleventh runs
+    // in the interpreter and faults at line 4, column 13 (the `\`).
+    let program = "S& = 0
+FOR I& = 1 TO 100
+  D& = 11 - I&
+  S& = S& + 100 \\ D&
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-fault", "x.mb", program, 1_000_000));
+    assert_eq!(machine.tight_runs(), 1);
+    let error = summary.error.as_ref().expect("a division by zero");
+    assert_eq!(
+        (error.line, error.message.as_str()),
+        (4, "division by zero")
+    );
+    let sum: i64 = (1..=10).map(|i| 100 / (11 - i)).sum();
+    assert_eq!(machine.value_of("S&"), Some(sum as f64));
+    assert_eq!(machine.value_of("D&"), Some(0.0));
+    assert_eq!(machine.value_of("I&"), Some(11.0));
+    let (n, e, _) = both("x.mb", program, 1_000_000);
+    assert_eq!(e.map(|e| e.0), Some(4));
+    assert_eq!(n, summary.instructions);
+}
+
+#[test]
+fn a_negative_zero_reaching_a_real_is_the_interpreter_s() {
+    // `-3 MOD 3` is -0 in MotionBASIC (the sign of the dividend); a real keeps it.
+    let program = "X = 1
+FOR I& = 1 TO 10
+  K& = -3
+  X = (K& MOD 3) * 1
+NEXT
+";
+    let (machine, _) = run_untraced(load("body-zero", "x.mb", program, 1_000_000));
+    let x = machine.value_of("X").expect("X");
+    assert!(x == 0.0 && x.is_sign_negative(), "{x}");
+    both("x.mb", program, 1_000_000);
+}
+
+#[test]
+fn a_body_that_writes_a_traced_slot_or_calls_out_stays_in_the_interpreter() {
+    // An outer loop (its body holds a loop) and a body with a PRINT are not translated; the
+    // inner loop is.
+    let program = "T& = 0
+FOR J& = 1 TO 10
+  FOR I& = 1 TO 20
+    T& = T& + I& * J&
+  NEXT
+  PRINT T&;
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-nest", "x.mb", program, 1_000_000));
+    assert!(summary.error.is_none());
+    assert_eq!(machine.tight_runs(), 10);
+    assert_eq!(machine.value_of("T&"), Some(210.0 * 55.0));
+    let _ = slot_value(&machine, "T&");
+}
