@@ -239,7 +239,10 @@ fn program(d: &mut Draw, w: &Dialect) -> String {
     }
     for _ in 0..1 + d.below(2) {
         let from = d.pick(&["1", "0", "-3", "10"]);
-        let to = d.pick(&["20", "60", "3", "-10", "200"]);
+        let to = match d.below(8) {
+            0 => d.pick(w.vars),
+            _ => d.pick(&["20", "60", "3", "-10", "200", "10.5", "-3.5"]),
+        };
         let step = d.pick(&["1", "2", "-1", "3", "-2"]);
         out.push_str(&format!(
             "For {} = {from} To {to} Step {step}\n",

@@ -42,10 +42,11 @@ pub enum Width {
     Short,
 }
 
-/// One instruction of a body, on local registers. The suffix says the kind of its operands
-/// (`I`: `Int`, `R`: `Real`); a result is `Int` unless the name says otherwise.
+/// One instruction of a body as translated, on local registers, before [`lower`] packs it
+/// into a [`Micro`]. The suffix says the kind of its operands (`I`: `Int`, `R`: `Real`); a
+/// result is `Int` unless the name says otherwise.
 #[derive(Debug, Clone, Copy, PartialEq)]
-pub enum Micro {
+enum Ir {
     /// `d = s`, either kind.
     Mov { d: Local, s: Local },
     /// `d = a + b`.
@@ -113,7 +114,7 @@ pub enum Micro {
     NotR { d: Local, s: Local },
     /// The `Int` `s` as a real `d`.
     ToR { d: Local, s: Local },
-    /// [`Micro::ToR`] of an `Int` that may stand for -0 (a product, a `MOD`…): a 0 leaves
+    /// [`Ir::ToR`] of an `Int` that may stand for -0 (a product, a `MOD`…): a 0 leaves
     /// the iteration to the interpreter, which knows the zero's sign.
     ToRSigned { d: Local, s: Local },
     /// A real stored into a long (halves rounded to even).
@@ -126,11 +127,11 @@ pub enum Micro {
     RealR { d: Local, s: Local },
     /// The real `s` fits `w` (a check of long or INTEGER arithmetic).
     CheckR { s: Local, w: Width },
-    /// Go to `t` (each jump skips the interpreter's instructions [`Body::skips`] says).
+    /// Go to `t`.
     Jump { t: u16 },
     /// Go to `t` when `c` is 0 (`zero`) or not.
     JumpZeroI { c: Local, zero: bool, t: u16 },
-    /// [`Micro::JumpZeroI`] of a real.
+    /// [`Ir::JumpZeroI`] of a real.
     JumpZeroR { c: Local, zero: bool, t: u16 },
     /// Go to `t` when `a cmp b`.
     JumpCmpI {
@@ -151,24 +152,156 @@ pub enum Micro {
     Next,
 }
 
-/// An instruction is 8 bytes: the interpreter of bodies finds the next at `pc * 8`.
+/// What a [`Micro`] does. The integer families come in four forms: `I` on two registers,
+/// `K` on a register and the constant `k`, `L` and `KL` the same stored into the long `d`
+/// (an iteration whose result does not fit 32 bits is left undone). Comparisons are numbered
+/// as [`cmp_of`] says.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[repr(u8)]
+#[allow(missing_docs)]
+pub enum Code {
+    Mov,
+    AddI,
+    AddK,
+    AddL,
+    AddKL,
+    SubI,
+    SubK,
+    SubL,
+    SubKL,
+    MulI,
+    MulK,
+    MulL,
+    MulKL,
+    /// MotionBASIC `MOD`.
+    ModI,
+    ModK,
+    ModL,
+    ModKL,
+    /// MotionBASIC `\`.
+    QuotI,
+    QuotK,
+    QuotL,
+    QuotKL,
+    /// PowerTools `MOD`.
+    RemI,
+    RemK,
+    RemL,
+    RemKL,
+    AndI,
+    AndK,
+    AndL,
+    AndKL,
+    OrI,
+    OrK,
+    OrL,
+    OrKL,
+    XorI,
+    XorK,
+    XorL,
+    XorKL,
+    NegI,
+    BitNotI,
+    NotI,
+    /// `d = (a cmp b)`, `k` the comparison.
+    CmpI,
+    /// `d = a` when it fits 32 bits (`k` 0) or 16 (`k` 1).
+    FitI,
+    AddR,
+    SubR,
+    MulR,
+    DivR,
+    NegR,
+    RemR,
+    /// An integer operator of reals, `k` its number in [`INT_OPS`].
+    IntR,
+    BitNotR,
+    CmpR,
+    NotR,
+    ToR,
+    ToRSigned,
+    LongR,
+    ShortR,
+    /// `k` the decimals.
+    FixedR,
+    RealR,
+    /// `a` fits 32 bits (`k` 0) or 16 (`k` 1).
+    CheckR,
+    /// Go to `k & 0xffff`, not counting the `k >> 16` instructions of the interpreter's it
+    /// skips (so every jump).
+    Jump,
+    /// Go to `k` when `a` is 0 (`z`) or not (`nz`).
+    JzI,
+    JnzI,
+    JzR,
+    JnzR,
+    /// Go to `k` when `a cmp b`.
+    JeqI,
+    JneI,
+    JltI,
+    JleI,
+    JgtI,
+    JgeI,
+    /// Go to `k` when `(a cmp b) == want`, `d` being `cmp * 2 + want`.
+    JcmpR,
+    /// The end of the body.
+    Next,
+}
+
+impl Code {
+    /// Whether `k` is a jump's target.
+    pub fn jumps(self) -> bool {
+        matches!(
+            self,
+            Code::Jump
+                | Code::JzI
+                | Code::JnzI
+                | Code::JzR
+                | Code::JnzR
+                | Code::JeqI
+                | Code::JneI
+                | Code::JltI
+                | Code::JleI
+                | Code::JgtI
+                | Code::JgeI
+                | Code::JcmpR
+        )
+    }
+}
+
+/// One instruction of a translated body, on local registers: 8 bytes, the fields in the
+/// same place for every code.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Micro {
+    /// What it does.
+    pub code: Code,
+    /// The local written (or a small operand, as [`Code`] says).
+    pub d: Local,
+    /// The first operand.
+    pub a: Local,
+    /// The second operand.
+    pub b: Local,
+    /// A constant, a jump's target, or a small operand, as [`Code`] says.
+    pub k: i32,
+}
+
 const _: () = assert!(std::mem::size_of::<Micro>() == 8);
 
 /// A loop's body translated for `vm::body`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Body {
-    /// The instructions, ending with [`Micro::Next`]; every jump's target is one of them
+    /// The instructions, ending with [`Ir::Next`]; every jump's target is one of them
     /// (the only way to make a `Body` is [`find`], which makes sure of both).
     ops: Vec<Micro>,
-    /// Per instruction, for a jump, how many of the interpreter's instructions it skips (not
-    /// counted when it is taken).
-    pub skips: Vec<u16>,
     /// How many local registers they use.
     pub locals: usize,
     /// The registers read before they are written, loaded on entry: value register, local,
     /// kind.
     pub ins: Vec<(Reg, Local, Kind)>,
-    /// The registers written, stored back on leaving.
+    /// The locals holding constants that instructions carry (`K` forms), with their values:
+    /// checked on entry to be what the registers hold.
+    pub consts: Vec<(Local, i64)>,
+    /// The variables written, stored back on leaving (temporaries are dead by then).
     pub outs: Vec<(Reg, Local, Kind)>,
     /// The locals an iteration left undone must give back as they were at its start.
     pub kept: Vec<Local>,
@@ -191,7 +324,7 @@ pub struct Body {
 }
 
 impl Body {
-    /// The instructions, ending with [`Micro::Next`], every jump's target among them.
+    /// The instructions, ending with [`Ir::Next`], every jump's target among them.
     pub fn ops(&self) -> &[Micro] {
         &self.ops
     }
@@ -482,6 +615,107 @@ impl Step {
     }
 }
 
+/// The first register number of the translation's own registers: a temporary's versions
+/// and the scratch registers of fused stores.
+const VIRTUAL: Reg = 1 << 31;
+
+impl Step {
+    /// This step with each register it reads mapped by `read` and the one it writes
+    /// replaced by `write`.
+    fn renamed(self, read: &dyn Fn(Reg) -> Reg, write: Option<Reg>) -> Step {
+        let w = |d: Reg| write.unwrap_or(d);
+        match self {
+            Step::Bin { op, d, a, b } => Step::Bin {
+                op,
+                d: w(d),
+                a: read(a),
+                b: read(b),
+            },
+            Step::Un { op, d, s } => Step::Un {
+                op,
+                d: w(d),
+                s: read(s),
+            },
+            Step::Store { to, d, s } => Step::Store {
+                to,
+                d: w(d),
+                s: read(s),
+            },
+            Step::Check { w: width, r } => Step::Check {
+                w: width,
+                r: read(r),
+            },
+            Step::Jump { t } => Step::Jump { t },
+            Step::JumpZero { c, zero, t } => Step::JumpZero {
+                c: read(c),
+                zero,
+                t,
+            },
+            Step::JumpCmp { cmp, want, a, b, t } => Step::JumpCmp {
+                cmp,
+                want,
+                a: read(a),
+                b: read(b),
+                t,
+            },
+        }
+    }
+}
+
+/// Give each write of a temporary a register of its own (a version), and each read the
+/// version last written before it, so that a temporary holding an integer in one statement
+/// and a real in the next is an `Int` in the one and a `Real` in the other. A read that some
+/// way into it reaches without passing that write (a jump over it) refuses the body.
+fn rename_temporaries(by_op: &mut [Vec<Step>], temps: &Range<Reg>, start: u32) -> Option<()> {
+    let mut current: BTreeMap<Reg, (Reg, usize)> = BTreeMap::new();
+    let mut versions: Reg = VIRTUAL;
+    // Jumps by instruction: (from, to) relative to the body's start.
+    let mut jumps: Vec<(usize, usize)> = Vec::new();
+    for (k, steps) in by_op.iter().enumerate() {
+        for s in steps {
+            if let Some(t) = s.target() {
+                jumps.push((k, (t - start) as usize));
+            }
+        }
+    }
+    for (k, steps) in by_op.iter_mut().enumerate() {
+        for s in steps.iter_mut() {
+            let skipped = std::cell::Cell::new(false);
+            let read = |r: Reg| -> Reg {
+                match current.get(&r) {
+                    Some(&(v, w)) if temps.contains(&r) => {
+                        // A jump from before the write to past it and up to here.
+                        if jumps
+                            .iter()
+                            .any(|&(from, to)| from < w && to > w && to <= k)
+                        {
+                            skipped.set(true);
+                        }
+                        v
+                    }
+                    _ => r,
+                }
+            };
+            let write = match s.written() {
+                Some(d) if temps.contains(&d) => {
+                    versions += 1;
+                    Some(versions)
+                }
+                _ => None,
+            };
+            let renamed = s.renamed(&read, write);
+            if skipped.get() || versions >= VIRTUAL + (1 << 30) {
+                return None;
+            }
+            if let (Some(d), Some(v)) = (s.written(), write) {
+                current.insert(d, (v, k));
+            }
+            *s = renamed;
+        }
+    }
+    Some(())
+}
+
 /// What is known of a register: its kind, and (an `Int`) whether it may stand for -0.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Known {
@@ -556,7 +790,9 @@ fn translate(
 ) -> Option<Body> {
     let start = at.check + 1;
     let next = at.exit.checked_sub(1)?;
-    if next < start {
+    // Scratch registers are numbered down from the top (`u32::MAX - i`), versions up from
+    // `VIRTUAL`: they never meet.
+    if next < start || next >= 1 << 30 {
         return None;
     }
     let Op::ForNext {
@@ -579,6 +815,7 @@ fn translate(
     let mut by_op: Vec<Vec<Step>> = Vec::new();
     for i in start..next {
         let scratch = u32::MAX - i;
+        debug_assert!(scratch >= VIRTUAL);
         let s = steps(*ops.get(i as usize)?, scratch)?;
         for step in &s {
             if let Some(t) = step.target() {
@@ -589,8 +826,10 @@ fn translate(
         }
         by_op.push(s);
     }
+    rename_temporaries(&mut by_op, temps, start)?;
     let all: Vec<Step> = by_op.iter().flatten().copied().collect();
-    let scratch_reg = |r: Reg| r > u32::MAX - next;
+    // Temporaries, their versions and scratch registers: dead at the end of their statement.
+    let scratch_reg = |r: Reg| r >= VIRTUAL;
     // The registers surely written before each instruction, whichever way control came (jumps
     // go forward only, so one pass in order sees every way into an instruction first). A
     // register read where it may not have been written holds the value of the iteration before
@@ -609,7 +848,7 @@ fn translate(
         let mut falls = true;
         for step in s {
             for r in step.read() {
-                if !set.contains(&r) && (temps.contains(&r) || scratch_reg(r)) {
+                if !set.contains(&r) && scratch_reg(r) {
                     return None;
                 }
             }
@@ -629,7 +868,7 @@ fn translate(
     let mut ins: Vec<Reg> = vec![var];
     for s in &all {
         for r in s.read().into_iter().chain(s.written()) {
-            if !temps.contains(&r) && !scratch_reg(r) && !ins.contains(&r) {
+            if !scratch_reg(r) && !ins.contains(&r) {
                 ins.push(r);
             }
         }
@@ -679,23 +918,42 @@ fn translate(
     }
     if written
         .iter()
-        .any(|&r| !temps.contains(&r) && !scratch_reg(r) && kind_of(r).signed_zero)
+        .any(|&r| !scratch_reg(r) && kind_of(r).signed_zero)
     {
         return None;
     }
-    // Locals: the registers, then two for conversions.
+    // Locals: the variables an iteration writes first (an iteration's start copies them, a
+    // few at once), then the other registers, then a real copy of each integer the body only
+    // reads (a constant, a variable it does not write: converted once, on entry), then two
+    // for conversions.
     let mut local: BTreeMap<Reg, Local> = BTreeMap::new();
-    for &r in ins.iter().chain(&written) {
+    let kept_regs: Vec<Reg> = ins
+        .iter()
+        .copied()
+        .filter(|r| written.contains(r) || *r == var)
+        .collect();
+    for &r in kept_regs.iter().chain(&ins).chain(&written) {
         let n = local.len();
         local.entry(r).or_insert(n as Local);
-        if local.len() > MOST_LOCALS - 2 {
+        if local.len() > MOST_LOCALS / 2 {
             return None;
         }
     }
-    let conv = [local.len() as Local, local.len() as Local + 1];
-    let locals = local.len() + 2;
+    let mut shadow: BTreeMap<Reg, Local> = BTreeMap::new();
+    for &r in &ins {
+        // The loop variable changes at each `for.next`: it has none.
+        if !written.contains(&r) && r != var && kind_of(r).kind == Kind::Int {
+            shadow.insert(r, (local.len() + shadow.len()) as Local);
+        }
+    }
+    let conv_base = local.len() + shadow.len();
+    if conv_base + 2 > MOST_LOCALS {
+        return None;
+    }
+    let conv = [conv_base as Local, conv_base as Local + 1];
+    let locals = conv_base + 2;
     let l = |r: Reg| local.get(&r).copied().unwrap_or(0);
-    let mut out: Vec<Micro> = Vec::new();
+    let mut out: Vec<Ir> = Vec::new();
     let mut first_micro: Vec<usize> = Vec::new();
     // Jumps to patch: micro index, target instruction.
     let mut patches: Vec<(usize, u32)> = Vec::new();
@@ -709,6 +967,7 @@ fn translate(
                 i,
                 &kind_of,
                 &l,
+                &shadow,
                 conv,
                 &mut out,
                 &mut patches,
@@ -717,26 +976,36 @@ fn translate(
         }
     }
     let end = out.len();
-    out.push(Micro::Next);
+    out.push(Ir::Next);
+    // Jumps: IR instruction, target IR instruction.
+    let mut jumps: Vec<(usize, usize)> = Vec::new();
     for (m, t) in patches {
         let to = if t == next {
             end
         } else {
             *first_micro.get((t - start) as usize)?
         };
-        let to = u16::try_from(to).ok()?;
-        if let Some(op) = out.get_mut(m) {
-            match op {
-                Micro::Jump { t, .. }
-                | Micro::JumpZeroI { t, .. }
-                | Micro::JumpZeroR { t, .. }
-                | Micro::JumpCmpI { t, .. }
-                | Micro::JumpCmpR { t, .. } => *t = to,
-                _ => return None,
+        jumps.push((m, to));
+    }
+    // Temporaries (and scratch registers) are dead once their statement is done: the compiler
+    // gives each statement its own, written before they are read. They are not stored back.
+    let temp_local =
+        |x: Local| local.iter().any(|(&r, &lx)| lx == x && scratch_reg(r)) || conv.contains(&x);
+    // Constants whose value an instruction can carry.
+    let mut consts: Vec<(Local, i64)> = Vec::new();
+    for &r in &ins {
+        if let Some(c) = constant(r) {
+            let int = kind_of(r).kind == Kind::Int;
+            if int && !written.contains(&r) && f64::from(c as i32) == c {
+                consts.push((l(r), c as i64));
             }
         }
     }
-    let ins_l: Vec<(Reg, Local, Kind)> = ins.iter().map(|&r| (r, l(r), kind_of(r).kind)).collect();
+    let const_of = |x: Local| consts.iter().find(|c| c.0 == x).map(|c| c.1 as i32);
+    let ops = lower(&out, &jumps, &skip_at, &temp_local, &const_of)?;
+    let mut ins_l: Vec<(Reg, Local, Kind)> =
+        ins.iter().map(|&r| (r, l(r), kind_of(r).kind)).collect();
+    ins_l.extend(shadow.iter().map(|(&r, &x)| (r, x, Kind::Real)));
     let outs: Vec<(Reg, Local, Kind)> = written
         .iter()
         .filter(|&&r| !scratch_reg(r))
@@ -751,18 +1020,18 @@ fn translate(
     kept.push(l(var));
     kept.sort_unstable();
     kept.dedup();
+    // They are the first locals.
+    if kept.iter().enumerate().any(|(i, &k)| usize::from(k) != i) {
+        return None;
+    }
     let regs = ins.iter().chain(&written).filter(|&&r| !scratch_reg(r));
     let highest = regs.clone().copied().max()?.max(limit + 1);
     let lowest_write = outs.iter().map(|o| o.0).min().unwrap_or(var).min(var);
-    let mut skips = vec![0u16; out.len()];
-    for (m, k) in skip_at {
-        *skips.get_mut(m)? = k;
-    }
     Some(Body {
-        skips,
-        ops: out,
+        ops,
         locals,
         ins: ins_l,
+        consts,
         outs,
         kept,
         var: (l(var), var),
@@ -775,6 +1044,302 @@ fn translate(
     })
 }
 
+/// The integer operators that have the four forms of [`Code`]: on two registers (`I`), on a
+/// register and a constant (`K`), and each stored into a long (`L`, `KL`).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Family {
+    Add,
+    Sub,
+    Mul,
+    Mod,
+    Quot,
+    Rem,
+    And,
+    Or,
+    Xor,
+}
+
+impl Family {
+    fn of(ir: &Ir) -> Option<(Family, Local, Local, Local)> {
+        Some(match *ir {
+            Ir::AddI { d, a, b } => (Family::Add, d, a, b),
+            Ir::SubI { d, a, b } => (Family::Sub, d, a, b),
+            Ir::MulI { d, a, b } => (Family::Mul, d, a, b),
+            Ir::ModI { d, a, b } => (Family::Mod, d, a, b),
+            Ir::QuotI { d, a, b } => (Family::Quot, d, a, b),
+            Ir::RemI { d, a, b } => (Family::Rem, d, a, b),
+            Ir::AndI { d, a, b } => (Family::And, d, a, b),
+            Ir::OrI { d, a, b } => (Family::Or, d, a, b),
+            Ir::XorI { d, a, b } => (Family::Xor, d, a, b),
+            _ => return None,
+        })
+    }
+
+    fn commutes(self) -> bool {
+        matches!(
+            self,
+            Family::Add | Family::Mul | Family::And | Family::Or | Family::Xor
+        )
+    }
+
+    /// The code of the form: `k`, a constant second operand; `long`, stored into a long.
+    fn code(self, k: bool, long: bool) -> Code {
+        use Code::*;
+        let forms = match self {
+            Family::Add => [AddI, AddK, AddL, AddKL],
+            Family::Sub => [SubI, SubK, SubL, SubKL],
+            Family::Mul => [MulI, MulK, MulL, MulKL],
+            Family::Mod => [ModI, ModK, ModL, ModKL],
+            Family::Quot => [QuotI, QuotK, QuotL, QuotKL],
+            Family::Rem => [RemI, RemK, RemL, RemKL],
+            Family::And => [AndI, AndK, AndL, AndKL],
+            Family::Or => [OrI, OrK, OrL, OrKL],
+            Family::Xor => [XorI, XorK, XorL, XorKL],
+        };
+        forms[usize::from(k) + 2 * usize::from(long)]
+    }
+}
+
+/// The reads and the write of an IR instruction, on locals.
+fn ir_regs(ir: &Ir) -> (Vec<Local>, Option<Local>) {
+    match *ir {
+        Ir::Mov { d, s }
+        | Ir::NegI { d, s }
+        | Ir::BitNotI { d, s }
+        | Ir::NotI { d, s }
+        | Ir::FitI { d, s, .. }
+        | Ir::NegR { d, s }
+        | Ir::BitNotR { d, s }
+        | Ir::NotR { d, s }
+        | Ir::ToR { d, s }
+        | Ir::ToRSigned { d, s }
+        | Ir::LongR { d, s }
+        | Ir::ShortR { d, s }
+        | Ir::FixedR { d, s, .. }
+        | Ir::RealR { d, s } => (vec![s], Some(d)),
+        Ir::AddI { d, a, b }
+        | Ir::SubI { d, a, b }
+        | Ir::MulI { d, a, b }
+        | Ir::ModI { d, a, b }
+        | Ir::QuotI { d, a, b }
+        | Ir::RemI { d, a, b }
+        | Ir::AndI { d, a, b }
+        | Ir::OrI { d, a, b }
+        | Ir::XorI { d, a, b }
+        | Ir::CmpI { d, a, b, .. }
+        | Ir::AddR { d, a, b }
+        | Ir::SubR { d, a, b }
+        | Ir::MulR { d, a, b }
+        | Ir::DivR { d, a, b }
+        | Ir::RemR { d, a, b }
+        | Ir::IntR { d, a, b, .. }
+        | Ir::CmpR { d, a, b, .. } => (vec![a, b], Some(d)),
+        Ir::CheckR { s, .. } => (vec![s], None),
+        Ir::JumpZeroI { c, .. } | Ir::JumpZeroR { c, .. } => (vec![c], None),
+        Ir::JumpCmpI { a, b, .. } | Ir::JumpCmpR { a, b, .. } => (vec![a, b], None),
+        Ir::Jump { .. } | Ir::Next => (vec![], None),
+    }
+}
+
+/// Whether the temporary `t`, written at IR instruction `at`, is read by none of the
+/// instructions after `after` before one writes it again, whichever way control goes.
+fn dead_after(ir: &[Ir], jumps: &[(usize, usize)], t: Local, after: usize) -> bool {
+    let mut w = ir.len();
+    for (j, op) in ir.iter().enumerate().skip(after + 1) {
+        let (reads, write) = ir_regs(op);
+        if reads.contains(&t) {
+            return false;
+        }
+        if write == Some(t) {
+            w = j;
+            break;
+        }
+    }
+    // A jump from before the write to past it would reach what follows with `t` unwritten.
+    !jumps
+        .iter()
+        .any(|&(from, to)| from > after && from < w && to > w)
+}
+
+/// Pack the IR instructions `ir` (whose jumps `jumps` give, as IR indices, and skip what
+/// `skip_at` says) into [`Micro`]s: an integer operator whose second operand is a constant
+/// carries it (`K`), and one whose temporary a long's store takes at once stores into the
+/// long itself (`L`), the store gone (not when a jump goes to the store).
+fn lower(
+    ir: &[Ir],
+    jumps: &[(usize, usize)],
+    skip_at: &[(usize, u16)],
+    temp_local: &dyn Fn(Local) -> bool,
+    const_of: &dyn Fn(Local) -> Option<i32>,
+) -> Option<Vec<Micro>> {
+    let targets: Vec<usize> = jumps.iter().map(|j| j.1).collect();
+    let mut out: Vec<Micro> = Vec::new();
+    let mut index = vec![0usize; ir.len() + 1];
+    let mut k = 0;
+    while k < ir.len() {
+        index[k] = out.len();
+        let op = &ir[k];
+        if let Some((family, d, a, b)) = Family::of(op) {
+            // The store that follows, when it takes this result into a long and nothing else
+            // reads the temporary.
+            let store = match ir.get(k + 1) {
+                Some(&Ir::FitI {
+                    d: v,
+                    s,
+                    w: Width::Long,
+                }) if s == d
+                    && temp_local(d)
+                    && !targets.contains(&(k + 1))
+                    && dead_after(ir, jumps, d, k + 1) =>
+                {
+                    Some(v)
+                }
+                _ => None,
+            };
+            let (a, b) = match (const_of(a), const_of(b)) {
+                (Some(_), None) if family.commutes() => (b, a),
+                _ => (a, b),
+            };
+            // A constant divisor of 0 or -1 stays in a register: the general way takes it.
+            let k_const = const_of(b).filter(|&c| match family {
+                Family::Mod | Family::Quot => c != 0 && c != -1,
+                Family::Rem => c != 0,
+                _ => true,
+            });
+            let code = family.code(k_const.is_some(), store.is_some());
+            out.push(Micro {
+                code,
+                d: store.unwrap_or(d),
+                a,
+                b,
+                k: k_const.unwrap_or(0),
+            });
+            if store.is_some() {
+                index[k + 1] = out.len() - 1;
+                k += 2;
+            } else {
+                k += 1;
+            }
+            continue;
+        }
+        out.push(pack(op));
+        k += 1;
+    }
+    index[ir.len()] = out.len();
+    // A jump's `k`: its target, and above it how many of the interpreter's instructions it
+    // skips (uncounted when it is taken).
+    let mut skip_of = vec![0u16; ir.len()];
+    for &(m, n) in skip_at {
+        *skip_of.get_mut(m)? = n;
+    }
+    for &(from, to) in jumps {
+        let t = *index.get(to)?;
+        let skip = *skip_of.get(from)?;
+        if t > usize::from(u16::MAX) || skip > i16::MAX as u16 {
+            return None;
+        }
+        out.get_mut(*index.get(from)?)?.k = t as i32 | i32::from(skip) << 16;
+    }
+    // Every jump lands on an instruction, and the last is `Next`.
+    let len = out.len() as i32;
+    if out.last().map(|m| m.code) != Some(Code::Next)
+        || out
+            .iter()
+            .any(|m| m.code.jumps() && !(0..len).contains(&(m.k & 0xffff)))
+    {
+        return None;
+    }
+    Some(out)
+}
+
+fn cmp_index(c: Cmp) -> u8 {
+    match c {
+        Cmp::Eq => 0,
+        Cmp::Ne => 1,
+        Cmp::Lt => 2,
+        Cmp::Le => 3,
+        Cmp::Gt => 4,
+        Cmp::Ge => 5,
+    }
+}
+
+/// The comparison [`cmp_index`] numbers `i`.
+pub fn cmp_of(i: u8) -> Cmp {
+    [Cmp::Eq, Cmp::Ne, Cmp::Lt, Cmp::Le, Cmp::Gt, Cmp::Ge][usize::from(i % 6)]
+}
+
+/// The operators of [`Code::IntR`], by number.
+pub const INT_OPS: [BinaryOp; 5] = [
+    BinaryOp::BasicMod,
+    BinaryOp::IntDiv,
+    BinaryOp::BitAnd,
+    BinaryOp::BitOr,
+    BinaryOp::BitXor,
+];
+
+/// The [`Micro`] of an IR instruction outside the integer families (a jump's target is set
+/// after).
+fn pack(ir: &Ir) -> Micro {
+    let m = |code: Code, d: Local, a: Local, b: Local, k: i32| Micro { code, d, a, b, k };
+    let width = |w: Width| i32::from(w == Width::Short);
+    match *ir {
+        Ir::Mov { d, s } => m(Code::Mov, d, s, 0, 0),
+        Ir::NegI { d, s } => m(Code::NegI, d, s, 0, 0),
+        Ir::BitNotI { d, s } => m(Code::BitNotI, d, s, 0, 0),
+        Ir::NotI { d, s } => m(Code::NotI, d, s, 0, 0),
+        Ir::CmpI { cmp, d, a, b } => m(Code::CmpI, d, a, b, i32::from(cmp_index(cmp))),
+        Ir::FitI { d, s, w } => m(Code::FitI, d, s, 0, width(w)),
+        Ir::AddR { d, a, b } => m(Code::AddR, d, a, b, 0),
+        Ir::SubR { d, a, b } => m(Code::SubR, d, a, b, 0),
+        Ir::MulR { d, a, b } => m(Code::MulR, d, a, b, 0),
+        Ir::DivR { d, a, b } => m(Code::DivR, d, a, b, 0),
+        Ir::NegR { d, s } => m(Code::NegR, d, s, 0, 0),
+        Ir::RemR { d, a, b } => m(Code::RemR, d, a, b, 0),
+        Ir::IntR { op, d, a, b } => {
+            let i = INT_OPS.iter().position(|&o| o == op).unwrap_or(0);
+            m(Code::IntR, d, a, b, i as i32)
+        }
+        Ir::BitNotR { d, s } => m(Code::BitNotR, d, s, 0, 0),
+        Ir::CmpR { cmp, d, a, b } => m(Code::CmpR, d, a, b, i32::from(cmp_index(cmp))),
+        Ir::NotR { d, s } => m(Code::NotR, d, s, 0, 0),
+        Ir::ToR { d, s } => m(Code::ToR, d, s, 0, 0),
+        Ir::ToRSigned { d, s } => m(Code::ToRSigned, d, s, 0, 0),
+        Ir::LongR { d, s } => m(Code::LongR, d, s, 0, 0),
+        Ir::ShortR { d, s } => m(Code::ShortR, d, s, 0, 0),
+        Ir::FixedR { d, s, decimals } => m(Code::FixedR, d, s, 0, i32::from(decimals)),
+        Ir::RealR { d, s } => m(Code::RealR, d, s, 0, 0),
+        Ir::CheckR { s, w } => m(Code::CheckR, 0, s, 0, width(w)),
+        Ir::Jump { .. } => m(Code::Jump, 0, 0, 0, 0),
+        Ir::JumpZeroI { c, zero, .. } => m(if zero { Code::JzI } else { Code::JnzI }, 0, c, 0, 0),
+        Ir::JumpZeroR { c, zero, .. } => m(if zero { Code::JzR } else { Code::JnzR }, 0, c, 0, 0),
+        Ir::JumpCmpI { cmp, a, b, .. } => {
+            let code = match cmp {
+                Cmp::Eq => Code::JeqI,
+                Cmp::Ne => Code::JneI,
+                Cmp::Lt => Code::JltI,
+                Cmp::Le => Code::JleI,
+                Cmp::Gt => Code::JgtI,
+                Cmp::Ge => Code::JgeI,
+            };
+            m(code, 0, a, b, 0)
+        }
+        Ir::JumpCmpR {
+            cmp, want, a, b, ..
+        } => m(Code::JcmpR, cmp_index(cmp) * 2 + u8::from(want), a, b, 0),
+        Ir::Next => m(Code::Next, 0, 0, 0, 0),
+        // The families go through `Family` first; this is their form on registers.
+        Ir::AddI { d, a, b } => m(Code::AddI, d, a, b, 0),
+        Ir::SubI { d, a, b } => m(Code::SubI, d, a, b, 0),
+        Ir::MulI { d, a, b } => m(Code::MulI, d, a, b, 0),
+        Ir::ModI { d, a, b } => m(Code::ModI, d, a, b, 0),
+        Ir::QuotI { d, a, b } => m(Code::QuotI, d, a, b, 0),
+        Ir::RemI { d, a, b } => m(Code::RemI, d, a, b, 0),
+        Ir::AndI { d, a, b } => m(Code::AndI, d, a, b, 0),
+        Ir::OrI { d, a, b } => m(Code::OrI, d, a, b, 0),
+        Ir::XorI { d, a, b } => m(Code::XorI, d, a, b, 0),
+    }
+}
+
 /// Emit the micro-instructions of `step` (of instruction `i`), converting `Int` operands to
 /// reals where a real operation reads them (into the locals `conv`).
 #[allow(clippy::too_many_arguments)]
@@ -783,46 +1348,50 @@ fn emit(
     i: u32,
     kind_of: &dyn Fn(Reg) -> Known,
     l: &dyn Fn(Reg) -> Local,
+    shadow: &BTreeMap<Reg, Local>,
     conv: [Local; 2],
-    out: &mut Vec<Micro>,
+    out: &mut Vec<Ir>,
     patches: &mut Vec<(usize, u32)>,
     skips: &mut Vec<(usize, u16)>,
 ) {
     let int = |r: Reg| kind_of(r).kind == Kind::Int;
     // The register `r` as a real: itself, or converted into `conv[k]` (checked for -0 when
     // `sign` matters to what reads it).
-    let real = |r: Reg, k: usize, sign: bool, out: &mut Vec<Micro>| -> Local {
+    let real = |r: Reg, k: usize, sign: bool, out: &mut Vec<Ir>| -> Local {
         if !int(r) {
             return l(r);
         }
+        if let Some(&x) = shadow.get(&r) {
+            return x;
+        }
         let d = conv[k];
         out.push(if sign && kind_of(r).signed_zero {
-            Micro::ToRSigned { d, s: l(r) }
+            Ir::ToRSigned { d, s: l(r) }
         } else {
-            Micro::ToR { d, s: l(r) }
+            Ir::ToR { d, s: l(r) }
         });
         d
     };
     // An `Int` result for `d`: straight into it, or (a real register) through `conv[0]`.
-    let int_into = |d: Reg, make: &dyn Fn(Local) -> Micro, signed: bool, out: &mut Vec<Micro>| {
+    let int_into = |d: Reg, make: &dyn Fn(Local) -> Ir, signed: bool, out: &mut Vec<Ir>| {
         if int(d) {
             out.push(make(l(d)));
         } else {
             out.push(make(conv[0]));
             out.push(if signed {
-                Micro::ToRSigned {
+                Ir::ToRSigned {
                     d: l(d),
                     s: conv[0],
                 }
             } else {
-                Micro::ToR {
+                Ir::ToR {
                     d: l(d),
                     s: conv[0],
                 }
             });
         }
     };
-    let skip = |t: u32, out: &Vec<Micro>, skips: &mut Vec<(usize, u16)>| {
+    let skip = |t: u32, out: &Vec<Ir>, skips: &mut Vec<(usize, u16)>| {
         skips.push((out.len(), (t - i - 1) as u16));
     };
     match *step {
@@ -837,31 +1406,31 @@ fn emit(
                         _ => true,
                     };
                     let make = |d: Local| match op {
-                        Bin::Add => Micro::AddI { d, a: la, b: lb },
-                        Bin::Sub => Micro::SubI { d, a: la, b: lb },
-                        _ => Micro::MulI { d, a: la, b: lb },
+                        Bin::Add => Ir::AddI { d, a: la, b: lb },
+                        Bin::Sub => Ir::SubI { d, a: la, b: lb },
+                        _ => Ir::MulI { d, a: la, b: lb },
                     };
                     int_into(d, &make, signed, out);
                 }
-                Bin::Rem if ints => int_into(d, &|d| Micro::RemI { d, a: la, b: lb }, false, out),
+                Bin::Rem if ints => int_into(d, &|d| Ir::RemI { d, a: la, b: lb }, false, out),
                 Bin::Add | Bin::Sub | Bin::Mul | Bin::Div | Bin::Rem => {
                     let (ra, rb) = (real(a, 0, true, out), real(b, 1, true, out));
                     let d = l(d);
                     out.push(match op {
-                        Bin::Add => Micro::AddR { d, a: ra, b: rb },
-                        Bin::Sub => Micro::SubR { d, a: ra, b: rb },
-                        Bin::Mul => Micro::MulR { d, a: ra, b: rb },
-                        Bin::Div => Micro::DivR { d, a: ra, b: rb },
-                        _ => Micro::RemR { d, a: ra, b: rb },
+                        Bin::Add => Ir::AddR { d, a: ra, b: rb },
+                        Bin::Sub => Ir::SubR { d, a: ra, b: rb },
+                        Bin::Mul => Ir::MulR { d, a: ra, b: rb },
+                        Bin::Div => Ir::DivR { d, a: ra, b: rb },
+                        _ => Ir::RemR { d, a: ra, b: rb },
                     });
                 }
                 Bin::Int(bop) if ints => {
                     let make = |d: Local| match bop {
-                        BinaryOp::BasicMod => Micro::ModI { d, a: la, b: lb },
-                        BinaryOp::IntDiv => Micro::QuotI { d, a: la, b: lb },
-                        BinaryOp::BitAnd => Micro::AndI { d, a: la, b: lb },
-                        BinaryOp::BitOr => Micro::OrI { d, a: la, b: lb },
-                        _ => Micro::XorI { d, a: la, b: lb },
+                        BinaryOp::BasicMod => Ir::ModI { d, a: la, b: lb },
+                        BinaryOp::IntDiv => Ir::QuotI { d, a: la, b: lb },
+                        BinaryOp::BitAnd => Ir::AndI { d, a: la, b: lb },
+                        BinaryOp::BitOr => Ir::OrI { d, a: la, b: lb },
+                        _ => Ir::XorI { d, a: la, b: lb },
                     };
                     let signed = matches!(bop, BinaryOp::BasicMod | BinaryOp::IntDiv);
                     int_into(d, &make, signed, out);
@@ -869,7 +1438,7 @@ fn emit(
                 Bin::Int(bop) => {
                     let (ra, rb) = (real(a, 0, false, out), real(b, 1, false, out));
                     let signed = matches!(bop, BinaryOp::BasicMod | BinaryOp::IntDiv);
-                    let make = |d: Local| Micro::IntR {
+                    let make = |d: Local| Ir::IntR {
                         op: bop,
                         d,
                         a: ra,
@@ -881,7 +1450,7 @@ fn emit(
                 }
                 Bin::Cmp(cmp) if ints => int_into(
                     d,
-                    &|d| Micro::CmpI {
+                    &|d| Ir::CmpI {
                         cmp,
                         d,
                         a: la,
@@ -894,7 +1463,7 @@ fn emit(
                     let (ra, rb) = (real(a, 0, false, out), real(b, 1, false, out));
                     int_into(
                         d,
-                        &|d| Micro::CmpR {
+                        &|d| Ir::CmpR {
                             cmp,
                             d,
                             a: ra,
@@ -910,17 +1479,17 @@ fn emit(
             let ls = l(s);
             match op {
                 Un::Move if int(s) && !int(d) => out.push(if kind_of(s).signed_zero {
-                    Micro::ToRSigned { d: l(d), s: ls }
+                    Ir::ToRSigned { d: l(d), s: ls }
                 } else {
-                    Micro::ToR { d: l(d), s: ls }
+                    Ir::ToR { d: l(d), s: ls }
                 }),
-                Un::Move => out.push(Micro::Mov { d: l(d), s: ls }),
-                Un::Neg if int(s) => int_into(d, &|d| Micro::NegI { d, s: ls }, true, out),
-                Un::Neg => out.push(Micro::NegR { d: l(d), s: ls }),
-                Un::Not if int(s) => int_into(d, &|d| Micro::NotI { d, s: ls }, false, out),
-                Un::Not => int_into(d, &|d| Micro::NotR { d, s: ls }, false, out),
-                Un::BitNot if int(s) => int_into(d, &|d| Micro::BitNotI { d, s: ls }, false, out),
-                Un::BitNot => int_into(d, &|d| Micro::BitNotR { d, s: ls }, false, out),
+                Un::Move => out.push(Ir::Mov { d: l(d), s: ls }),
+                Un::Neg if int(s) => int_into(d, &|d| Ir::NegI { d, s: ls }, true, out),
+                Un::Neg => out.push(Ir::NegR { d: l(d), s: ls }),
+                Un::Not if int(s) => int_into(d, &|d| Ir::NotI { d, s: ls }, false, out),
+                Un::Not => int_into(d, &|d| Ir::NotR { d, s: ls }, false, out),
+                Un::BitNot if int(s) => int_into(d, &|d| Ir::BitNotI { d, s: ls }, false, out),
+                Un::BitNot => int_into(d, &|d| Ir::BitNotR { d, s: ls }, false, out),
             }
         }
         Step::Store { to, d, s } => {
@@ -928,7 +1497,7 @@ fn emit(
             match to {
                 Store::Long | Store::Fixed(0) if int(s) => int_into(
                     d,
-                    &|d| Micro::FitI {
+                    &|d| Ir::FitI {
                         d,
                         s: ls,
                         w: Width::Long,
@@ -938,7 +1507,7 @@ fn emit(
                 ),
                 Store::Short if int(s) => int_into(
                     d,
-                    &|d| Micro::FitI {
+                    &|d| Ir::FitI {
                         d,
                         s: ls,
                         w: Width::Short,
@@ -946,11 +1515,11 @@ fn emit(
                     false,
                     out,
                 ),
-                Store::Long => int_into(d, &|d| Micro::LongR { d, s: ls }, false, out),
-                Store::Short => int_into(d, &|d| Micro::ShortR { d, s: ls }, false, out),
+                Store::Long => int_into(d, &|d| Ir::LongR { d, s: ls }, false, out),
+                Store::Short => int_into(d, &|d| Ir::ShortR { d, s: ls }, false, out),
                 Store::Fixed(0) => int_into(
                     d,
-                    &|d| Micro::FixedR {
+                    &|d| Ir::FixedR {
                         d,
                         s: ls,
                         decimals: 0,
@@ -960,45 +1529,45 @@ fn emit(
                 ),
                 Store::Fixed(decimals) => {
                     let rs = real(s, 0, true, out);
-                    out.push(Micro::FixedR {
+                    out.push(Ir::FixedR {
                         d: l(d),
                         s: rs,
                         decimals,
                     });
                 }
                 Store::Real if int(s) => out.push(if kind_of(s).signed_zero {
-                    Micro::ToRSigned { d: l(d), s: ls }
+                    Ir::ToRSigned { d: l(d), s: ls }
                 } else {
-                    Micro::ToR { d: l(d), s: ls }
+                    Ir::ToR { d: l(d), s: ls }
                 }),
-                Store::Real => out.push(Micro::RealR { d: l(d), s: ls }),
+                Store::Real => out.push(Ir::RealR { d: l(d), s: ls }),
             }
         }
         Step::Check { w, r } => out.push(if int(r) {
-            Micro::FitI {
+            Ir::FitI {
                 d: l(r),
                 s: l(r),
                 w,
             }
         } else {
-            Micro::CheckR { s: l(r), w }
+            Ir::CheckR { s: l(r), w }
         }),
         Step::Jump { t } => {
             patches.push((out.len(), t));
             skip(t, out, skips);
-            out.push(Micro::Jump { t: 0 });
+            out.push(Ir::Jump { t: 0 });
         }
         Step::JumpZero { c, zero, t } => {
             patches.push((out.len(), t));
             skip(t, out, skips);
             out.push(if int(c) {
-                Micro::JumpZeroI {
+                Ir::JumpZeroI {
                     c: l(c),
                     zero,
                     t: 0,
                 }
             } else {
-                Micro::JumpZeroR {
+                Ir::JumpZeroR {
                     c: l(c),
                     zero,
                     t: 0,
@@ -1009,7 +1578,7 @@ fn emit(
             let ints = int(a) && int(b);
             let m = if ints {
                 let cmp = if want { cmp } else { negate(cmp) };
-                Micro::JumpCmpI {
+                Ir::JumpCmpI {
                     cmp,
                     a: l(a),
                     b: l(b),
@@ -1017,7 +1586,7 @@ fn emit(
                 }
             } else {
                 let (ra, rb) = (real(a, 0, false, out), real(b, 1, false, out));
-                Micro::JumpCmpR {
+                Ir::JumpCmpR {
                     cmp,
                     want,
                     a: ra,

@@ -10,11 +10,12 @@
 //! it has one.
 
 use super::exec::{
-    basic_div_of, basic_mod_of, int as rounded_int, int16, int_rem_of, integer, round_long,
+    basic_div_of, basic_mod_of, int as rounded_int, int16, int_rem_of, integer, keep_branch,
+    round_long,
 };
 use super::tight::End;
-use crate::compile::body::{Body, Kind, Micro, Width, EXACT};
-use crate::fixed::to_fixed;
+use crate::compile::body::{cmp_of, Body, Code, Kind, Width, EXACT, INT_OPS};
+use crate::fixed::{to_fixed, trunc_i32};
 
 /// The fewest iterations of a loop worth leaving the interpreter for.
 pub const FEWEST: f64 = 4.0;
@@ -41,11 +42,90 @@ fn fits(i: i64, w: Width) -> bool {
     }
 }
 
+// The integer families on `Int`s (within ±2^53 each): `None` where the interpreter faults
+// or its value is not exact as an `Int`. Within 32 bits `MOD`, `\` and PowerTools' `MOD`
+// take the interpreter's integer path; past them its general one.
+
+#[inline(always)]
+fn add(x: i64, y: i64) -> Option<i64> {
+    Some(x + y)
+}
+
+#[inline(always)]
+fn sub(x: i64, y: i64) -> Option<i64> {
+    Some(x - y)
+}
+
+#[inline(always)]
+fn mul(x: i64, y: i64) -> Option<i64> {
+    x.checked_mul(y)
+}
+
+#[inline(always)]
+fn basic_mod(x: i64, y: i64) -> Option<i64> {
+    match (i32::try_from(x), i32::try_from(y)) {
+        (Ok(i), Ok(j)) if j != 0 => Some(i64::from(i.wrapping_rem(j))),
+        _ => wide(basic_mod_of(x as f64, y as f64, false).ok()),
+    }
+}
+
+#[inline(always)]
+fn quot(x: i64, y: i64) -> Option<i64> {
+    match (i32::try_from(x), i32::try_from(y)) {
+        (Ok(i), Ok(j)) if j != 0 && !(i == i32::MIN && j == -1) => Some(i64::from(i / j)),
+        _ => wide(basic_div_of(x as f64, y as f64, false).ok()),
+    }
+}
+
+#[inline(always)]
+fn rem(x: i64, y: i64) -> Option<i64> {
+    match (i32::try_from(x), i32::try_from(y)) {
+        (Ok(i), Ok(j)) if j != 0 => Some(i64::from(i.wrapping_rem(j))),
+        _ if y == 0 => None,
+        _ => wide(Some(int_rem_of(x as f64, y as f64, false))),
+    }
+}
+
+#[inline(always)]
+fn and(x: i64, y: i64) -> Option<i64> {
+    Some(x & y)
+}
+
+#[inline(always)]
+fn or(x: i64, y: i64) -> Option<i64> {
+    Some(x | y)
+}
+
+#[inline(always)]
+fn xor(x: i64, y: i64) -> Option<i64> {
+    Some(x ^ y)
+}
+
+/// The general way's value as an `Int`, away from the loop.
+#[cold]
+#[inline(never)]
+fn wide(x: Option<f64>) -> Option<i64> {
+    x.and_then(to_int)
+}
+
+/// Copy `from[..N]` to `to[..N]` one `u64` at a time. The values were just stored one by
+/// one: a wider load (LLVM would merge the copies into vector moves) cannot take them from the
+/// stores in flight and waits until they are written (bench/loop ran 40 % slower so).
+#[inline(always)]
+fn copy_each<const N: usize>(to: &mut [u64; 256], from: &[u64; 256]) {
+    for i in 0..N {
+        // SAFETY: both are references to elements of the arrays (`N` ≤ 256), valid and
+        // aligned; volatile only keeps each access one 8-byte move.
+        unsafe { std::ptr::write_volatile(&mut to[i], std::ptr::read_volatile(&from[i])) }
+    }
+}
+
 /// Run the iterations of the loop `body` that are plain, starting at the start of its body,
 /// on the values `vals`, counting the interpreter's instructions in `n` against `budget` (the
 /// interpreter's test: after a `for.next` that goes round again). Where it stopped; `None`
-/// when it did not start (a register outside `vals`, a value an `Int` cannot hold, a step
-/// that is not a whole number other than 0, fewer than [`FEWEST`] iterations left).
+/// when it did not start (a register outside `vals`, a value an `Int` cannot hold, a
+/// constant not what the translation saw, a step that is not a whole number other than 0,
+/// fewer than [`FEWEST`] iterations left).
 pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<End> {
     if body.highest as usize >= vals.len() || body.locals > 256 {
         return None;
@@ -59,6 +139,11 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<En
             Kind::Int => return None,
             Kind::Real => x.to_bits(),
         };
+    }
+    for &(local, c) in &body.consts {
+        if r[local as usize] as i64 != c {
+            return None;
+        }
     }
     let limit = vals[body.limit as usize];
     let step = to_int(vals[body.limit as usize + 1]).filter(|&s| s != 0)?;
@@ -74,15 +159,33 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<En
         Width::Long
     };
     let up = step > 0;
+    // The loop goes round while the variable (an integer) is at most the limit's floor (up)
+    // or at least its ceiling (down); never past a limit that is not a number.
+    let bound = |x: f64| x.clamp(-(EXACT as f64), EXACT as f64) as i64;
+    let (hi, lo) = if limit.is_nan() {
+        (i64::MIN, i64::MAX)
+    } else {
+        (bound(limit.floor()), bound(limit.ceil()))
+    };
+    let kept = body.kept.len().min(256);
+    debug_assert!(body
+        .kept
+        .iter()
+        .enumerate()
+        .all(|(i, &k)| usize::from(k) == i));
     let ops = body.ops();
-    let skips = &body.skips[..];
-    debug_assert_eq!(ops.len(), skips.len());
     let mut saved = [0u64; 256];
     let mut count = *n;
     let mut at_start;
     let end = 'iterations: loop {
-        for &k in &body.kept {
-            saved[k as usize] = r[k as usize];
+        // The kept variables are the first locals: a few are copied by a fixed number of
+        // moves.
+        if kept <= 4 {
+            copy_each::<4>(&mut saved, &r);
+        } else if kept <= 8 {
+            copy_each::<8>(&mut saved, &r);
+        } else {
+            saved[..kept].copy_from_slice(&r[..kept]);
         }
         at_start = count;
         count += body.count;
@@ -112,16 +215,6 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<En
                 break 'iterations End::Slow
             };
         }
-        // An `Int` result, which must stay within ±2^53.
-        macro_rules! checked {
-            ($d:expr, $x:expr) => {{
-                let x: i64 = $x;
-                if !exact(x) {
-                    undone!();
-                }
-                set_int!($d, x);
-            }};
-        }
         // A result the interpreter's function gives as an `f64`, taken as an `Int`.
         macro_rules! from_real {
             ($d:expr, $x:expr) => {{
@@ -131,12 +224,15 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<En
                 }
             }};
         }
-        // A jump taken from the instruction before `pc` to `t`: the interpreter's instructions
-        // it skips are not run.
+        // A jump taken (`Code::Jump`): the interpreter's instructions it skips are not run.
+        // It stays a branch (`exec::keep_branch`): chosen by a conditional move, the next
+        // instruction's dispatch would wait for the comparison.
         macro_rules! jump {
-            ($t:expr) => {{
-                count -= u64::from(skips.get(pc - 1).copied().unwrap_or(0));
-                pc = $t as usize;
+            ($k:expr) => {{
+                keep_branch();
+                let k: i32 = $k;
+                count -= (k >> 16) as u64;
+                pc = (k & 0xffff) as usize;
             }};
         }
         loop {
@@ -144,143 +240,215 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<En
             // SAFETY: `pc` is 0 or a jump's target, or one past an instruction that is not
             // the last (`Next`, which leaves this loop): each is an instruction of `ops`
             // (`Body::ops`).
-            let op = unsafe { *ops.get_unchecked(pc) };
+            let m = unsafe { *ops.get_unchecked(pc) };
             pc += 1;
-            match op {
-                Micro::Mov { d, s } => r[d as usize] = r[s as usize],
-                Micro::AddI { d, a, b } => checked!(d, int!(a) + int!(b)),
-                Micro::SubI { d, a, b } => checked!(d, int!(a) - int!(b)),
-                Micro::MulI { d, a, b } => match int!(a).checked_mul(int!(b)) {
-                    Some(x) => checked!(d, x),
-                    None => undone!(),
-                },
-                Micro::NegI { d, s } => set_int!(d, -int!(s)),
-                Micro::ModI { d, a, b } => {
-                    let (x, y) = (int!(a), int!(b));
-                    match (i32::try_from(x), i32::try_from(y)) {
-                        (Ok(i), Ok(j)) if j != 0 => set_int!(d, i.wrapping_rem(j)),
-                        _ => from_real!(d, basic_mod_of(x as f64, y as f64, false)),
-                    }
-                }
-                Micro::QuotI { d, a, b } => {
-                    let (x, y) = (int!(a), int!(b));
-                    match (i32::try_from(x), i32::try_from(y)) {
-                        (Ok(i), Ok(j)) if j != 0 && !(i == i32::MIN && j == -1) => {
-                            set_int!(d, i / j)
+            let (d, a, b) = (m.d, m.a, m.b);
+            // An integer family: `$f` of `a` and `b` (`$k`: the constant instead), stored
+            // within ±2^53 or (`$long`) into a long.
+            macro_rules! family {
+                ($f:ident, $k:expr, $long:expr) => {{
+                    let y = if $k { i64::from(m.k) } else { int!(b) };
+                    match $f(int!(a), y) {
+                        Some(x)
+                            if (if $long {
+                                fits(x, Width::Long)
+                            } else {
+                                exact(x)
+                            }) =>
+                        {
+                            set_int!(d, x)
                         }
-                        _ => from_real!(d, basic_div_of(x as f64, y as f64, false)),
+                        _ => undone!(),
                     }
-                }
-                Micro::RemI { d, a, b } => {
-                    let (x, y) = (int!(a), int!(b));
-                    if y == 0 {
+                }};
+            }
+            match m.code {
+                Code::Mov => r[d as usize] = r[a as usize],
+                Code::AddI => family!(add, false, false),
+                Code::AddK => family!(add, true, false),
+                Code::AddL => family!(add, false, true),
+                Code::AddKL => family!(add, true, true),
+                Code::SubI => family!(sub, false, false),
+                Code::SubK => family!(sub, true, false),
+                Code::SubL => family!(sub, false, true),
+                Code::SubKL => family!(sub, true, true),
+                Code::MulI => family!(mul, false, false),
+                Code::MulK => family!(mul, true, false),
+                Code::MulL => family!(mul, false, true),
+                Code::MulKL => family!(mul, true, true),
+                Code::ModI => family!(basic_mod, false, false),
+                Code::ModK => family!(basic_mod, true, false),
+                Code::ModL => family!(basic_mod, false, true),
+                Code::ModKL => family!(basic_mod, true, true),
+                Code::QuotI => family!(quot, false, false),
+                Code::QuotK => family!(quot, true, false),
+                Code::QuotL => family!(quot, false, true),
+                Code::QuotKL => family!(quot, true, true),
+                Code::RemI => family!(rem, false, false),
+                Code::RemK => family!(rem, true, false),
+                Code::RemL => family!(rem, false, true),
+                Code::RemKL => family!(rem, true, true),
+                Code::AndI => family!(and, false, false),
+                Code::AndK => family!(and, true, false),
+                Code::AndL => family!(and, false, true),
+                Code::AndKL => family!(and, true, true),
+                Code::OrI => family!(or, false, false),
+                Code::OrK => family!(or, true, false),
+                Code::OrL => family!(or, false, true),
+                Code::OrKL => family!(or, true, true),
+                Code::XorI => family!(xor, false, false),
+                Code::XorK => family!(xor, true, false),
+                Code::XorL => family!(xor, false, true),
+                Code::XorKL => family!(xor, true, true),
+                Code::NegI => set_int!(d, -int!(a)),
+                Code::BitNotI => {
+                    let x = !int!(a);
+                    if !exact(x) {
                         undone!();
                     }
-                    match (i32::try_from(x), i32::try_from(y)) {
-                        (Ok(i), Ok(j)) => set_int!(d, i.wrapping_rem(j)),
-                        _ => from_real!(d, Ok::<f64, ()>(int_rem_of(x as f64, y as f64, false))),
-                    }
+                    set_int!(d, x);
                 }
-                Micro::AndI { d, a, b } => checked!(d, int!(a) & int!(b)),
-                Micro::OrI { d, a, b } => checked!(d, int!(a) | int!(b)),
-                Micro::XorI { d, a, b } => checked!(d, int!(a) ^ int!(b)),
-                Micro::BitNotI { d, s } => checked!(d, !int!(s)),
-                Micro::CmpI { cmp, d, a, b } => {
-                    set_int!(d, cmp.test_ord(&int!(a), &int!(b)) as i64)
+                Code::NotI => set_int!(d, i64::from(int!(a) == 0)),
+                Code::CmpI => {
+                    set_int!(d, i64::from(cmp_of(m.k as u8).test_ord(&int!(a), &int!(b))))
                 }
-                Micro::NotI { d, s } => set_int!(d, (int!(s) == 0) as i64),
-                Micro::FitI { d, s, w } => {
-                    let x = int!(s);
+                Code::FitI => {
+                    let x = int!(a);
+                    let w = if m.k == 0 { Width::Long } else { Width::Short };
                     if !fits(x, w) {
                         undone!();
                     }
                     set_int!(d, x);
                 }
-                Micro::AddR { d, a, b } => set_real!(d, real!(a) + real!(b)),
-                Micro::SubR { d, a, b } => set_real!(d, real!(a) - real!(b)),
-                Micro::MulR { d, a, b } => set_real!(d, real!(a) * real!(b)),
-                Micro::DivR { d, a, b } => {
+                Code::AddR => set_real!(d, real!(a) + real!(b)),
+                Code::SubR => set_real!(d, real!(a) - real!(b)),
+                Code::MulR => set_real!(d, real!(a) * real!(b)),
+                Code::DivR => {
                     let y = real!(b);
                     if y == 0.0 {
                         undone!();
                     }
                     set_real!(d, real!(a) / y);
                 }
-                Micro::NegR { d, s } => set_real!(d, -real!(s)),
-                Micro::RemR { d, a, b } => {
+                Code::NegR => set_real!(d, -real!(a)),
+                Code::RemR => {
                     let y = real!(b);
                     if y == 0.0 {
                         undone!();
                     }
                     set_real!(d, int_rem_of(real!(a), y, false));
                 }
-                Micro::IntR { op, d, a, b } => {
+                Code::IntR => {
+                    let op = INT_OPS[(m.k as usize) % INT_OPS.len()];
                     from_real!(d, integer(op, real!(a), real!(b), false))
                 }
-                Micro::BitNotR { d, s } => checked!(d, !rounded_int(real!(s))),
-                Micro::CmpR { cmp, d, a, b } => set_int!(d, cmp.test(real!(a), real!(b)) as i64),
-                Micro::NotR { d, s } => set_int!(d, (real!(s) == 0.0) as i64),
-                Micro::ToR { d, s } => set_real!(d, int!(s) as f64),
-                Micro::ToRSigned { d, s } => {
-                    let x = int!(s);
+                Code::BitNotR => {
+                    let x = !rounded_int(real!(a));
+                    if !exact(x) {
+                        undone!();
+                    }
+                    set_int!(d, x);
+                }
+                Code::CmpR => set_int!(d, i64::from(cmp_of(m.k as u8).test(real!(a), real!(b)))),
+                Code::NotR => set_int!(d, i64::from(real!(a) == 0.0)),
+                Code::ToR => set_real!(d, int!(a) as f64),
+                Code::ToRSigned => {
+                    let x = int!(a);
                     if x == 0 {
                         undone!();
                     }
                     set_real!(d, x as f64);
                 }
-                Micro::LongR { d, s } => {
-                    let x = real!(s);
-                    let fits = f64::from(crate::fixed::trunc_i32(x)) == x;
-                    let v = if fits { Some(x + 0.0) } else { round_long(x) };
+                Code::LongR => {
+                    let x = real!(a);
+                    let v = if f64::from(trunc_i32(x)) == x {
+                        Some(x + 0.0)
+                    } else {
+                        round_long(x)
+                    };
                     from_real!(d, v.ok_or(()))
                 }
-                Micro::ShortR { d, s } => from_real!(d, int16(real!(s)).ok_or(())),
-                Micro::FixedR { d, s, decimals } => match to_fixed(real!(s), decimals) {
-                    Some(x) if decimals == 0 => from_real!(d, Ok::<f64, ()>(x)),
+                Code::ShortR => from_real!(d, int16(real!(a)).ok_or(())),
+                Code::FixedR => match to_fixed(real!(a), m.k as u8) {
+                    Some(x) if m.k == 0 => from_real!(d, Ok::<f64, ()>(x)),
                     Some(x) => set_real!(d, x),
                     None => undone!(),
                 },
-                Micro::RealR { d, s } => {
-                    let x = real!(s);
+                Code::RealR => {
+                    let x = real!(a);
                     if !x.is_finite() {
                         undone!();
                     }
                     set_real!(d, x);
                 }
-                Micro::CheckR { s, w } => {
-                    let x = real!(s);
-                    let ok = match w {
-                        Width::Long => (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x),
-                        Width::Short => (-32768.0..=32767.0).contains(&x),
+                Code::CheckR => {
+                    let x = real!(a);
+                    let ok = if m.k == 0 {
+                        (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x)
+                    } else {
+                        (-32768.0..=32767.0).contains(&x)
                     };
                     if !ok {
                         undone!();
                     }
                 }
-                Micro::Jump { t } => {
-                    jump!(t);
-                }
-                Micro::JumpZeroI { c, zero, t } => {
-                    if (int!(c) == 0) == zero {
-                        jump!(t);
+                Code::Jump => jump!(m.k),
+                Code::JzI => {
+                    if int!(a) == 0 {
+                        jump!(m.k);
                     }
                 }
-                Micro::JumpZeroR { c, zero, t } => {
-                    if (real!(c) == 0.0) == zero {
-                        jump!(t);
+                Code::JnzI => {
+                    if int!(a) != 0 {
+                        jump!(m.k);
                     }
                 }
-                Micro::JumpCmpI { cmp, a, b, t } => {
-                    if cmp.test_ord(&int!(a), &int!(b)) {
-                        jump!(t);
+                Code::JzR => {
+                    if real!(a) == 0.0 {
+                        jump!(m.k);
                     }
                 }
-                Micro::JumpCmpR { cmp, want, a, b, t } => {
-                    if cmp.test(real!(a), real!(b)) == want {
-                        jump!(t);
+                Code::JnzR => {
+                    if real!(a) != 0.0 {
+                        jump!(m.k);
                     }
                 }
-                Micro::Next => break,
+                Code::JeqI => {
+                    if int!(a) == int!(b) {
+                        jump!(m.k);
+                    }
+                }
+                Code::JneI => {
+                    if int!(a) != int!(b) {
+                        jump!(m.k);
+                    }
+                }
+                Code::JltI => {
+                    if int!(a) < int!(b) {
+                        jump!(m.k);
+                    }
+                }
+                Code::JleI => {
+                    if int!(a) <= int!(b) {
+                        jump!(m.k);
+                    }
+                }
+                Code::JgtI => {
+                    if int!(a) > int!(b) {
+                        jump!(m.k);
+                    }
+                }
+                Code::JgeI => {
+                    if int!(a) >= int!(b) {
+                        jump!(m.k);
+                    }
+                }
+                Code::JcmpR => {
+                    if cmp_of(d / 2).test(real!(a), real!(b)) == (d % 2 == 1) {
+                        jump!(m.k);
+                    }
+                }
+                Code::Next => break,
             }
         }
         // The `for.next`.
@@ -289,8 +457,7 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<En
             undone!();
         }
         set_int!(var, v);
-        let x = v as f64;
-        if !(if up { x <= limit } else { x >= limit }) {
+        if !(if up { v <= hi } else { v >= lo }) {
             break End::Done;
         }
         if count >= budget {
@@ -298,9 +465,7 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<En
         }
     };
     if end == End::Slow {
-        for &k in &body.kept {
-            r[k as usize] = saved[k as usize];
-        }
+        r[..kept].copy_from_slice(&saved[..kept]);
         count = at_start;
     }
     *n = count;

@@ -2500,7 +2500,7 @@ fn basic_integer(op: BinaryOp, x: f64, y: f64) -> Result<f64, &'static str> {
 /// placed on one side of an `if`, it keeps the `if` a branch instead of a conditional move.
 /// It emits no instruction.
 #[inline(always)]
-fn keep_branch() {
+pub(super) fn keep_branch() {
     #[cfg(any(target_arch = "x86_64", target_arch = "aarch64"))]
     // SAFETY: an empty template reads and writes nothing (`nomem`, `nostack`, flags kept).
     unsafe {
