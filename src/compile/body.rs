@@ -244,7 +244,8 @@ pub enum Code {
     JgeI,
     /// Go to `k` when `(a cmp b) == want`, `d` being `cmp * 2 + want`.
     JcmpR,
-    /// The end of the body.
+    /// The end of the body (of the iteration, from a jump to it: not counting `k >> 16` of
+    /// the interpreter's instructions).
     Next,
 }
 
@@ -298,6 +299,17 @@ pub struct Body {
     /// The registers read before they are written, loaded on entry: value register, local,
     /// kind.
     pub ins: Vec<(Reg, Local, Kind)>,
+    /// Per instruction, the body's instruction it comes from (counted from the body's start;
+    /// a fused store's from its operator's): where the interpreter takes over an iteration
+    /// left there.
+    pub op_of: Vec<u16>,
+    /// Per instruction of the body, the temporaries it reads that an earlier one wrote: their
+    /// registers, locals and kinds, given to the interpreter taking over there.
+    pub live: Vec<Vec<(Reg, Local, Kind)>>,
+    /// An iteration left unfinished is left undone from its start (its variables kept at
+    /// each start), because a temporary could be a -0 the interpreter reads: otherwise the
+    /// interpreter goes on from the instruction it was left at.
+    pub snapshot: bool,
     /// The locals holding constants that instructions carry (`K` forms), with their values:
     /// checked on entry to be what the registers hold.
     pub consts: Vec<(Local, i64)>,
@@ -666,7 +678,12 @@ impl Step {
 /// version last written before it, so that a temporary holding an integer in one statement
 /// and a real in the next is an `Int` in the one and a `Real` in the other. A read that some
 /// way into it reaches without passing that write (a jump over it) refuses the body.
-fn rename_temporaries(by_op: &mut [Vec<Step>], temps: &Range<Reg>, start: u32) -> Option<()> {
+fn rename_temporaries(
+    by_op: &mut [Vec<Step>],
+    temps: &Range<Reg>,
+    start: u32,
+) -> Option<BTreeMap<Reg, Reg>> {
+    let mut origin: BTreeMap<Reg, Reg> = BTreeMap::new();
     let mut current: BTreeMap<Reg, (Reg, usize)> = BTreeMap::new();
     let mut versions: Reg = VIRTUAL;
     // Jumps by instruction: (from, to) relative to the body's start.
@@ -709,11 +726,41 @@ fn rename_temporaries(by_op: &mut [Vec<Step>], temps: &Range<Reg>, start: u32) -
             }
             if let (Some(d), Some(v)) = (s.written(), write) {
                 current.insert(d, (v, k));
+                origin.insert(v, d);
             }
             *s = renamed;
         }
     }
-    Some(())
+    Some(origin)
+}
+
+/// Whether the step `s`, if it reads the integer `v`, gives something other when `v` is -0
+/// than when it is 0 (a store into a long, a comparison, a bitwise operator do not; a real,
+/// a copy, a product do).
+fn sign_matters(s: &Step, v: Reg, kind_of: &dyn Fn(Reg) -> Known) -> bool {
+    if !s.read().contains(&v) {
+        return false;
+    }
+    // An integer that is never -0 itself.
+    let plain = |r: Reg| {
+        let k = kind_of(r);
+        k.kind == Kind::Int && !k.signed_zero
+    };
+    match *s {
+        Step::Bin { op, a, b, .. } => match op {
+            Bin::Int(BinaryOp::BitAnd | BinaryOp::BitOr | BinaryOp::BitXor) | Bin::Cmp(_) => false,
+            // -0 + x is x + 0 unless x is -0 too.
+            Bin::Add => !(plain(a) || plain(b)),
+            // x - -0 is x - 0 unless x is -0.
+            Bin::Sub => !(b == v && a != v && plain(a)),
+            _ => true,
+        },
+        Step::Un { op, .. } => matches!(op, Un::Move | Un::Neg),
+        Step::Store { to, .. } => matches!(to, Store::Real | Store::Fixed(1..)),
+        Step::Check { .. } | Step::Jump { .. } | Step::JumpZero { .. } | Step::JumpCmp { .. } => {
+            false
+        }
+    }
 }
 
 /// What is known of a register: its kind, and (an `Int`) whether it may stand for -0.
@@ -741,8 +788,13 @@ fn join(x: Known, y: Known) -> Known {
 }
 
 /// What step `s` writes, its operands being as `of` says.
-fn result(s: &Step, of: &dyn Fn(Reg) -> Known) -> Option<Known> {
+fn result(
+    s: &Step,
+    of: &dyn Fn(Reg) -> Known,
+    constant: &dyn Fn(Reg) -> Option<f64>,
+) -> Option<Known> {
     let int = |r: Reg| of(r).kind == Kind::Int;
+    let positive = |r: Reg| constant(r).is_some_and(|c| c > 0.0);
     let signed = |z: bool| Known {
         kind: Kind::Int,
         signed_zero: z,
@@ -754,6 +806,9 @@ fn result(s: &Step, of: &dyn Fn(Reg) -> Known) -> Option<Known> {
                 Bin::Add if ints => signed(of(a).signed_zero && of(b).signed_zero),
                 // -0 - +0 is -0, and only that.
                 Bin::Sub if ints => signed(of(a).signed_zero),
+                // A product by a positive constant is -0 only of a -0.
+                Bin::Mul if ints && positive(b) => signed(of(a).signed_zero),
+                Bin::Mul if ints && positive(a) => signed(of(b).signed_zero),
                 Bin::Mul if ints => signed(true),
                 Bin::Rem if ints => INT,
                 Bin::Add | Bin::Sub | Bin::Mul | Bin::Div | Bin::Rem => REAL,
@@ -826,7 +881,7 @@ fn translate(
         }
         by_op.push(s);
     }
-    rename_temporaries(&mut by_op, temps, start)?;
+    let origin = rename_temporaries(&mut by_op, temps, start)?;
     let all: Vec<Step> = by_op.iter().flatten().copied().collect();
     // Temporaries, their versions and scratch registers: dead at the end of their statement.
     let scratch_reg = |r: Reg| r >= VIRTUAL;
@@ -896,7 +951,9 @@ fn translate(
         for s in &all {
             let Some(d) = s.written() else { continue };
             let of = |r: Reg| known.get(&r).copied().unwrap_or(INT);
-            let Some(k) = result(s, &of) else { continue };
+            let Some(k) = result(s, &of, constant) else {
+                continue;
+            };
             let now = match known.get(&d) {
                 Some(&old) => join(old, k),
                 None => k,
@@ -958,6 +1015,8 @@ fn translate(
     // Jumps to patch: micro index, target instruction.
     let mut patches: Vec<(usize, u32)> = Vec::new();
     let mut skip_at: Vec<(usize, u16)> = Vec::new();
+    // The body's instruction each IR instruction comes from.
+    let mut ir_op: Vec<u16> = Vec::new();
     for (k, s) in by_op.iter().enumerate() {
         first_micro.push(out.len());
         let i = start + k as u32;
@@ -974,9 +1033,11 @@ fn translate(
                 &mut skip_at,
             );
         }
+        ir_op.resize(out.len(), u16::try_from(k).ok()?);
     }
     let end = out.len();
     out.push(Ir::Next);
+    ir_op.push(u16::try_from(by_op.len()).ok()?);
     // Jumps: IR instruction, target IR instruction.
     let mut jumps: Vec<(usize, usize)> = Vec::new();
     for (m, t) in patches {
@@ -1002,7 +1063,40 @@ fn translate(
         }
     }
     let const_of = |x: Local| consts.iter().find(|c| c.0 == x).map(|c| c.1 as i32);
-    let ops = lower(&out, &jumps, &skip_at, &temp_local, &const_of)?;
+    let (ops, op_of) = lower(&out, &ir_op, &jumps, &skip_at, &temp_local, &const_of)?;
+    // At each instruction, the temporaries' versions written before it and read at or after
+    // it: what an iteration left at that instruction must give the interpreter.
+    let mut span: BTreeMap<Reg, (usize, usize)> = BTreeMap::new();
+    for (k, steps) in by_op.iter().enumerate() {
+        for step in steps {
+            for r in step.read() {
+                if let Some(e) = span.get_mut(&r) {
+                    e.1 = e.1.max(k);
+                }
+            }
+            if let Some(d) = step.written() {
+                if origin.contains_key(&d) {
+                    span.insert(d, (k, k));
+                }
+            }
+        }
+    }
+    let mut live: Vec<Vec<(Reg, Local, Kind)>> = vec![Vec::new(); by_op.len() + 1];
+    let mut snapshot = false;
+    for (&v, &(w, last)) in &span {
+        for (k, at) in live.iter_mut().enumerate() {
+            if w < k && k <= last {
+                let known = kind_of(v);
+                // An integer that may be the interpreter's -0 cannot be given back as one:
+                // when a zero's sign matters to what reads it, an iteration is left undone
+                // from its start.
+                snapshot |= known.kind == Kind::Int
+                    && known.signed_zero
+                    && all.iter().any(|s| sign_matters(s, v, &kind_of));
+                at.push((*origin.get(&v)?, l(v), known.kind));
+            }
+        }
+    }
     let mut ins_l: Vec<(Reg, Local, Kind)> =
         ins.iter().map(|&r| (r, l(r), kind_of(r).kind)).collect();
     ins_l.extend(shadow.iter().map(|(&r, &x)| (r, x, Kind::Real)));
@@ -1029,6 +1123,9 @@ fn translate(
     let lowest_write = outs.iter().map(|o| o.0).min().unwrap_or(var).min(var);
     Some(Body {
         ops,
+        op_of,
+        live,
+        snapshot,
         locals,
         ins: ins_l,
         consts,
@@ -1167,13 +1264,15 @@ fn dead_after(ir: &[Ir], jumps: &[(usize, usize)], t: Local, after: usize) -> bo
 /// long itself (`L`), the store gone (not when a jump goes to the store).
 fn lower(
     ir: &[Ir],
+    ir_op: &[u16],
     jumps: &[(usize, usize)],
     skip_at: &[(usize, u16)],
     temp_local: &dyn Fn(Local) -> bool,
     const_of: &dyn Fn(Local) -> Option<i32>,
-) -> Option<Vec<Micro>> {
+) -> Option<(Vec<Micro>, Vec<u16>)> {
     let targets: Vec<usize> = jumps.iter().map(|j| j.1).collect();
     let mut out: Vec<Micro> = Vec::new();
+    let mut op_of: Vec<u16> = Vec::new();
     let mut index = vec![0usize; ir.len() + 1];
     let mut k = 0;
     while k < ir.len() {
@@ -1207,6 +1306,7 @@ fn lower(
                 _ => true,
             });
             let code = family.code(k_const.is_some(), store.is_some());
+            op_of.push(*ir_op.get(k)?);
             out.push(Micro {
                 code,
                 d: store.unwrap_or(d),
@@ -1222,6 +1322,7 @@ fn lower(
             }
             continue;
         }
+        op_of.push(*ir_op.get(k)?);
         out.push(pack(op));
         k += 1;
     }
@@ -1240,6 +1341,14 @@ fn lower(
         }
         out.get_mut(*index.get(from)?)?.k = t as i32 | i32::from(skip) << 16;
     }
+    // A jump to the end (`ELSE` done, `END IF` at the end of the body) ends the iteration
+    // itself.
+    let last = out.len() - 1;
+    for m in out.iter_mut() {
+        if m.code == Code::Jump && (m.k & 0xffff) as usize == last {
+            m.code = Code::Next;
+        }
+    }
     // Every jump lands on an instruction, and the last is `Next`.
     let len = out.len() as i32;
     if out.last().map(|m| m.code) != Some(Code::Next)
@@ -1249,7 +1358,7 @@ fn lower(
     {
         return None;
     }
-    Some(out)
+    Some((out, op_of))
 }
 
 fn cmp_index(c: Cmp) -> u8 {
@@ -1400,11 +1509,8 @@ fn emit(
             let (la, lb) = (l(a), l(b));
             match op {
                 Bin::Add | Bin::Sub | Bin::Mul if ints => {
-                    let signed = match op {
-                        Bin::Add => kind_of(a).signed_zero && kind_of(b).signed_zero,
-                        Bin::Sub => kind_of(a).signed_zero,
-                        _ => true,
-                    };
+                    // As `result` found it (a temporary's version is written once).
+                    let signed = kind_of(d).signed_zero;
                     let make = |d: Local| match op {
                         Bin::Add => Ir::AddI { d, a: la, b: lb },
                         Bin::Sub => Ir::SubI { d, a: la, b: lb },

@@ -122,11 +122,12 @@ fn copy_each<const N: usize>(to: &mut [u64; 256], from: &[u64; 256]) {
 
 /// Run the iterations of the loop `body` that are plain, starting at the start of its body,
 /// on the values `vals`, counting the interpreter's instructions in `n` against `budget` (the
-/// interpreter's test: after a `for.next` that goes round again). Where it stopped; `None`
+/// interpreter's test: after a `for.next` that goes round again). Where it stopped, and for
+/// an iteration left to the interpreter, the body's instruction it goes on at; `None`
 /// when it did not start (a register outside `vals`, a value an `Int` cannot hold, a
 /// constant not what the translation saw, a step that is not a whole number other than 0,
 /// fewer than [`FEWEST`] iterations left).
-pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<End> {
+pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<(End, u32)> {
     if body.highest as usize >= vals.len() || body.locals > 256 {
         return None;
     }
@@ -177,15 +178,22 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<En
     let mut saved = [0u64; 256];
     let mut count = *n;
     let mut at_start;
+    // The body's instruction an iteration stopped in (counted from its start).
+    let mut stopped = 0u16;
     let end = 'iterations: loop {
         // The kept variables are the first locals: a few are copied by a fixed number of
-        // moves.
-        if kept <= 4 {
-            copy_each::<4>(&mut saved, &r);
-        } else if kept <= 8 {
-            copy_each::<8>(&mut saved, &r);
-        } else {
-            saved[..kept].copy_from_slice(&r[..kept]);
+        // moves (only for a body whose iterations are left undone from their start).
+        if body.snapshot {
+            if kept <= 4 {
+                copy_each::<4>(&mut saved, &r);
+            } else {
+                for i in 0..kept {
+                    // SAFETY: as `copy_each`'s.
+                    unsafe {
+                        std::ptr::write_volatile(&mut saved[i], std::ptr::read_volatile(&r[i]))
+                    }
+                }
+            }
         }
         at_start = count;
         count += body.count;
@@ -211,9 +219,10 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<En
             };
         }
         macro_rules! undone {
-            () => {
-                break 'iterations End::Slow
-            };
+            () => {{
+                stopped = body.op_of.get(pc - 1).copied().unwrap_or(0);
+                break 'iterations End::Slow;
+            }};
         }
         // A result the interpreter's function gives as an `f64`, taken as an `Int`.
         macro_rules! from_real {
@@ -448,13 +457,17 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<En
                         jump!(m.k);
                     }
                 }
-                Code::Next => break,
+                Code::Next => {
+                    count -= (m.k >> 16) as u64;
+                    break;
+                }
             }
         }
         // The `for.next`.
         let v = int!(var) + step;
         if !fits(v, width) {
-            undone!();
+            stopped = (body.count - 1) as u16;
+            break End::Slow;
         }
         set_int!(var, v);
         if !(if up { v <= hi } else { v >= lo }) {
@@ -464,9 +477,26 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<En
             break End::Budget;
         }
     };
+    // Where the interpreter goes on: the body's start, or (left unfinished) the instruction.
+    let mut resume = 0u32;
     if end == End::Slow {
-        r[..kept].copy_from_slice(&saved[..kept]);
-        count = at_start;
+        if body.snapshot {
+            r[..kept].copy_from_slice(&saved[..kept]);
+            count = at_start;
+        } else {
+            // The instruction the iteration stopped in: those before it ran (those jumped
+            // over not counted), it did not.
+            let at = stopped;
+            count = count - body.count + u64::from(at);
+            for &(reg, local, kind) in body.live.get(usize::from(at)).into_iter().flatten() {
+                let x = r[local as usize];
+                vals[reg as usize] = match kind {
+                    Kind::Int => x as i64 as f64,
+                    Kind::Real => f64::from_bits(x),
+                };
+            }
+            resume = u32::from(at);
+        }
     }
     *n = count;
     let (var_local, var_reg) = body.var;
@@ -478,5 +508,5 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<En
             Kind::Real => f64::from_bits(x),
         };
     }
-    Some(end)
+    Some((end, resume))
 }

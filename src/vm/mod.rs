@@ -962,13 +962,14 @@ impl Machine {
                 return None;
             }
             let mut n = self.instructions;
-            let end = body::run(&mut self.values, b, &mut n, budget_end)?;
+            let (end, at) = body::run(&mut self.values, b, &mut n, budget_end)?;
             self.tight_runs += 1;
             self.instructions = n;
-            let next = if end == tight::End::Done {
-                b.after
-            } else {
-                start
+            let next = match end {
+                tight::End::Done => b.after,
+                tight::End::Budget => start,
+                // The interpreter goes on where the iteration was left.
+                tight::End::Slow => start + at,
             };
             return Some((next, end == tight::End::Budget));
         };
