@@ -421,3 +421,27 @@ NEXT
     assert_eq!(machine.value_of("T&"), Some(210.0 * 55.0));
     let _ = slot_value(&machine, "T&");
 }
+
+#[test]
+fn an_iteration_left_in_the_middle_of_a_statement_goes_on_in_the_interpreter_there() {
+    // At I& = 11, D& is 0: the iteration stops at the `\` with S& + I& * 1000 (a temporary)
+    // computed; the interpreter takes over there and faults at that `\`, the values of the
+    // ten iterations before kept, at every budget the same count as the interpreter's alone.
+    let program = "S& = 0
+FOR I& = 1 TO 100
+  D& = 11 - I&
+  S& = S& + I& * 1000 + 100 \\ D&
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-middle", "x.mb", program, 1_000_000));
+    assert_eq!(machine.tight_runs(), 1);
+    let error = summary.error.as_ref().expect("a division by zero");
+    assert_eq!((error.line, error.column), (4, 25));
+    let sum: i64 = (1..=10).map(|i| i * 1000 + 100 / (11 - i)).sum();
+    assert_eq!(machine.value_of("S&"), Some(sum as f64));
+    for budget in [5, 9, 1_000_000] {
+        let (n, e, _) = both("x.mb", program, budget);
+        assert_eq!(e.map(|e| (e.0, e.1)), Some((4, 25)));
+        assert_eq!(n, summary.instructions);
+    }
+}
