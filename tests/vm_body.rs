@@ -336,10 +336,14 @@ NEXT
 #[test]
 fn a_filter_with_a_counter_mixes_integers_and_reals_as_the_interpreter_does() {
     // `bench/unseen` in small: an integer MOD, a real filter, a conditional counter.
+    // (With integer work around it: a body mostly of reals is left to the interpreter.)
     let program = "C& = 0
 F = 0
+K& = 0
 FOR I& = 1 TO 1000
   M& = I& MOD 7
+  K& = (K& * 31 + (I& XOR M&)) MOD 1009
+  IF (K& AND 3) = 1 THEN K& = K& \\ 2
   F = F * 0.875 + M& * 0.125
   IF F > 3.5 THEN C& = C& + 1
 NEXT
@@ -347,15 +351,20 @@ NEXT
     let (machine, summary) = run_untraced(load("body-filter", "x.mb", program, 1_000_000));
     assert_eq!(machine.tight_runs(), 1);
     assert!(summary.error.is_none());
-    let (mut c, mut f) = (0.0, 0.0f64);
+    let (mut c, mut f, mut k) = (0.0, 0.0f64, 0i64);
     for i in 1..=1000i64 {
-        let m = (i % 7) as f64;
-        f = f * 0.875 + m * 0.125;
+        let m = i % 7;
+        k = (k * 31 + (i ^ m)) % 1009;
+        if k & 3 == 1 {
+            k /= 2;
+        }
+        f = f * 0.875 + m as f64 * 0.125;
         if f > 3.5 {
             c += 1.0;
         }
     }
     assert_eq!(machine.value_of("C&"), Some(c));
+    assert_eq!(machine.value_of("K&"), Some(k as f64));
     assert_eq!(machine.value_of("F").map(f64::to_bits), Some(f.to_bits()));
     for budget in [3, 7, 50] {
         assert_eq!(both("x.mb", program, budget).1, None);

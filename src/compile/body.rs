@@ -250,6 +250,43 @@ pub enum Code {
 }
 
 impl Code {
+    /// Whether it is real arithmetic, a conversion or a real store.
+    pub fn real(self) -> bool {
+        matches!(
+            self,
+            Code::AddR
+                | Code::SubR
+                | Code::MulR
+                | Code::DivR
+                | Code::NegR
+                | Code::RemR
+                | Code::IntR
+                | Code::BitNotR
+                | Code::CmpR
+                | Code::NotR
+                | Code::ToR
+                | Code::ToRSigned
+                | Code::LongR
+                | Code::ShortR
+                | Code::FixedR
+                | Code::RealR
+                | Code::CheckR
+                | Code::JzR
+                | Code::JnzR
+                | Code::JcmpR
+        )
+    }
+
+    /// Whether it is integer arithmetic, an integer store or comparison.
+    pub fn integer(self) -> bool {
+        (self as u8) >= (Code::AddI as u8) && (self as u8) <= (Code::FitI as u8)
+            || matches!(
+                self,
+                Code::JzI | Code::JnzI | Code::JeqI | Code::JneI | Code::JltI | Code::JleI
+            )
+            || matches!(self, Code::JgtI | Code::JgeI)
+    }
+
     /// Whether `k` is a jump's target.
     pub fn jumps(self) -> bool {
         matches!(
@@ -820,7 +857,8 @@ fn result(
         }
         Step::Un { op, s, .. } => match op {
             Un::Move => of(s),
-            Un::Neg if int(s) => signed(true),
+            // -x is -0 only of a +0: never of a nonzero constant.
+            Un::Neg if int(s) => signed(constant(s).is_none_or(|c| c == 0.0)),
             Un::Neg => REAL,
             Un::Not | Un::BitNot => INT,
         },
@@ -1064,6 +1102,22 @@ fn translate(
     }
     let const_of = |x: Local| consts.iter().find(|c| c.0 == x).map(|c| c.1 as i32);
     let (ops, op_of) = lower(&out, &ir_op, &jumps, &skip_at, &temp_local, &const_of)?;
+    // A body mostly of real arithmetic gains nothing here: its values are the interpreter's
+    // `f64`s already, and the interpreter fuses its real operations in pairs (`MulAcc` …)
+    // where each is one instruction here, and conversions more (bench/filter ran 1.7 times
+    // slower here).
+    let reals = ops.iter().filter(|m| m.code.real()).count();
+    let ints = ops.iter().filter(|m| m.code.integer()).count();
+    if reals > ints {
+        return None;
+    }
+    // Nor one that takes more instructions here than the interpreter's before its fusion
+    // (conversions added, fused PowerTools stores taken apart: bench/int's PowerTools
+    // version, which the interpreter runs in 11 dispatches an iteration, took 21 here and
+    // 1.2 times as long).
+    if ops.len() > (next - start) as usize + 1 {
+        return None;
+    }
     // At each instruction, the temporaries' versions written before it and read at or after
     // it: what an iteration left at that instruction must give the interpreter.
     let mut span: BTreeMap<Reg, (usize, usize)> = BTreeMap::new();
