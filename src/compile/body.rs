@@ -520,6 +520,8 @@ fn steps(op: Op, scratch: Reg) -> Option<Vec<Step>> {
         })
     };
     let one = |s: Step| Some(vec![s]);
+    let un = |op: Un, d: Reg, s: Reg| one(Step::Un { op, d, s });
+    let store = |to: Store, d: Reg, s: Reg| one(Step::Store { to, d, s });
     let b = |op: Bin, d: Reg, a: Reg, b: Reg| Step::Bin { op, d, a, b };
     let fixed = |op: Bin, dst: Reg, a: Reg, b_: Reg, decimals: u8| {
         Some(vec![
@@ -532,11 +534,7 @@ fn steps(op: Op, scratch: Reg) -> Option<Vec<Step>> {
         ])
     };
     match op {
-        Op::Move { dst, src } => one(Step::Un {
-            op: Un::Move,
-            d: dst,
-            s: src,
-        }),
+        Op::Move { dst, src } => un(Un::Move, dst, src),
         Op::Add { dst, a, b: y } => one(b(Bin::Add, dst, a, y)),
         Op::Sub { dst, a, b: y } => one(b(Bin::Sub, dst, a, y)),
         Op::Mul { dst, a, b: y } => one(b(Bin::Mul, dst, a, y)),
@@ -574,41 +572,13 @@ fn steps(op: Op, scratch: Reg) -> Option<Vec<Step>> {
             b: y,
             decimals,
         } => fixed(bin(op)?, dst, a, y, decimals),
-        Op::Neg { dst, a } => one(Step::Un {
-            op: Un::Neg,
-            d: dst,
-            s: a,
-        }),
-        Op::Not { dst, a } => one(Step::Un {
-            op: Un::Not,
-            d: dst,
-            s: a,
-        }),
-        Op::BitNot { dst, a } => one(Step::Un {
-            op: Un::BitNot,
-            d: dst,
-            s: a,
-        }),
-        Op::StoreLong { dst, src } => one(Step::Store {
-            to: Store::Long,
-            d: dst,
-            s: src,
-        }),
-        Op::StoreInt { dst, src } => one(Step::Store {
-            to: Store::Short,
-            d: dst,
-            s: src,
-        }),
-        Op::StoreReal { dst, src } => one(Step::Store {
-            to: Store::Real,
-            d: dst,
-            s: src,
-        }),
-        Op::StoreFixed { dst, src, decimals } => one(Step::Store {
-            to: Store::Fixed(decimals),
-            d: dst,
-            s: src,
-        }),
+        Op::Neg { dst, a } => un(Un::Neg, dst, a),
+        Op::Not { dst, a } => un(Un::Not, dst, a),
+        Op::BitNot { dst, a } => un(Un::BitNot, dst, a),
+        Op::StoreLong { dst, src } => store(Store::Long, dst, src),
+        Op::StoreInt { dst, src } => store(Store::Short, dst, src),
+        Op::StoreReal { dst, src } => store(Store::Real, dst, src),
+        Op::StoreFixed { dst, src, decimals } => store(Store::Fixed(decimals), dst, src),
         Op::CheckLong { r } => one(Step::Check { w: Width::Long, r }),
         Op::CheckInt { r } => one(Step::Check { w: Width::Short, r }),
         Op::Jump { target } => one(Step::Jump { t: target }),
