@@ -1142,8 +1142,10 @@ fn translate(
     if kept.iter().enumerate().any(|(i, &k)| usize::from(k) != i) {
         return None;
     }
+    // Every register read or written on entry, on leaving, or given to the interpreter.
+    let given = live.iter().flatten().map(|g| g.0);
     let regs = ins.iter().chain(&written).filter(|&&r| !scratch_reg(r));
-    let highest = regs.clone().copied().max()?.max(limit + 1);
+    let highest = regs.copied().chain(given).max()?.max(limit + 1);
     let lowest_write = outs.iter().map(|o| o.0).min().unwrap_or(var).min(var);
     Some(Body {
         ops,
