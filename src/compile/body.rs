@@ -127,26 +127,22 @@ enum Ir {
     RealR { d: Local, s: Local },
     /// The real `s` fits `w` (a check of long or INTEGER arithmetic).
     CheckR { s: Local, w: Width },
-    /// Go to `t`.
-    Jump { t: u16 },
-    /// Go to `t` when `c` is 0 (`zero`) or not.
-    JumpZeroI { c: Local, zero: bool, t: u16 },
+    // A jump's target is not in the jump: `translate` keeps it apart (as an IR index), for
+    // `lower` to set.
+    /// Go to the target.
+    Jump,
+    /// Go to the target when `c` is 0 (`zero`) or not.
+    JumpZeroI { c: Local, zero: bool },
     /// [`Ir::JumpZeroI`] of a real.
-    JumpZeroR { c: Local, zero: bool, t: u16 },
-    /// Go to `t` when `a cmp b`.
-    JumpCmpI {
-        cmp: Cmp,
-        a: Local,
-        b: Local,
-        t: u16,
-    },
-    /// Go to `t` when `(a cmp b) == want`, of reals (a comparison with NaN is false).
+    JumpZeroR { c: Local, zero: bool },
+    /// Go to the target when `a cmp b`.
+    JumpCmpI { cmp: Cmp, a: Local, b: Local },
+    /// Go to the target when `(a cmp b) == want`, of reals (a comparison with NaN is false).
     JumpCmpR {
         cmp: Cmp,
         want: bool,
         a: Local,
         b: Local,
-        t: u16,
     },
     /// The end of the body: the loop's `for.next`.
     Next,
@@ -1260,7 +1256,7 @@ fn ir_regs(ir: &Ir) -> (Vec<Local>, Option<Local>) {
         Ir::CheckR { s, .. } => (vec![s], None),
         Ir::JumpZeroI { c, .. } | Ir::JumpZeroR { c, .. } => (vec![c], None),
         Ir::JumpCmpI { a, b, .. } | Ir::JumpCmpR { a, b, .. } => (vec![a, b], None),
-        Ir::Jump { .. } | Ir::Next => (vec![], None),
+        Ir::Jump | Ir::Next => (vec![], None),
     }
 }
 
@@ -1444,7 +1440,7 @@ fn pack(ir: &Ir) -> Micro {
         Ir::FixedR { d, s, decimals } => m(Code::FixedR, d, s, 0, i32::from(decimals)),
         Ir::RealR { d, s } => m(Code::RealR, d, s, 0, 0),
         Ir::CheckR { s, w } => m(Code::CheckR, 0, s, 0, width(w)),
-        Ir::Jump { .. } => m(Code::Jump, 0, 0, 0, 0),
+        Ir::Jump => m(Code::Jump, 0, 0, 0, 0),
         Ir::JumpZeroI { c, zero, .. } => m(if zero { Code::JzI } else { Code::JnzI }, 0, c, 0, 0),
         Ir::JumpZeroR { c, zero, .. } => m(if zero { Code::JzR } else { Code::JnzR }, 0, c, 0, 0),
         Ir::JumpCmpI { cmp, a, b, .. } => {
@@ -1687,23 +1683,15 @@ fn emit(
         Step::Jump { t } => {
             patches.push((out.len(), t));
             skip(t, out, skips);
-            out.push(Ir::Jump { t: 0 });
+            out.push(Ir::Jump);
         }
         Step::JumpZero { c, zero, t } => {
             patches.push((out.len(), t));
             skip(t, out, skips);
             out.push(if int(c) {
-                Ir::JumpZeroI {
-                    c: l(c),
-                    zero,
-                    t: 0,
-                }
+                Ir::JumpZeroI { c: l(c), zero }
             } else {
-                Ir::JumpZeroR {
-                    c: l(c),
-                    zero,
-                    t: 0,
-                }
+                Ir::JumpZeroR { c: l(c), zero }
             });
         }
         Step::JumpCmp { cmp, want, a, b, t } => {
@@ -1714,7 +1702,6 @@ fn emit(
                     cmp,
                     a: l(a),
                     b: l(b),
-                    t: 0,
                 }
             } else {
                 let (ra, rb) = (real(a, 0, false, out), real(b, 1, false, out));
@@ -1723,7 +1710,6 @@ fn emit(
                     want,
                     a: ra,
                     b: rb,
-                    t: 0,
                 }
             };
             patches.push((out.len(), t));
