@@ -1,5 +1,5 @@
-//! Loops whose body is straight-line arithmetic (`IF`s inside) run outside the interpreter on
-//! typed registers (`vm::body`) when nothing they write is traced; traced, every iteration runs
+//! Loops whose body is straight-line arithmetic (`IF`s inside), `FOR` and `WHILE` (`Do While`)
+//! alike, run outside the interpreter on typed registers (`vm::body`) when nothing they write is traced; traced, every iteration runs
 //! in the interpreter. Both ways must give the same values (to the bit, a -0 included), the
 //! same instruction counts at every budget, and the same faults at the same place: checked here
 //! on a few hundred programs drawn at random (a fixed seed: the same programs on every run) in
@@ -237,21 +237,48 @@ fn program(d: &mut Draw, w: &Dialect) -> String {
         // Only reals take a fraction here (a whole variable rounds it: that is tested too).
         out.push_str(&format!("{var} = {v}\n"));
     }
-    for _ in 0..1 + d.below(2) {
+    let mb = w.file.ends_with(".mb");
+    for k in 0..1 + d.below(2) {
         let from = d.pick(&["1", "0", "-3", "10"]);
+        let counted = d.below(2) == 0;
+        // A `WHILE` tests its limit at each iteration: a constant, so that it ends.
         let to = match d.below(8) {
-            0 => d.pick(w.vars),
+            0 if counted => d.pick(w.vars),
             _ => d.pick(&["20", "60", "3", "-10", "200", "10.5", "-3.5"]),
         };
         let step = d.pick(&["1", "2", "-1", "3", "-2"]);
-        out.push_str(&format!(
-            "For {} = {from} To {to} Step {step}\n",
-            w.loop_var
-        ));
+        let i = w.loop_var;
+        // A `FOR`, or the same loop as a `WHILE` (`Do While`) counting by itself, sometimes
+        // with a second condition; a MotionBASIC body may jump out of it (`GOTO` the line
+        // after its end).
+        let exits = mb && d.below(3) == 0;
+        if counted {
+            out.push_str(&format!("For {i} = {from} To {to} Step {step}\n"));
+        } else {
+            let cmp = if step.starts_with('-') { ">=" } else { "<=" };
+            let also = match d.below(3) {
+                0 => format!(" AND {} <> {}", d.pick(w.vars), d.pick(w.constants)),
+                _ => String::new(),
+            };
+            out.push_str(&format!("{i} = {from}\n"));
+            let head = if mb { "WHILE" } else { "Do While" };
+            out.push_str(&format!("{head} {i} {cmp} {to}{also}\n"));
+        }
         for _ in 0..1 + d.below(4) {
             statement(d, w, &mut out, 2);
+            if exits && d.below(3) == 0 {
+                out.push_str(&format!("IF {} THEN GOTO {}\n", condition(d, w), 90 + k));
+            }
         }
-        out.push_str("Next\n");
+        if counted {
+            out.push_str("Next\n");
+        } else {
+            out.push_str(&format!("{i} = {i} + {step}\n"));
+            out.push_str(if mb { "WEND\n" } else { "Loop\n" });
+        }
+        if exits {
+            out.push_str(&format!("{} {} = {}\n", 90 + k, w.vars[0], w.vars[0]));
+        }
     }
     out.push_str(w.end);
     out
@@ -331,6 +358,101 @@ NEXT
     }
     assert_eq!(h, want as f64);
     assert_eq!(both("x.mb", program, 7).1, None);
+}
+
+#[test]
+fn while_loops_run_outside_the_interpreter_from_their_second_iteration() {
+    // Euclid's algorithm for every pair (i, j) of 1..=40: a WHILE of MOD and moves, entered
+    // 1,600 times, most for a few iterations (the first runs in the interpreter, the loop's
+    // `loop` hands the rest over), inside two FORs the interpreter runs.
+    let program = "S& = 0
+FOR I& = 1 TO 40
+  FOR J& = 1 TO 40
+    A& = I&: B& = J&
+    WHILE B& <> 0
+      T& = A& MOD B&: A& = B&: B& = T&
+    WEND
+    S& = S& + A&
+  NEXT
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-gcd", "x.mb", program, 1_000_000));
+    assert!(summary.error.is_none());
+    let gcd = |mut a: i64, mut b: i64| {
+        let mut rounds = 0;
+        while b != 0 {
+            (a, b) = (b, a % b);
+            rounds += 1;
+        }
+        (a, rounds)
+    };
+    let pairs = (1..=40i64).flat_map(|i| (1..=40).map(move |j| gcd(i, j)));
+    let (sum, handed): (i64, u64) = pairs.fold((0, 0), |(s, h), (g, rounds)| {
+        (s + g, h + u64::from(rounds >= 1))
+    });
+    assert_eq!(machine.value_of("S&"), Some(sum as f64));
+    // Each WHILE that goes round runs outside from its `loop` on (to its test, at least).
+    assert_eq!(machine.tight_runs(), handed);
+    // 1 + 4 before (FOR I: its for.check included), then for each I its FOR J (4) and
+    // `for.next`; for each pair 2 stores, the WHILE's last test (a compare-and-jump), the sum
+    // (2) and NEXT J; for each round the test, the MOD and 3 stores and the `loop`; `END`.
+    let rounds: u64 = (1..=40i64)
+        .flat_map(|i| (1..=40).map(move |j| gcd(i, j).1 as u64))
+        .sum();
+    assert_eq!(
+        summary.instructions,
+        5 + 40 * (4 + 1) + 1600 * (2 + 1 + 2 + 1) + rounds * 6 + 1
+    );
+    for budget in [3, 7, 50] {
+        assert_eq!(both("x.mb", program, budget).1, None);
+    }
+}
+
+#[test]
+fn a_do_while_left_by_a_jump_out_ends_where_the_interpreter_ends_it() {
+    // PowerTools `Do While` … `Loop` (as the labeler's programs write it: spec/labeling.md)
+    // going round until its own test fails; a MotionBASIC `WHILE` left in the middle of an
+    // iteration by an `IF … THEN GOTO` past its end.
+    let pt = "Var.I = 0
+Var.A = 0
+Do While Var.I < 1000
+  Var.A = (Var.A * 31 + Var.I) MOD 65521
+  Var.I = Var.I + 1
+Loop
+End
+";
+    let (machine, summary) = run_untraced(load("body-do", "x.pt", pt, 1_000_000));
+    assert!(summary.error.is_none());
+    assert_eq!(machine.tight_runs(), 1);
+    let s = (0..1000i64).fold(0, |s, i| (s * 31 + i) % 65521);
+    assert_eq!(machine.value_of("Var.A"), Some(s as f64));
+    assert_eq!(machine.value_of("Var.I"), Some(1000.0));
+    let mb = "S& = 0: I& = 0
+WHILE I& < 100000
+  S& = (S& * 31 + I&) MOD 65521
+  IF S& = 777 THEN GOTO 90
+  I& = I& + 1
+WEND
+90 N& = I&
+";
+    let (machine, summary) = run_untraced(load("body-out", "x.mb", mb, 1_000_000));
+    assert!(summary.error.is_none());
+    assert_eq!(machine.tight_runs(), 1);
+    let (mut s, mut i) = (0i64, 0i64);
+    loop {
+        s = (s * 31 + i) % 65521;
+        if s == 777 {
+            break;
+        }
+        i += 1;
+    }
+    assert!(i > 4 && i < 100_000, "{i}");
+    assert_eq!(machine.value_of("N&"), Some(i as f64));
+    assert_eq!(machine.value_of("S&"), Some(s as f64));
+    for budget in [3, 7, 50] {
+        assert_eq!(both("x.mb", mb, budget).1, None);
+        assert_eq!(both("x.pt", pt, budget).1, None);
+    }
 }
 
 #[test]

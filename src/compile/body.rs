@@ -144,8 +144,10 @@ enum Ir {
         a: Local,
         b: Local,
     },
-    /// The end of the body: the loop's `for.next`.
+    /// The end of the body: the loop's `for.next`, or its `loop` going back.
     Next,
+    /// Out of the loop: the instruction after its end.
+    Exit,
 }
 
 /// What a [`Micro`] does. The integer families come in four forms: `I` on two registers,
@@ -243,6 +245,9 @@ pub enum Code {
     /// The end of the body (of the iteration, from a jump to it: not counting `k >> 16` of
     /// the interpreter's instructions).
     Next,
+    /// Out of the loop (from a jump to it: not counting `k >> 16` of the interpreter's
+    /// instructions).
+    Exit,
 }
 
 impl Code {
@@ -321,10 +326,22 @@ pub struct Micro {
 
 const _: () = assert!(std::mem::size_of::<Micro>() == 8);
 
+/// A `FOR` loop's variable, limit and step.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Counter {
+    /// The loop variable's local (`Int`) and register.
+    pub var: (Local, Reg),
+    /// The limit's register (the step's is the one after it).
+    pub limit: Reg,
+    /// The loop variable is a MotionBASIC INTEGER (16 bits); else 32 bits.
+    pub short: bool,
+}
+
 /// A loop's body translated for `vm::body`.
 #[derive(Debug, Clone, PartialEq)]
 pub struct Body {
-    /// The instructions, ending with [`Ir::Next`]; every jump's target is one of them
+    /// The instructions, ending with [`Ir::Next`] (and [`Ir::Exit`] after it when a jump
+    /// leaves the loop); every jump's target is one of them
     /// (the only way to make a `Body` is [`find`], which makes sure of both).
     ops: Vec<Micro>,
     /// How many local registers they use.
@@ -350,14 +367,13 @@ pub struct Body {
     pub outs: Vec<(Reg, Local, Kind)>,
     /// The locals an iteration left undone must give back as they were at its start.
     pub kept: Vec<Local>,
-    /// The loop variable's local (`Int`) and register.
-    pub var: (Local, Reg),
-    /// The limit's register (the step's is the one after it).
-    pub limit: Reg,
-    /// The loop variable is a MotionBASIC INTEGER (16 bits); else 32 bits.
-    pub short: bool,
+    /// A `FOR`'s variable, limit and step; none for a loop that goes round by a `loop`.
+    pub counter: Option<Counter>,
+    /// The body's first instruction: a `FOR`'s after its `for.check`, a `WHILE`'s the first
+    /// of its condition.
+    pub start: u32,
     /// The interpreter's instructions of an iteration that jumps nowhere: the body's and the
-    /// `for.next`.
+    /// `for.next` or `loop`.
     pub count: u64,
     /// The lowest register written (a write below the trace's limit is traced: then the
     /// interpreter runs the loop).
@@ -369,7 +385,8 @@ pub struct Body {
 }
 
 impl Body {
-    /// The instructions, ending with [`Ir::Next`], every jump's target among them.
+    /// The instructions, ending with [`Code::Next`] (then [`Code::Exit`] when a jump leaves
+    /// the loop), every jump's target among them.
     pub fn ops(&self) -> &[Micro] {
         &self.ops
     }
@@ -382,7 +399,8 @@ const MOST_LOCALS: usize = 256;
 pub const EXACT: i64 = 1 << 53;
 
 /// Every loop of the unfused `ops` (with their [`SURE`] flags `sure`) whose body [`translate`]
-/// can translate, by the instruction its body starts at.
+/// can translate, by the instruction that enters it: a `FOR`'s `for.check`, or the `loop`
+/// going back to the start of a `WHILE` (or of any loop a backward jump makes).
 pub fn find(
     ops: &[Op],
     sure: &[u8],
@@ -392,40 +410,55 @@ pub fn find(
 ) -> BTreeMap<u32, Body> {
     let mut bodies = BTreeMap::new();
     for (i, op) in ops.iter().enumerate() {
-        if let Op::ForCheck { var, limit, exit } = *op {
-            let at = Loop {
-                check: i as u32,
-                var,
-                limit,
-                exit,
-            };
-            if let Some(body) = translate(ops, sure, at, temps, whole, constant) {
-                bodies.insert(at.check + 1, body);
-            }
+        let entry = i as u32;
+        let at = match *op {
+            Op::ForCheck { var, limit, exit } => Loop {
+                start: entry + 1,
+                next: exit.wrapping_sub(1),
+                counter: Some((var, limit)),
+            },
+            Op::Loop { target } if target < entry => Loop {
+                start: target,
+                next: entry,
+                counter: None,
+            },
+            _ => continue,
+        };
+        if let Some(body) = translate(ops, sure, at, temps, whole, constant) {
+            bodies.insert(entry, body);
         }
     }
     bodies
 }
 
-/// Make each `for.check` of the fused `ops` entering a loop of `bodies` an [`Op::ForTight`].
+/// Make each instruction of the fused `ops` entering a loop of `bodies` the one that leaves
+/// the loop to the machine: a `for.check` an [`Op::ForTight`], a `loop` an [`Op::LoopTight`].
 pub fn mark(ops: &mut [Op], bodies: &BTreeMap<u32, Body>) {
-    for &start in bodies.keys() {
-        let Some(at) = (start as usize).checked_sub(1) else {
+    for (&entry, body) in bodies {
+        let Some(op) = ops.get_mut(entry as usize) else {
             continue;
         };
-        if let Some(&Op::ForCheck { var, limit, exit }) = ops.get(at) {
-            ops[at] = Op::ForTight { var, limit, exit };
+        match *op {
+            Op::ForCheck { var, limit, exit } if body.counter.is_some() => {
+                *op = Op::ForTight { var, limit, exit };
+            }
+            Op::Loop { target } if body.counter.is_none() && target == body.start => {
+                *op = Op::LoopTight { target };
+            }
+            _ => {}
         }
     }
 }
 
-/// A `for.check` and what it names.
+/// A loop's body, and a `FOR`'s counter.
 #[derive(Debug, Clone, Copy)]
 struct Loop {
-    check: u32,
-    var: Reg,
-    limit: Reg,
-    exit: u32,
+    /// The body's first instruction (a `WHILE`'s condition is in its body).
+    start: u32,
+    /// Its last: the `for.next`, or the `loop`.
+    next: u32,
+    /// A `FOR`'s variable and limit (the step in the register after it).
+    counter: Option<(Reg, Reg)>,
 }
 
 /// One instruction of the body in the few shapes the translation knows.
@@ -837,8 +870,9 @@ fn result(
 }
 
 /// The body of the loop `at` translated, when every instruction of it is one the translation
-/// knows, its jumps go forward within it (or to its `for.next`), its loop variable is whole
-/// with a whole step (`sure`), and the registers it uses fit.
+/// knows, its jumps go forward within it (or to its `for.next` or `loop`, or out of the loop
+/// to the instruction after that), a `FOR`'s variable is whole with a whole step (`sure`),
+/// and the registers it uses fit.
 fn translate(
     ops: &[Op],
     sure: &[u8],
@@ -847,29 +881,38 @@ fn translate(
     whole: &dyn Fn(Reg) -> bool,
     constant: &dyn Fn(Reg) -> Option<f64>,
 ) -> Option<Body> {
-    let start = at.check + 1;
-    let next = at.exit.checked_sub(1)?;
+    let (start, next) = (at.start, at.next);
     // Scratch registers are numbered down from the top (`u32::MAX - i`), versions up from
     // `VIRTUAL`: they never meet.
     if next < start || next >= 1 << 30 {
         return None;
     }
-    let Op::ForNext {
-        var,
-        limit,
-        body,
-        decimals,
-    } = *ops.get(next as usize)?
-    else {
-        return None;
+    // A `FOR`'s variable, limit, and whether the variable is an INTEGER.
+    let counter: Option<(Reg, Reg, bool)> = match (at.counter, *ops.get(next as usize)?) {
+        (
+            Some((var, limit)),
+            Op::ForNext {
+                var: v,
+                limit: lim,
+                body,
+                decimals,
+            },
+        ) => {
+            let sure_next = sure.get(next as usize).is_some_and(|f| f & SURE != 0);
+            if body != start || v != var || lim != limit || !sure_next {
+                return None;
+            }
+            if decimals != 0 && decimals != INT_STORE {
+                return None;
+            }
+            Some((var, limit, decimals == INT_STORE))
+        }
+        (None, Op::Loop { target }) if target == start => None,
+        _ => return None,
     };
-    let sure_next = sure.get(next as usize).is_some_and(|f| f & SURE != 0);
-    if body != start || var != at.var || limit != at.limit || !sure_next {
-        return None;
-    }
-    if decimals != 0 && decimals != INT_STORE {
-        return None;
-    }
+    let var = counter.map(|c| c.0);
+    // The registers of the limit and the step, which the body must not touch.
+    let bounds = |r: Reg| counter.is_some_and(|(_, limit, _)| r == limit || r == limit + 1);
     // The body's steps, by instruction.
     let mut by_op: Vec<Vec<Step>> = Vec::new();
     for i in start..next {
@@ -878,7 +921,7 @@ fn translate(
         let s = steps(*ops.get(i as usize)?, scratch)?;
         for step in &s {
             if let Some(t) = step.target() {
-                if t <= i || t > next {
+                if t <= i || t > next + 1 {
                     return None;
                 }
             }
@@ -914,7 +957,8 @@ fn translate(
             if let Some(d) = step.written() {
                 set.push(d);
             }
-            if let Some(t) = step.target() {
+            // A jump out of the loop goes nowhere in it.
+            if let Some(t) = step.target().filter(|&t| t <= next) {
                 meet(&mut before[(t - start) as usize], &set);
             }
             falls &= !matches!(step, Step::Jump { .. });
@@ -924,7 +968,7 @@ fn translate(
         }
     }
     // Every variable and constant the body reads or writes is loaded, and the loop variable.
-    let mut ins: Vec<Reg> = vec![var];
+    let mut ins: Vec<Reg> = var.into_iter().collect();
     for s in &all {
         for r in s.read().into_iter().chain(s.written()) {
             if !scratch_reg(r) && !ins.contains(&r) {
@@ -932,7 +976,7 @@ fn translate(
             }
         }
     }
-    if ins.iter().any(|&r| r == limit || r == limit + 1) {
+    if ins.iter().any(|&r| bounds(r)) {
         return None;
     }
     let written: Vec<Reg> = {
@@ -941,7 +985,7 @@ fn translate(
         w.dedup();
         w
     };
-    if written.iter().any(|&r| r == limit || r == limit + 1) {
+    if written.iter().any(|&r| bounds(r)) {
         return None;
     }
     // Kinds: loaded registers as their values are; written ones as every write makes them.
@@ -974,7 +1018,7 @@ fn translate(
     let kind_of = |r: Reg| known.get(&r).copied().unwrap_or(INT);
     // The loop variable, and every variable written, hold what the interpreter would store:
     // the variable whole, an integer never a -0 it could not give back.
-    if kind_of(var) != INT {
+    if var.is_some_and(|v| kind_of(v) != INT) {
         return None;
     }
     if written
@@ -991,7 +1035,7 @@ fn translate(
     let kept_regs: Vec<Reg> = ins
         .iter()
         .copied()
-        .filter(|r| written.contains(r) || *r == var)
+        .filter(|r| written.contains(r) || Some(*r) == var)
         .collect();
     for &r in kept_regs.iter().chain(&ins).chain(&written) {
         let n = local.len();
@@ -1003,7 +1047,7 @@ fn translate(
     let mut shadow: BTreeMap<Reg, Local> = BTreeMap::new();
     for &r in &ins {
         // The loop variable changes at each `for.next`: it has none.
-        if !written.contains(&r) && r != var && kind_of(r).kind == Kind::Int {
+        if !written.contains(&r) && Some(r) != var && kind_of(r).kind == Kind::Int {
             shadow.insert(r, (local.len() + shadow.len()) as Local);
         }
     }
@@ -1042,11 +1086,19 @@ fn translate(
     let end = out.len();
     out.push(Ir::Next);
     ir_op.push(u16::try_from(by_op.len()).ok()?);
+    // A jump out of the loop goes to an `Exit` after the end.
+    let leaves = patches.iter().any(|&(_, t)| t == next + 1);
+    if leaves {
+        out.push(Ir::Exit);
+        ir_op.push(u16::try_from(by_op.len()).ok()?);
+    }
     // Jumps: IR instruction, target IR instruction.
     let mut jumps: Vec<(usize, usize)> = Vec::new();
     for (m, t) in patches {
         let to = if t == next {
             end
+        } else if t == next + 1 {
+            end + 1
         } else {
             *first_micro.get((t - start) as usize)?
         };
@@ -1081,7 +1133,7 @@ fn translate(
     // (conversions added, fused PowerTools stores taken apart: bench/int's PowerTools
     // version, which the interpreter runs in 11 dispatches an iteration, took 21 here and
     // 1.2 times as long).
-    if ops.len() > (next - start) as usize + 1 {
+    if ops.len() - usize::from(leaves) > (next - start) as usize + 1 {
         return None;
     }
     // At each instruction, the temporaries' versions written before it and read at or after
@@ -1131,7 +1183,7 @@ fn translate(
         .filter(|r| written.contains(r))
         .map(|&r| l(r))
         .collect();
-    kept.push(l(var));
+    kept.extend(var.map(l));
     kept.sort_unstable();
     kept.dedup();
     // They are the first locals.
@@ -1141,8 +1193,17 @@ fn translate(
     // Every register read or written on entry, on leaving, or given to the interpreter.
     let given = live.iter().flatten().map(|g| g.0);
     let regs = ins.iter().chain(&written).filter(|&&r| !scratch_reg(r));
-    let highest = regs.copied().chain(given).max()?.max(limit + 1);
-    let lowest_write = outs.iter().map(|o| o.0).min().unwrap_or(var).min(var);
+    let highest = regs
+        .copied()
+        .chain(given)
+        .chain(counter.map(|(_, limit, _)| limit + 1))
+        .max()?;
+    let lowest_write = outs
+        .iter()
+        .map(|o| o.0)
+        .chain(var)
+        .min()
+        .unwrap_or(Reg::MAX);
     Some(Body {
         ops,
         op_of,
@@ -1153,13 +1214,16 @@ fn translate(
         consts,
         outs,
         kept,
-        var: (l(var), var),
-        limit,
-        short: decimals == INT_STORE,
+        counter: counter.map(|(var, limit, short)| Counter {
+            var: (l(var), var),
+            limit,
+            short,
+        }),
+        start,
         count: u64::from(next - start) + 1,
         lowest_write,
         highest,
-        after: at.exit,
+        after: next + 1,
     })
 }
 
@@ -1256,7 +1320,7 @@ fn ir_regs(ir: &Ir) -> (Vec<Local>, Option<Local>) {
         Ir::CheckR { s, .. } => (vec![s], None),
         Ir::JumpZeroI { c, .. } | Ir::JumpZeroR { c, .. } => (vec![c], None),
         Ir::JumpCmpI { a, b, .. } | Ir::JumpCmpR { a, b, .. } => (vec![a, b], None),
-        Ir::Jump | Ir::Next => (vec![], None),
+        Ir::Jump | Ir::Next | Ir::Exit => (vec![], None),
     }
 }
 
@@ -1364,16 +1428,25 @@ fn lower(
         out.get_mut(*index.get(from)?)?.k = t as i32 | i32::from(skip) << 16;
     }
     // A jump to the end (`ELSE` done, `END IF` at the end of the body) ends the iteration
-    // itself.
-    let last = out.len() - 1;
+    // itself; one out of the loop leaves it itself.
+    let next_at = out.iter().position(|m| m.code == Code::Next)?;
     for m in out.iter_mut() {
-        if m.code == Code::Jump && (m.k & 0xffff) as usize == last {
+        let to = (m.k & 0xffff) as usize;
+        if m.code == Code::Jump && to == next_at {
             m.code = Code::Next;
+        } else if m.code == Code::Jump && to > next_at {
+            m.code = Code::Exit;
         }
     }
-    // Every jump lands on an instruction, and the last is `Next`.
+    // Every jump lands on an instruction, and the body ends with `Next` (and `Exit` after
+    // it when a jump leaves the loop): neither goes on to the instruction after it.
     let len = out.len() as i32;
-    if out.last().map(|m| m.code) != Some(Code::Next)
+    let codes: Vec<Code> = out.iter().map(|m| m.code).collect();
+    let ends = matches!(
+        codes.as_slice(),
+        [.., Code::Next] | [.., Code::Next, Code::Exit]
+    );
+    if !ends
         || out
             .iter()
             .any(|m| m.code.jumps() && !(0..len).contains(&(m.k & 0xffff)))
@@ -1458,6 +1531,7 @@ fn pack(ir: &Ir) -> Micro {
             cmp, want, a, b, ..
         } => m(Code::JcmpR, cmp_index(cmp) * 2 + u8::from(want), a, b, 0),
         Ir::Next => m(Code::Next, 0, 0, 0, 0),
+        Ir::Exit => m(Code::Exit, 0, 0, 0, 0),
         // The families go through `Family` first; this is their form on registers.
         Ir::AddI { d, a, b } => m(Code::AddI, d, a, b, 0),
         Ir::SubI { d, a, b } => m(Code::SubI, d, a, b, 0),

@@ -389,6 +389,10 @@ pub enum Op {
     Jump { target: u32 },
     /// Go to `target` backwards; the task may yield here when its budget is spent.
     Loop { target: u32 },
+    /// A [`Op::Loop`] going back to the start of a loop whose body the machine may run outside
+    /// the interpreter (`compile::body`): unless the budget is spent, the interpreter leaves
+    /// the loop to its caller there (`exec::Exit::Back`).
+    LoopTight { target: u32 },
     /// Go to `target` when `cond` is OFF.
     JumpIfFalse { cond: Reg, target: u32 },
     /// Go to `target` unless `a < b` (comparisons are specialised; `>`/`>=` swap operands).
@@ -1499,6 +1503,7 @@ impl Op {
         match *self {
             Op::Jump { target }
             | Op::Loop { target }
+            | Op::LoopTight { target }
             | Op::JumpIfFalse { target, .. }
             | Op::JumpIfTrue { target, .. }
             | Op::JumpUnlessLt { target, .. }

@@ -216,7 +216,7 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 s
             }
             Op::Jump { target } => format!("jump      @{target}"),
-            Op::Loop { target } => format!("loop      @{target}"),
+            Op::Loop { target } | Op::LoopTight { target } => format!("loop      @{target}"),
             Op::JumpIfFalse { cond, target } => format!("jump.f    {} @{target}", r(cond)),
             Op::JumpUnlessLt { a, b, target } => format!("jump.not  {} < {} @{target}", r(a), r(b)),
             Op::JumpUnlessLe { a, b, target } => {

@@ -1,7 +1,8 @@
 //! Loops whose body is straight-line arithmetic, run outside the interpreter on typed
 //! registers: integers as `i64`, reals as `f64` (`compile::body` says which loops, and how
-//! their bodies are translated). The interpreter's `for.check` hands such a loop to the
-//! machine (`Machine::enter_loop`), as it does the loops of `vm::tight`.
+//! their bodies are translated). The interpreter's `for.check` hands such a `FOR` to the
+//! machine (`Machine::enter_loop`), as it does the loops of `vm::tight`; the `loop` at the end
+//! of a `WHILE` hands it over from its second iteration (`Machine::run_body`).
 //!
 //! Each value is the one the interpreter would compute, and each iteration counts the
 //! interpreter's instructions. An iteration in which anything is not plain — a fault, an
@@ -14,7 +15,7 @@ use super::exec::{
     round_long,
 };
 use super::tight::End;
-use crate::compile::body::{cmp_of, Body, Code, Kind, Width, EXACT, INT_OPS};
+use crate::compile::body::{cmp_of, Body, Code, Counter, Kind, Width, EXACT, INT_OPS};
 use crate::fixed::{to_fixed, trunc_i32};
 
 /// The fewest iterations of a loop worth leaving the interpreter for.
@@ -120,18 +121,42 @@ fn copy_each<const N: usize>(to: &mut [u64; 256], from: &[u64; 256]) {
     }
 }
 
+/// The local registers of a body, and a copy of those an iteration may have to give back as
+/// they were at its start. Every local is written before it is read (a loaded one on entry,
+/// a temporary by its statement), so what a run leaves in them is never seen by the next.
+#[derive(Debug, Clone)]
+pub struct Registers {
+    r: [u64; 256],
+    saved: [u64; 256],
+}
+
+impl Default for Registers {
+    fn default() -> Registers {
+        Registers {
+            r: [0; 256],
+            saved: [0; 256],
+        }
+    }
+}
+
 /// Run the iterations of the loop `body` that are plain, starting at the start of its body,
-/// on the values `vals`, counting the interpreter's instructions in `n` against `budget` (the
-/// interpreter's test: after a `for.next` that goes round again). Where it stopped, and for
-/// an iteration left to the interpreter, the body's instruction it goes on at; `None`
-/// when it did not start (a register outside `vals`, a value an `Int` cannot hold, a
-/// constant not what the translation saw, a step that is not a whole number other than 0,
-/// fewer than [`FEWEST`] iterations left).
-pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<(End, u32)> {
+/// on the values `vals` (in the registers `regs`), counting the interpreter's instructions in
+/// `n` against `budget` (the interpreter's test: after a `for.next` that goes round again, or
+/// a `loop`). Where it stopped, and for an iteration left to the interpreter, the body's
+/// instruction it goes on at; `None` when it did not start (a register outside `vals`, a value
+/// an `Int` cannot hold, a constant not what the translation saw; a `FOR`'s step that is not
+/// a whole number other than 0, or fewer than [`FEWEST`] iterations left).
+pub fn run(
+    vals: &mut [f64],
+    regs: &mut Registers,
+    body: &Body,
+    n: &mut u64,
+    budget: u64,
+) -> Option<(End, u32)> {
     if body.highest as usize >= vals.len() || body.locals > 256 {
         return None;
     }
-    let mut r = [0u64; 256];
+    let Registers { r, saved } = regs;
     for &(reg, local, kind) in &body.ins {
         let x = vals[reg as usize];
         r[local as usize] = match kind {
@@ -146,20 +171,84 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<(E
             return None;
         }
     }
-    let limit = vals[body.limit as usize];
-    let step = to_int(vals[body.limit as usize + 1]).filter(|&s| s != 0)?;
-    let var = body.var.0 as usize;
+    let round = match body.counter {
+        Some(c) => Some(round(vals, r, c)?),
+        None => None,
+    };
+    let (end, stopped, mut count) = match round {
+        Some(round) => iterate::<true>(r, saved, body, *n, budget, round),
+        None => iterate::<false>(r, saved, body, *n, budget, Round::NONE),
+    };
+    // Where the interpreter goes on: the body's start, or (left unfinished) the instruction.
+    let mut resume = 0u32;
+    if end == End::Slow {
+        // Left undone from its start, or unfinished at an instruction.
+        if let Some(at) = stopped {
+            // The instruction the iteration stopped in: those before it ran (those jumped
+            // over not counted), it did not.
+            count = count - body.count + u64::from(at);
+            for &(reg, local, kind) in body.live.get(usize::from(at)).into_iter().flatten() {
+                let x = r[local as usize];
+                vals[reg as usize] = match kind {
+                    Kind::Int => x as i64 as f64,
+                    Kind::Real => f64::from_bits(x),
+                };
+            }
+            resume = u32::from(at);
+        }
+    }
+    *n = count;
+    if let Some(c) = body.counter {
+        let (var_local, var_reg) = c.var;
+        vals[var_reg as usize] = r[var_local as usize] as i64 as f64;
+    }
+    for &(reg, local, kind) in &body.outs {
+        let x = r[local as usize];
+        vals[reg as usize] = match kind {
+            Kind::Int => x as i64 as f64,
+            Kind::Real => f64::from_bits(x),
+        };
+    }
+    Some((end, resume))
+}
+
+/// How a `FOR` goes round: its variable's local, its step, and the bounds it stays within
+/// (the limit's floor going up, its ceiling going down) and the width it is stored in.
+#[derive(Debug, Clone, Copy)]
+struct Round {
+    var: usize,
+    step: i64,
+    up: bool,
+    hi: i64,
+    lo: i64,
+    width: Width,
+}
+
+impl Round {
+    /// For a loop without a counter (never read).
+    const NONE: Round = Round {
+        var: 0,
+        step: 0,
+        up: true,
+        hi: 0,
+        lo: 0,
+        width: Width::Long,
+    };
+}
+
+/// How the `FOR` of `c` goes round from the values `vals` and the locals `r` loaded; `None`
+/// when the step is not a whole number other than 0, or fewer than [`FEWEST`] iterations are
+/// left.
+fn round(vals: &[f64], r: &[u64; 256], c: Counter) -> Option<Round> {
+    let limit = *vals.get(c.limit as usize)?;
+    let step = to_int(*vals.get(c.limit as usize + 1)?).filter(|&s| s != 0)?;
+    let var = usize::from(c.var.0);
     let left = (limit - r[var] as i64 as f64) / step as f64;
     // NaN (an infinite limit less an infinite one…) is no count.
     if left.partial_cmp(&(FEWEST - 1.0)).is_none_or(|o| o.is_lt()) {
         return None;
     }
-    let width = if body.short {
-        Width::Short
-    } else {
-        Width::Long
-    };
-    let up = step > 0;
+    let width = if c.short { Width::Short } else { Width::Long };
     // The loop goes round while the variable (an integer) is at most the limit's floor (up)
     // or at least its ceiling (down); never past a limit that is not a number.
     let bound = |x: f64| x.clamp(-(EXACT as f64), EXACT as f64) as i64;
@@ -168,6 +257,38 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<(E
     } else {
         (bound(limit.floor()), bound(limit.ceil()))
     };
+    Some(Round {
+        var,
+        step,
+        up: step > 0,
+        hi,
+        lo,
+        width,
+    })
+}
+
+/// Run iterations of `body` on the locals `r` from the start of its body, counting the
+/// interpreter's instructions from `count` against `budget`; a `FOR`'s (`COUNTED`) going round
+/// as `round` says, any other's by its `loop`. How it ended, and for an iteration left
+/// unfinished the body's instruction it stopped in (`None`: left undone from its start, its
+/// variables given back as they were and its instructions uncounted), and the count.
+#[inline(always)]
+fn iterate<const COUNTED: bool>(
+    r: &mut [u64; 256],
+    saved: &mut [u64; 256],
+    body: &Body,
+    mut count: u64,
+    budget: u64,
+    round: Round,
+) -> (End, Option<u16>, u64) {
+    let Round {
+        var,
+        step,
+        up,
+        hi,
+        lo,
+        width,
+    } = round;
     let kept = body.kept.len().min(256);
     debug_assert!(body
         .kept
@@ -175,8 +296,6 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<(E
         .enumerate()
         .all(|(i, &k)| usize::from(k) == i));
     let ops = body.ops();
-    let mut saved = [0u64; 256];
-    let mut count = *n;
     let mut at_start;
     // The body's instruction an iteration stopped in (counted from its start).
     let mut stopped = 0u16;
@@ -185,7 +304,7 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<(E
         // moves (only for a body whose iterations are left undone from their start).
         if body.snapshot {
             if kept <= 4 {
-                copy_each::<4>(&mut saved, &r);
+                copy_each::<4>(saved, r);
             } else {
                 for i in 0..kept {
                     // SAFETY: as `copy_each`'s.
@@ -461,52 +580,31 @@ pub fn run(vals: &mut [f64], body: &Body, n: &mut u64, budget: u64) -> Option<(E
                     count -= (m.k >> 16) as u64;
                     break;
                 }
+                Code::Exit => {
+                    count -= (m.k >> 16) as u64;
+                    break 'iterations End::Done;
+                }
             }
         }
-        // The `for.next`.
-        let v = int!(var) + step;
-        if !fits(v, width) {
-            stopped = (body.count - 1) as u16;
-            break End::Slow;
-        }
-        set_int!(var, v);
-        if !(if up { v <= hi } else { v >= lo }) {
-            break End::Done;
+        // The `for.next`, or the `loop` (which the interpreter's test follows).
+        if COUNTED {
+            let v = int!(var) + step;
+            if !fits(v, width) {
+                stopped = (body.count - 1) as u16;
+                break End::Slow;
+            }
+            set_int!(var, v);
+            if !(if up { v <= hi } else { v >= lo }) {
+                break End::Done;
+            }
         }
         if count >= budget {
             break End::Budget;
         }
     };
-    // Where the interpreter goes on: the body's start, or (left unfinished) the instruction.
-    let mut resume = 0u32;
-    if end == End::Slow {
-        if body.snapshot {
-            r[..kept].copy_from_slice(&saved[..kept]);
-            count = at_start;
-        } else {
-            // The instruction the iteration stopped in: those before it ran (those jumped
-            // over not counted), it did not.
-            let at = stopped;
-            count = count - body.count + u64::from(at);
-            for &(reg, local, kind) in body.live.get(usize::from(at)).into_iter().flatten() {
-                let x = r[local as usize];
-                vals[reg as usize] = match kind {
-                    Kind::Int => x as i64 as f64,
-                    Kind::Real => f64::from_bits(x),
-                };
-            }
-            resume = u32::from(at);
-        }
+    if end == End::Slow && body.snapshot {
+        r[..kept].copy_from_slice(&saved[..kept]);
+        return (end, None, at_start);
     }
-    *n = count;
-    let (var_local, var_reg) = body.var;
-    vals[var_reg as usize] = r[var_local as usize] as i64 as f64;
-    for &(reg, local, kind) in &body.outs {
-        let x = r[local as usize];
-        vals[reg as usize] = match kind {
-            Kind::Int => x as i64 as f64,
-            Kind::Real => f64::from_bits(x),
-        };
-    }
-    Some((end, resume))
+    (end, Some(stopped), count)
 }

@@ -38,6 +38,9 @@ pub enum Exit {
     /// and runs the loop after it (`tight::run_plan`) when that is long enough and writes
     /// nothing traced, then the interpreter again.
     Loop { pc: u32 },
+    /// The [`Op::LoopTight`] at `pc`, done (counted, its budget not spent): the caller runs
+    /// the loop from its start (`vm::body`) when it can, else the interpreter does.
+    Back { pc: u32, start: u32 },
 }
 
 /// The fault of a `for.check` with a step of 0.
@@ -1266,6 +1269,22 @@ pub fn run<'a>(
                     if n >= budget {
                         *executed = n;
                         return Exit::Yield(pc);
+                    }
+                }
+                Op::LoopTight { target } => {
+                    pc = target;
+                    if n >= budget {
+                        *executed = n;
+                        return Exit::Yield(pc);
+                    }
+                    // Not when tracing: a variable the loop writes is traced, so the machine
+                    // would give it back at once (an exit and an entry at each iteration).
+                    if trace_below == 0 && !probe {
+                        *executed = n;
+                        return Exit::Back {
+                            pc: here,
+                            start: target,
+                        };
                     }
                 }
                 Op::JumpIfFalse { cond, target } => {

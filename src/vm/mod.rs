@@ -190,6 +190,9 @@ pub struct Machine {
     no_data: u32,
     /// How many runs of loops the machine ran outside the interpreter (`vm::tight`).
     tight_runs: u64,
+    /// The registers of a loop run on typed registers (`vm::body`), kept from one run to the
+    /// next: a short loop entered often would otherwise clear them at each entry.
+    body_regs: Box<body::Registers>,
 }
 
 /// Trace every registry slot whose value differs from the snapshot, in slot order.
@@ -258,6 +261,7 @@ impl Machine {
             rnd: rnd::Rnd::new(image.seed),
             no_data: 0,
             tight_runs: 0,
+            body_regs: Box::default(),
             image,
         };
         m.devices.start(&mut m.values);
@@ -957,21 +961,7 @@ impl Machine {
         let traced_below = self.traced_below();
         let c = self.image.chunks.get(chunk)?;
         let Some(plan) = tight::plan(&c.ops, &c.sure, start, traced_below) else {
-            let b = c.bodies.get(&start)?;
-            if b.lowest_write < traced_below {
-                return None;
-            }
-            let mut n = self.instructions;
-            let (end, at) = body::run(&mut self.values, b, &mut n, budget_end)?;
-            self.tight_runs += 1;
-            self.instructions = n;
-            let next = match end {
-                tight::End::Done => b.after,
-                tight::End::Budget => start,
-                // The interpreter goes on where the iteration was left.
-                tight::End::Slow => start + at,
-            };
-            return Some((next, end == tight::End::Budget));
+            return self.run_body(chunk, start.checked_sub(1)?, budget_end);
         };
         let get = |r: u32| self.values.get(r as usize).copied();
         let (x, l, s) = (get(plan.var)?, get(plan.limit)?, get(plan.limit + 1)?);
@@ -988,6 +978,29 @@ impl Machine {
             // The interpreter runs that iteration (and counts its dispatch).
             tight::End::Slow => n - 1,
             tight::End::Done | tight::End::Budget => n,
+        };
+        Some((next, end == tight::End::Budget))
+    }
+
+    /// Run here (`vm::body`) the loop that instruction `entry` of `chunk` enters (its
+    /// `for.check` or its `loop`), about to run an iteration from its start, when its body is
+    /// translated and writes nothing traced. Where the task goes on, and whether its budget is
+    /// spent; `None` when the interpreter is to run it.
+    fn run_body(&mut self, chunk: usize, entry: u32, budget_end: u64) -> Option<(u32, bool)> {
+        let traced_below = self.traced_below();
+        let b = self.image.chunks.get(chunk)?.bodies.get(&entry)?;
+        if b.lowest_write < traced_below {
+            return None;
+        }
+        let mut n = self.instructions;
+        let (end, at) = body::run(&mut self.values, &mut self.body_regs, b, &mut n, budget_end)?;
+        self.tight_runs += 1;
+        self.instructions = n;
+        let next = match end {
+            tight::End::Done => b.after,
+            tight::End::Budget => b.start,
+            // The interpreter goes on where the iteration was left.
+            tight::End::Slow => b.start + at,
         };
         Some((next, end == tight::End::Budget))
     }
@@ -1234,6 +1247,15 @@ impl Machine {
                     return;
                 }
                 Exit::Probed { .. } => return,
+                Exit::Back { pc, start } => {
+                    let (next, spent) = self
+                        .run_body(frame.chunk, pc, budget_end)
+                        .unwrap_or((start, false));
+                    set_pc(self, next);
+                    if spent {
+                        return;
+                    }
+                }
                 Exit::Loop { pc } => match self.enter_loop(frame.chunk, pc, budget_end) {
                     Ok((next, spent)) => {
                         set_pc(self, next);
