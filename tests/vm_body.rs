@@ -183,8 +183,31 @@ const PT: Dialect = Dialect {
     end: "End\n",
 };
 
+/// The MotionBASIC arrays the programs use (`DIM`ed first): longs, INTEGERs, reals, and
+/// longs of two subscripts.
+const ARRAYS: [&str; 4] = ["A&(10)", "B%(10)", "R(10)", "G&(3, 3)"];
+
+/// An element of one of [`ARRAYS`]: mostly a subscript within its bounds (`AND` of whole
+/// bits, of a real rounded first), sometimes any expression (out of range: a fault).
+fn element(d: &mut Draw, w: &Dialect, depth: u32) -> String {
+    let sub = |d: &mut Draw, mask: &str| match d.below(6) {
+        0 => expr(d, w, depth),
+        _ => format!("({} AND {mask})", expr(d, w, depth)),
+    };
+    match d.below(4) {
+        0 => format!("A&({})", sub(d, "7")),
+        1 => format!("B%({})", sub(d, "7")),
+        2 => format!("R({})", sub(d, "7")),
+        _ => {
+            let i = sub(d, "3");
+            format!("G&({i}, {})", sub(d, "3"))
+        }
+    }
+}
+
 fn expr(d: &mut Draw, w: &Dialect, depth: u32) -> String {
-    match d.below(if depth == 0 { 2 } else { 6 }) {
+    let mb = w.file.ends_with(".mb");
+    match d.below(if depth == 0 { 2 } else { 7 }) {
         0 => {
             let mut vars = w.vars.to_vec();
             vars.push(w.loop_var);
@@ -192,7 +215,8 @@ fn expr(d: &mut Draw, w: &Dialect, depth: u32) -> String {
         }
         1 => d.pick(w.constants).to_string(),
         2 => format!("({} {})", w.not, expr(d, w, depth - 1)),
-        3 if w.file.ends_with(".mb") => format!("-({})", expr(d, w, depth - 1)),
+        3 if mb => format!("-({})", expr(d, w, depth - 1)),
+        6 if mb => element(d, w, depth - 1),
         _ => format!(
             "({} {} {})",
             expr(d, w, depth - 1),
@@ -208,7 +232,11 @@ fn condition(d: &mut Draw, w: &Dialect) -> String {
 }
 
 fn statement(d: &mut Draw, w: &Dialect, out: &mut String, depth: u32) {
-    let var = d.pick(w.vars);
+    let var = if w.file.ends_with(".mb") && d.below(4) == 0 {
+        element(d, w, 1)
+    } else {
+        d.pick(w.vars).to_string()
+    };
     match d.below(if depth == 0 { 1 } else { 4 }) {
         0 | 1 => out.push_str(&format!("{var} = {}\n", expr(d, w, 2))),
         2 => {
@@ -232,6 +260,9 @@ fn statement(d: &mut Draw, w: &Dialect, out: &mut String, depth: u32) {
 
 fn program(d: &mut Draw, w: &Dialect) -> String {
     let mut out = String::new();
+    if w.file.ends_with(".mb") {
+        out.push_str(&format!("DIM {}\n", ARRAYS.join(", ")));
+    }
     for var in w.vars {
         let v = d.pick(&["0", "1", "-7", "12345", "3", "100", "-2", "0.75"]);
         // Only reals take a fraction here (a whole variable rounds it: that is tested too).
@@ -302,11 +333,12 @@ fn random_loops_give_the_same_values_counts_and_faults_in_or_out_of_the_interpre
             } else {
                 p
             };
-            // The checker refuses some (a constant divisor of 0, a constant that overflows):
-            // those are drawn again.
-            if try_load("body-check", w.file, &p, 7)
-                .is_err_and(|d| d.render_plain().contains("run-time error"))
-            {
+            // The checker refuses some (a constant divisor of 0, a constant that overflows, a
+            // constant subscript out of range): those are drawn again.
+            if try_load("body-check", w.file, &p, 7).is_err_and(|d| {
+                let text = d.render_plain();
+                text.contains("run-time error") || text.contains("Subscript out of range")
+            }) {
                 refused += 1;
                 continue;
             }
@@ -452,6 +484,81 @@ WEND
     for budget in [3, 7, 50] {
         assert_eq!(both("x.mb", mb, budget).1, None);
         assert_eq!(both("x.pt", pt, budget).1, None);
+    }
+}
+
+#[test]
+fn elements_are_read_and_stored_in_place_with_the_interpreter_s_checks() {
+    // A histogram of a linear congruential generator: an element read, incremented and
+    // stored at a subscript computed in the body (MotionBASIC arrays: the ORMEC MotionBASIC
+    // manual's DIM; subscripts from 0, `OPTION BASE` aside).
+    let program = "DIM H&(15), R(3)
+X& = 1
+FOR I& = 1 TO 20000
+  X& = (X& * 1103 + 12345) MOD 65536
+  K& = (X& \\ 16) AND 15
+  H&(K&) = H&(K&) + 1
+  R(I& AND 3) = R(I& AND 3) * 0.5 + K&
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-hist", "x.mb", program, 1_000_000));
+    assert!(summary.error.is_none());
+    assert_eq!(machine.tight_runs(), 1);
+    let (mut x, mut h, mut r) = (1i64, [0i64; 16], [0f64; 4]);
+    for i in 1..=20000usize {
+        x = (x * 1103 + 12345) % 65536;
+        let k = (x / 16) & 15;
+        h[k as usize] += 1;
+        r[i & 3] = r[i & 3] * 0.5 + k as f64;
+    }
+    for (k, n) in h.iter().enumerate() {
+        assert_eq!(
+            machine.value_of(&format!("H&({k})")),
+            Some(*n as f64),
+            "H&({k})"
+        );
+    }
+    for (k, v) in r.iter().enumerate() {
+        let got = machine.value_of(&format!("R({k})")).map(f64::to_bits);
+        assert_eq!(got, Some(v.to_bits()), "R({k})");
+    }
+    for budget in [3, 7, 50] {
+        assert_eq!(both("x.mb", program, budget).1, None);
+    }
+    // A sum stored into an element that overflows, and a subscript out of range: the
+    // interpreter's faults, at their places, with the iterations before done outside.
+    let overflow = "DIM A&(3), B%(3)
+FOR I& = 1 TO 100
+  A&(I& AND 3) = 2147483600 + I&
+  B%(1) = I&
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-overflow", "x.mb", overflow, 1_000_000));
+    let error = summary.error.as_ref().expect("an overflow");
+    assert_eq!((error.line, error.column), (3, 18), "{}", error.message);
+    assert!(error.message.starts_with("Overflow"), "{}", error.message);
+    assert_eq!(machine.tight_runs(), 1);
+    // I& = 48 overflows: 47 iterations done, the last of them stored into B%(1).
+    assert_eq!(machine.value_of("B%(1)"), Some(47.0));
+    assert_eq!(machine.value_of("A&(3)"), Some(2147483600.0 + 47.0));
+    let range = "DIM A&(9)
+FOR I& = 1 TO 100
+  A&(I& \\ 3) = A&(I& \\ 3) + I&
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-range", "x.mb", range, 1_000_000));
+    let error = summary.error.as_ref().expect("a subscript out of range");
+    assert_eq!(error.line, 3, "{}", error.message);
+    assert!(
+        error.message.contains("Subscript out of range"),
+        "{}",
+        error.message
+    );
+    // I& = 30 subscripts 10: the 29 before summed into A&(0..=9).
+    assert_eq!(machine.value_of("A&(9)"), Some(27.0 + 28.0 + 29.0));
+    for budget in [3, 7, 50] {
+        assert_eq!(both("x.mb", overflow, budget).1.map(|e| e.0), Some(3));
+        assert_eq!(both("x.mb", range, budget).1.map(|e| e.0), Some(3));
     }
 }
 

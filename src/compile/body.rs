@@ -16,7 +16,7 @@
 //! The translation works on the instructions before fusion (each of which the interpreter
 //! counts as one): the superinstructions stand in place of the same instructions.
 
-use super::bytecode::{BinaryOp, Cmp, Op, Reg, INT_STORE};
+use super::bytecode::{BinaryOp, Cmp, Op, Reg, INT_STORE, REAL_STORE};
 use super::whole::SURE;
 use std::collections::BTreeMap;
 use std::ops::Range;
@@ -144,15 +144,33 @@ enum Ir {
         a: Local,
         b: Local,
     },
+    /// `d` = the subscript `s` (an `Int`), which must be within `0..len`.
+    IdxI { d: Local, s: Local, len: u32 },
+    /// `d` = the subscript `s` (a real) rounded, halves to even, within `0..len`.
+    IdxR { d: Local, s: Local, len: u32 },
+    /// `d` = element `off` of array `arr` (of the body's), whole: an `Int`.
+    LoadI { d: Local, off: Local, arr: u8 },
+    /// `d` = element `off` of array `arr`, a real.
+    LoadR { d: Local, off: Local, arr: u8 },
+    /// The `Int` `s` into element `off` of array `arr`, when it fits `w` (if any).
+    PutI {
+        s: Local,
+        off: Local,
+        arr: u8,
+        w: Option<Width>,
+    },
+    /// The real `s` into element `off` of array `arr`.
+    PutR { s: Local, off: Local, arr: u8 },
     /// The end of the body: the loop's `for.next`, or its `loop` going back.
     Next,
     /// Out of the loop: the instruction after its end.
     Exit,
 }
 
-/// What a [`Micro`] does. The integer families come in four forms: `I` on two registers,
+/// What a [`Micro`] does. The integer families come in six forms: `I` on two registers,
 /// `K` on a register and the constant `k`, `L` and `KL` the same stored into the long `d`
-/// (an iteration whose result does not fit 32 bits is left undone). Comparisons are numbered
+/// (an iteration whose result does not fit 32 bits is left undone), `S` and `KS` into the
+/// INTEGER `d` (16 bits); `d` may be a temporary checked in place (`chk.long`, `chk.int`). Comparisons are numbered
 /// as [`cmp_of`] says.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 #[repr(u8)]
@@ -163,41 +181,59 @@ pub enum Code {
     AddK,
     AddL,
     AddKL,
+    AddS,
+    AddKS,
     SubI,
     SubK,
     SubL,
     SubKL,
+    SubS,
+    SubKS,
     MulI,
     MulK,
     MulL,
     MulKL,
+    MulS,
+    MulKS,
     /// MotionBASIC `MOD`.
     ModI,
     ModK,
     ModL,
     ModKL,
+    ModS,
+    ModKS,
     /// MotionBASIC `\`.
     QuotI,
     QuotK,
     QuotL,
     QuotKL,
+    QuotS,
+    QuotKS,
     /// PowerTools `MOD`.
     RemI,
     RemK,
     RemL,
     RemKL,
+    RemS,
+    RemKS,
     AndI,
     AndK,
     AndL,
     AndKL,
+    AndS,
+    AndKS,
     OrI,
     OrK,
     OrL,
     OrKL,
+    OrS,
+    OrKS,
     XorI,
     XorK,
     XorL,
     XorKL,
+    XorS,
+    XorKS,
     NegI,
     BitNotI,
     NotI,
@@ -242,6 +278,19 @@ pub enum Code {
     JgeI,
     /// Go to `k` when `(a cmp b) == want`, `d` being `cmp * 2 + want`.
     JcmpR,
+    /// `d` = the `Int` subscript `a`, within `0..k`.
+    IdxI,
+    /// `d` = the real subscript `a` rounded (halves to even), within `0..k`.
+    IdxR,
+    /// `d` = element `a` of the body's array `b` (`Body::arrays`), whole.
+    LoadI,
+    /// `d` = element `a` of the body's array `b`, a real.
+    LoadR,
+    /// The `Int` `a` into element `b` of the body's array `d`, when it fits a long (`k` 1) or
+    /// an INTEGER (`k` 2).
+    PutI,
+    /// The real `a` into element `b` of the body's array `d`.
+    PutR,
     /// The end of the body (of the iteration, from a jump to it: not counting `k >> 16` of
     /// the interpreter's instructions).
     Next,
@@ -275,6 +324,9 @@ impl Code {
                 | Code::JzR
                 | Code::JnzR
                 | Code::JcmpR
+                | Code::IdxR
+                | Code::LoadR
+                | Code::PutR
         )
     }
 
@@ -285,7 +337,10 @@ impl Code {
                 self,
                 Code::JzI | Code::JnzI | Code::JeqI | Code::JneI | Code::JltI | Code::JleI
             )
-            || matches!(self, Code::JgtI | Code::JgeI)
+            || matches!(
+                self,
+                Code::JgtI | Code::JgeI | Code::IdxI | Code::LoadI | Code::PutI
+            )
     }
 
     /// Whether `k` is a jump's target.
@@ -367,6 +422,9 @@ pub struct Body {
     pub outs: Vec<(Reg, Local, Kind)>,
     /// The locals an iteration left undone must give back as they were at its start.
     pub kept: Vec<Local>,
+    /// The arrays whose elements it reads or writes (in `vals`, not in locals): the
+    /// register of the first element, and how many there are.
+    pub arrays: Vec<(Reg, u32)>,
     /// A `FOR`'s variable, limit and step; none for a loop that goes round by a `loop`.
     pub counter: Option<Counter>,
     /// The body's first instruction: a `FOR`'s after its `for.check`, a `WHILE`'s the first
@@ -499,6 +557,33 @@ enum Step {
         b: Reg,
         t: u32,
     },
+    /// A subscript: `s` rounded (halves to even), which must be within `0..len`.
+    Sub {
+        d: Reg,
+        s: Reg,
+        len: u32,
+    },
+    /// `d` = element `off` of the array `arr` (whole: `int`).
+    Load {
+        d: Reg,
+        arr: Array,
+        off: Reg,
+        int: bool,
+    },
+    /// `s` stored into element `off` of the array `arr` as `to` says.
+    Put {
+        arr: Array,
+        off: Reg,
+        s: Reg,
+        to: Store,
+    },
+}
+
+/// An array: the register of its first element, and how many it has.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, PartialOrd, Ord)]
+struct Array {
+    base: Reg,
+    len: u32,
 }
 
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -530,9 +615,10 @@ enum Store {
     Fixed(u8),
 }
 
-/// The steps of instruction `op` (a fused store goes through `scratch`, a register of its
-/// own); `None` when the translation does not know it.
-fn steps(op: Op, scratch: Reg) -> Option<Vec<Step>> {
+/// The steps of instruction `op` (a fused store, or a subscript an element's load or store
+/// checks itself, goes through `scratch`, a register of its own; `whole`: a register holds
+/// only whole numbers); `None` when the translation does not know it.
+fn steps(op: Op, scratch: Reg, whole: &dyn Fn(Reg) -> bool) -> Option<Vec<Step>> {
     let bin = |op: BinaryOp| -> Option<Bin> {
         Some(match op {
             BinaryOp::Add => Bin::Add,
@@ -629,6 +715,82 @@ fn steps(op: Op, scratch: Reg) -> Option<Vec<Step>> {
         Op::JumpWhenLe { a, b, target } => one(jump_cmp(Cmp::Le, true, a, b, target)),
         Op::JumpWhenEq { a, b, target } => one(jump_cmp(Cmp::Eq, true, a, b, target)),
         Op::JumpWhenNe { a, b, target } => one(jump_cmp(Cmp::Ne, true, a, b, target)),
+        Op::Subscript { dst, src, len } => one(Step::Sub {
+            d: dst,
+            s: src,
+            len,
+        }),
+        Op::LoadAt {
+            dst,
+            base,
+            off,
+            len,
+        } => one(Step::Load {
+            d: dst,
+            arr: Array { base, len },
+            off,
+            int: whole(base),
+        }),
+        Op::LoadIdx {
+            dst,
+            base,
+            idx,
+            len,
+        } => Some(vec![
+            Step::Sub {
+                d: scratch,
+                s: idx,
+                len,
+            },
+            Step::Load {
+                d: dst,
+                arr: Array { base, len },
+                off: scratch,
+                int: whole(base),
+            },
+        ]),
+        Op::StoreAt {
+            base,
+            off,
+            src,
+            decimals,
+            len,
+        } => one(Step::Put {
+            arr: Array { base, len },
+            off,
+            s: src,
+            to: element_store(decimals)?,
+        }),
+        Op::StoreIdx {
+            base,
+            idx,
+            src,
+            len,
+            decimals,
+        } => Some(vec![
+            Step::Sub {
+                d: scratch,
+                s: idx,
+                len,
+            },
+            Step::Put {
+                arr: Array { base, len },
+                off: scratch,
+                s: src,
+                to: element_store(decimals)?,
+            },
+        ]),
+        _ => None,
+    }
+}
+
+/// How an element store of `decimals` stores: a MotionBASIC array's elements are longs,
+/// INTEGERs or reals.
+fn element_store(decimals: u8) -> Option<Store> {
+    match decimals {
+        0 => Some(Store::Long),
+        INT_STORE => Some(Store::Short),
+        REAL_STORE => Some(Store::Real),
         _ => None,
     }
 }
@@ -640,7 +802,11 @@ fn jump_cmp(cmp: Cmp, want: bool, a: Reg, b: Reg, t: u32) -> Step {
 impl Step {
     fn written(&self) -> Option<Reg> {
         match *self {
-            Step::Bin { d, .. } | Step::Un { d, .. } | Step::Store { d, .. } => Some(d),
+            Step::Bin { d, .. }
+            | Step::Un { d, .. }
+            | Step::Store { d, .. }
+            | Step::Sub { d, .. }
+            | Step::Load { d, .. } => Some(d),
             _ => None,
         }
     }
@@ -652,6 +818,9 @@ impl Step {
             Step::Check { r, .. } => vec![r],
             Step::JumpZero { c, .. } => vec![c],
             Step::Jump { .. } => vec![],
+            Step::Sub { s, .. } => vec![s],
+            Step::Load { off, .. } => vec![off],
+            Step::Put { off, s, .. } => vec![off, s],
         }
     }
 
@@ -705,6 +874,23 @@ impl Step {
                 a: read(a),
                 b: read(b),
                 t,
+            },
+            Step::Sub { d, s, len } => Step::Sub {
+                d: w(d),
+                s: read(s),
+                len,
+            },
+            Step::Load { d, arr, off, int } => Step::Load {
+                d: w(d),
+                arr,
+                off: read(off),
+                int,
+            },
+            Step::Put { arr, off, s, to } => Step::Put {
+                arr,
+                off: read(off),
+                s: read(s),
+                to,
             },
         }
     }
@@ -793,9 +979,14 @@ fn sign_matters(s: &Step, v: Reg, kind_of: &dyn Fn(Reg) -> Known) -> bool {
         },
         Step::Un { op, .. } => matches!(op, Un::Move | Un::Neg),
         Step::Store { to, .. } => matches!(to, Store::Real | Store::Fixed(1..)),
-        Step::Check { .. } | Step::Jump { .. } | Step::JumpZero { .. } | Step::JumpCmp { .. } => {
-            false
-        }
+        // A subscript or an offset picks the same element either way.
+        Step::Put { s, to, .. } => s == v && matches!(to, Store::Real | Store::Fixed(1..)),
+        Step::Check { .. }
+        | Step::Jump { .. }
+        | Step::JumpZero { .. }
+        | Step::JumpCmp { .. }
+        | Step::Sub { .. }
+        | Step::Load { .. } => false,
     }
 }
 
@@ -865,6 +1056,11 @@ fn result(
             Store::Long | Store::Short | Store::Fixed(0) => INT,
             Store::Real | Store::Fixed(_) => REAL,
         },
+        // A subscript's sign never matters (`sign_matters`); an element is no -0 (one that
+        // is leaves the iteration).
+        Step::Sub { .. } => INT,
+        Step::Load { int: true, .. } => INT,
+        Step::Load { int: false, .. } => REAL,
         _ => return None,
     })
 }
@@ -884,7 +1080,7 @@ fn translate(
     let (start, next) = (at.start, at.next);
     // Scratch registers are numbered down from the top (`u32::MAX - i`), versions up from
     // `VIRTUAL`: they never meet.
-    if next < start || next >= 1 << 30 {
+    if next < start || next >= 1 << 28 {
         return None;
     }
     // A `FOR`'s variable, limit, and whether the variable is an INTEGER.
@@ -918,7 +1114,7 @@ fn translate(
     for i in start..next {
         let scratch = u32::MAX - i;
         debug_assert!(scratch >= VIRTUAL);
-        let s = steps(*ops.get(i as usize)?, scratch)?;
+        let s = steps(*ops.get(i as usize)?, scratch, whole)?;
         for step in &s {
             if let Some(t) = step.target() {
                 if t <= i || t > next + 1 {
@@ -1058,6 +1254,19 @@ fn translate(
     let conv = [conv_base as Local, conv_base as Local + 1];
     let locals = conv_base + 2;
     let l = |r: Reg| local.get(&r).copied().unwrap_or(0);
+    // The arrays the body reads or writes elements of, numbered.
+    let mut arrays: Vec<Array> = Vec::new();
+    for step in &all {
+        if let Step::Load { arr, .. } | Step::Put { arr, .. } = *step {
+            if !arrays.contains(&arr) {
+                arrays.push(arr);
+            }
+        }
+    }
+    if arrays.len() > usize::from(u8::MAX) {
+        return None;
+    }
+    let arr_of = |a: Array| arrays.iter().position(|&x| x == a).unwrap_or(0) as u8;
     let mut out: Vec<Ir> = Vec::new();
     let mut first_micro: Vec<usize> = Vec::new();
     // Jumps to patch: micro index, target instruction.
@@ -1076,6 +1285,7 @@ fn translate(
                 &l,
                 &shadow,
                 conv,
+                &arr_of,
                 &mut out,
                 &mut patches,
                 &mut skip_at,
@@ -1119,7 +1329,16 @@ fn translate(
         }
     }
     let const_of = |x: Local| consts.iter().find(|c| c.0 == x).map(|c| c.1 as i32);
-    let (ops, op_of) = lower(&out, &ir_op, &jumps, &skip_at, &temp_local, &const_of)?;
+    let arr_len = |a: u8| arrays.get(usize::from(a)).map(|x| x.len);
+    let (ops, op_of) = lower(
+        &out,
+        &ir_op,
+        &jumps,
+        &skip_at,
+        &temp_local,
+        &const_of,
+        &arr_len,
+    )?;
     // A body mostly of real arithmetic gains nothing here: its values are the interpreter's
     // `f64`s already, and the interpreter fuses its real operations in pairs (`MulAcc` …)
     // where each is one instruction here, and conversions more (bench/filter ran 1.7 times
@@ -1190,17 +1409,36 @@ fn translate(
     if kept.iter().enumerate().any(|(i, &k)| usize::from(k) != i) {
         return None;
     }
-    // Every register read or written on entry, on leaving, or given to the interpreter.
+    // An element stored cannot be given back as it was: an iteration left undone from its
+    // start would store it again.
+    let stored: Vec<Reg> = all
+        .iter()
+        .filter_map(|s| match *s {
+            Step::Put { arr, .. } => Some(arr.base),
+            _ => None,
+        })
+        .collect();
+    if snapshot && !stored.is_empty() {
+        return None;
+    }
+    // Every register read or written on entry, on leaving, or given to the interpreter, and
+    // every element.
     let given = live.iter().flatten().map(|g| g.0);
     let regs = ins.iter().chain(&written).filter(|&&r| !scratch_reg(r));
+    let elements = arrays
+        .iter()
+        .map(|a| a.base.checked_add(a.len.checked_sub(1)?))
+        .collect::<Option<Vec<Reg>>>()?;
     let highest = regs
         .copied()
         .chain(given)
         .chain(counter.map(|(_, limit, _)| limit + 1))
+        .chain(elements)
         .max()?;
     let lowest_write = outs
         .iter()
         .map(|o| o.0)
+        .chain(stored)
         .chain(var)
         .min()
         .unwrap_or(Reg::MAX);
@@ -1214,6 +1452,7 @@ fn translate(
         consts,
         outs,
         kept,
+        arrays: arrays.iter().map(|a| (a.base, a.len)).collect(),
         counter: counter.map(|(var, limit, short)| Counter {
             var: (l(var), var),
             limit,
@@ -1265,21 +1504,27 @@ impl Family {
         )
     }
 
-    /// The code of the form: `k`, a constant second operand; `long`, stored into a long.
-    fn code(self, k: bool, long: bool) -> Code {
+    /// The code of the form: `k`, a constant second operand; `width`, stored into (or
+    /// checked to fit) a long or an INTEGER.
+    fn code(self, k: bool, width: Option<Width>) -> Code {
         use Code::*;
         let forms = match self {
-            Family::Add => [AddI, AddK, AddL, AddKL],
-            Family::Sub => [SubI, SubK, SubL, SubKL],
-            Family::Mul => [MulI, MulK, MulL, MulKL],
-            Family::Mod => [ModI, ModK, ModL, ModKL],
-            Family::Quot => [QuotI, QuotK, QuotL, QuotKL],
-            Family::Rem => [RemI, RemK, RemL, RemKL],
-            Family::And => [AndI, AndK, AndL, AndKL],
-            Family::Or => [OrI, OrK, OrL, OrKL],
-            Family::Xor => [XorI, XorK, XorL, XorKL],
+            Family::Add => [AddI, AddK, AddL, AddKL, AddS, AddKS],
+            Family::Sub => [SubI, SubK, SubL, SubKL, SubS, SubKS],
+            Family::Mul => [MulI, MulK, MulL, MulKL, MulS, MulKS],
+            Family::Mod => [ModI, ModK, ModL, ModKL, ModS, ModKS],
+            Family::Quot => [QuotI, QuotK, QuotL, QuotKL, QuotS, QuotKS],
+            Family::Rem => [RemI, RemK, RemL, RemKL, RemS, RemKS],
+            Family::And => [AndI, AndK, AndL, AndKL, AndS, AndKS],
+            Family::Or => [OrI, OrK, OrL, OrKL, OrS, OrKS],
+            Family::Xor => [XorI, XorK, XorL, XorKL, XorS, XorKS],
         };
-        forms[usize::from(k) + 2 * usize::from(long)]
+        let w = match width {
+            None => 0,
+            Some(Width::Long) => 2,
+            Some(Width::Short) => 4,
+        };
+        forms[usize::from(k) + w]
     }
 }
 
@@ -1320,6 +1565,9 @@ fn ir_regs(ir: &Ir) -> (Vec<Local>, Option<Local>) {
         Ir::CheckR { s, .. } => (vec![s], None),
         Ir::JumpZeroI { c, .. } | Ir::JumpZeroR { c, .. } => (vec![c], None),
         Ir::JumpCmpI { a, b, .. } | Ir::JumpCmpR { a, b, .. } => (vec![a, b], None),
+        Ir::IdxI { d, s, .. } | Ir::IdxR { d, s, .. } => (vec![s], Some(d)),
+        Ir::LoadI { d, off, .. } | Ir::LoadR { d, off, .. } => (vec![off], Some(d)),
+        Ir::PutI { s, off, .. } | Ir::PutR { s, off, .. } => (vec![s, off], None),
         Ir::Jump | Ir::Next | Ir::Exit => (vec![], None),
     }
 }
@@ -1355,6 +1603,7 @@ fn lower(
     skip_at: &[(usize, u16)],
     temp_local: &dyn Fn(Local) -> bool,
     const_of: &dyn Fn(Local) -> Option<i32>,
+    arr_len: &dyn Fn(u8) -> Option<u32>,
 ) -> Option<(Vec<Micro>, Vec<u16>)> {
     let targets: Vec<usize> = jumps.iter().map(|j| j.1).collect();
     let mut out: Vec<Micro> = Vec::new();
@@ -1364,20 +1613,54 @@ fn lower(
     while k < ir.len() {
         index[k] = out.len();
         let op = &ir[k];
-        if let Some((family, d, a, b)) = Family::of(op) {
-            // The store that follows, when it takes this result into a long and nothing else
-            // reads the temporary.
-            let store = match ir.get(k + 1) {
-                Some(&Ir::FitI {
-                    d: v,
-                    s,
-                    w: Width::Long,
-                }) if s == d
-                    && temp_local(d)
+        // An integer subscript that only picks the element of the one-subscript array the
+        // next instruction loads or stores: that instruction's test of its offset against
+        // the array's length is the subscript's (`load.idx`, `store.idx`).
+        if let Ir::IdxI { d: t, s: idx, len } = *op {
+            let next = ir.get(k + 1).copied();
+            let picks = |off: Local, arr: u8| {
+                off == t
+                    && arr_len(arr) == Some(len)
                     && !targets.contains(&(k + 1))
-                    && dead_after(ir, jumps, d, k + 1) =>
+                    && temp_local(t)
+                    && dead_after(ir, jumps, t, k + 1)
+            };
+            let fused = match next {
+                Some(Ir::LoadI { d, off, arr }) if picks(off, arr) => {
+                    Some(Ir::LoadI { d, off: idx, arr })
+                }
+                Some(Ir::LoadR { d, off, arr }) if picks(off, arr) => {
+                    Some(Ir::LoadR { d, off: idx, arr })
+                }
+                Some(Ir::PutI { s, off, arr, w }) if picks(off, arr) => Some(Ir::PutI {
+                    s,
+                    off: idx,
+                    arr,
+                    w,
+                }),
+                Some(Ir::PutR { s, off, arr }) if picks(off, arr) => {
+                    Some(Ir::PutR { s, off: idx, arr })
+                }
+                _ => None,
+            };
+            if let Some(f) = fused {
+                op_of.push(*ir_op.get(k)?);
+                out.push(pack(&f));
+                index[k + 1] = out.len() - 1;
+                k += 2;
+                continue;
+            }
+        }
+        if let Some((family, d, a, b)) = Family::of(op) {
+            // The store that follows, when it takes this result into a long or an INTEGER and
+            // nothing else reads the temporary; or the check of the temporary in place.
+            let store = match ir.get(k + 1) {
+                Some(&Ir::FitI { d: v, s, w })
+                    if s == d
+                        && !targets.contains(&(k + 1))
+                        && (v == d || temp_local(d) && dead_after(ir, jumps, d, k + 1)) =>
                 {
-                    Some(v)
+                    Some((v, w))
                 }
                 _ => None,
             };
@@ -1391,11 +1674,11 @@ fn lower(
                 Family::Rem => c != 0,
                 _ => true,
             });
-            let code = family.code(k_const.is_some(), store.is_some());
+            let code = family.code(k_const.is_some(), store.map(|s| s.1));
             op_of.push(*ir_op.get(k)?);
             out.push(Micro {
                 code,
-                d: store.unwrap_or(d),
+                d: store.map_or(d, |s| s.0),
                 a,
                 b,
                 k: k_const.unwrap_or(0),
@@ -1530,6 +1813,19 @@ fn pack(ir: &Ir) -> Micro {
         Ir::JumpCmpR {
             cmp, want, a, b, ..
         } => m(Code::JcmpR, cmp_index(cmp) * 2 + u8::from(want), a, b, 0),
+        Ir::IdxI { d, s, len } => m(Code::IdxI, d, s, 0, len as i32),
+        Ir::IdxR { d, s, len } => m(Code::IdxR, d, s, 0, len as i32),
+        Ir::LoadI { d, off, arr } => m(Code::LoadI, d, off, arr, 0),
+        Ir::LoadR { d, off, arr } => m(Code::LoadR, d, off, arr, 0),
+        Ir::PutI { s, off, arr, w } => {
+            let k = match w {
+                None => 0,
+                Some(Width::Long) => 1,
+                Some(Width::Short) => 2,
+            };
+            m(Code::PutI, arr, s, off, k)
+        }
+        Ir::PutR { s, off, arr } => m(Code::PutR, arr, s, off, 0),
         Ir::Next => m(Code::Next, 0, 0, 0, 0),
         Ir::Exit => m(Code::Exit, 0, 0, 0, 0),
         // The families go through `Family` first; this is their form on registers.
@@ -1555,6 +1851,7 @@ fn emit(
     l: &dyn Fn(Reg) -> Local,
     shadow: &BTreeMap<Reg, Local>,
     conv: [Local; 2],
+    arr_of: &dyn Fn(Array) -> u8,
     out: &mut Vec<Ir>,
     patches: &mut Vec<(usize, u32)>,
     skips: &mut Vec<(usize, u16)>,
@@ -1789,6 +2086,82 @@ fn emit(
             patches.push((out.len(), t));
             skip(t, out, skips);
             out.push(m);
+        }
+        Step::Sub { d, s, len } => {
+            let ls = l(s);
+            if int(s) {
+                int_into(d, &|d| Ir::IdxI { d, s: ls, len }, false, out);
+            } else {
+                int_into(d, &|d| Ir::IdxR { d, s: ls, len }, false, out);
+            }
+        }
+        Step::Load {
+            d,
+            arr,
+            off,
+            int: true,
+        } => {
+            let (off, arr) = (l(off), arr_of(arr));
+            int_into(d, &|d| Ir::LoadI { d, off, arr }, false, out);
+        }
+        Step::Load { d, arr, off, .. } => out.push(Ir::LoadR {
+            d: l(d),
+            off: l(off),
+            arr: arr_of(arr),
+        }),
+        Step::Put { arr, off, s, to } => {
+            let (arr, off, ls, c) = (arr_of(arr), l(off), l(s), conv[0]);
+            // The value as the store makes it, then into the element.
+            let width = match to {
+                Store::Long | Store::Fixed(0) => Width::Long,
+                _ => Width::Short,
+            };
+            match to {
+                Store::Long | Store::Short | Store::Fixed(0) if int(s) => out.push(Ir::PutI {
+                    s: ls,
+                    off,
+                    arr,
+                    w: Some(width),
+                }),
+                Store::Long | Store::Short | Store::Fixed(0) => {
+                    out.push(match to {
+                        Store::Long => Ir::LongR { d: c, s: ls },
+                        Store::Short => Ir::ShortR { d: c, s: ls },
+                        _ => Ir::FixedR {
+                            d: c,
+                            s: ls,
+                            decimals: 0,
+                        },
+                    });
+                    out.push(Ir::PutI {
+                        s: c,
+                        off,
+                        arr,
+                        w: None,
+                    });
+                }
+                Store::Fixed(decimals) => {
+                    let rs = real(s, 0, true, out);
+                    out.push(Ir::FixedR {
+                        d: c,
+                        s: rs,
+                        decimals,
+                    });
+                    out.push(Ir::PutR { s: c, off, arr });
+                }
+                Store::Real if int(s) => {
+                    out.push(if kind_of(s).signed_zero {
+                        Ir::ToRSigned { d: c, s: ls }
+                    } else {
+                        Ir::ToR { d: c, s: ls }
+                    });
+                    out.push(Ir::PutR { s: c, off, arr });
+                }
+                Store::Real => {
+                    out.push(Ir::RealR { d: c, s: ls });
+                    out.push(Ir::PutR { s: c, off, arr });
+                }
+            }
         }
     }
 }

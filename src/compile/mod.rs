@@ -9,6 +9,7 @@ pub mod disasm;
 pub mod tight;
 pub mod whole;
 
+use crate::check::functions::Func;
 use crate::check::typed::{
     Element, Expr, ExprKind, Op as TypedOp, Place, PrintItem, Program, Stmt, StmtKind, Ty,
 };
@@ -441,6 +442,35 @@ impl<'a> Compiler<'a> {
         self.span = s.span;
     }
 
+    /// `ON n GOTO`/`ON n GOSUB` (its `IF`s, `on_cases`): `CINT(n)` computed once into a
+    /// temporary, then compared with 1, 2, … — not once per case, which would draw a new `RND`
+    /// at each (a uniform pick of three came out 1/3, 2/9, 4/27…) and cost a call per case.
+    fn on_jump(&mut self, s: &Stmt, selector: &Expr, cases: &[&[Stmt]]) {
+        let outer = std::mem::replace(&mut self.span, selector.span);
+        let mark = self.temp_top;
+        let picked = self.expr(selector);
+        self.span = outer;
+        let mut to_end = Vec::new();
+        for (k, body) in cases.iter().enumerate() {
+            self.span = selector.span;
+            let case = self.layout.constant((k + 1) as f64);
+            let skip = self.emit(compare_jump(Cmp::Eq, picked, case, false));
+            self.span = outer;
+            // The cases are one GOSUB or GOTO each: no temporary of theirs meets `picked`.
+            self.block(body);
+            self.temp_top = mark.max(self.temp_top);
+            if k + 1 < cases.len() {
+                self.at_statement(s);
+                to_end.push(self.emit(Op::Jump { target: 0 }));
+            }
+            let next = self.here();
+            self.patch(skip, next);
+        }
+        let end = self.here();
+        self.patch_all(to_end, end);
+        self.temp_top = mark;
+    }
+
     fn block(&mut self, body: &[Stmt]) {
         for s in body {
             self.at_statement(s);
@@ -541,6 +571,11 @@ impl<'a> Compiler<'a> {
                 let retry = self.here();
                 let cond = self.expr(e);
                 self.emit(Op::WaitUntil { cond, retry });
+            }
+            StmtKind::If { .. } if on_cases(&s.kind).is_some() => {
+                if let Some((selector, cases)) = on_cases(&s.kind) {
+                    self.on_jump(s, selector, &cases);
+                }
             }
             StmtKind::If {
                 cond,
@@ -1552,6 +1587,61 @@ fn is_and_or(op: TypedOp) -> bool {
         op,
         TypedOp::And | TypedOp::Or | TypedOp::BitAnd | TypedOp::BitOr
     )
+}
+
+/// The selector and the cases of the `IF`s an `ON n GOTO`/`ON n GOSUB` stands for
+/// (`syntax::lines::on_jump`): each compares `CINT(n)` with its number, 1 first, and holds one
+/// `GOTO` or `GOSUB`, the next in its `ELSE`. Every `CINT(n)` is the same copy of `n`, at the
+/// same place in the source (which two calls written apart never are). `None` for any other
+/// `IF`, or an `ON` of one case (its `IF` is all there is).
+fn on_cases(kind: &StmtKind) -> Option<(&Expr, Vec<&[Stmt]>)> {
+    let mut cases: Vec<&[Stmt]> = Vec::new();
+    let mut selector: Option<&Expr> = None;
+    let mut at = kind;
+    loop {
+        let StmtKind::If {
+            cond,
+            then_body,
+            else_body,
+        } = at
+        else {
+            return None;
+        };
+        let ExprKind::Binary {
+            op: TypedOp::Cmp(Cmp::Eq),
+            a,
+            b,
+            ..
+        } = &cond.kind
+        else {
+            return None;
+        };
+        let number = (cases.len() + 1) as f64;
+        if !matches!(a.kind, ExprKind::Call(Func::Cint, _)) || b.kind != ExprKind::Const(number) {
+            return None;
+        }
+        match selector {
+            None => selector = Some(&**a),
+            Some(first) if first.span == a.span && *first == **a => {}
+            Some(_) => return None,
+        }
+        if !matches!(
+            then_body.as_slice(),
+            [Stmt {
+                kind: StmtKind::Goto(_) | StmtKind::Gosub(_),
+                ..
+            }]
+        ) {
+            return None;
+        }
+        cases.push(then_body);
+        match else_body.as_deref() {
+            None => break,
+            Some([next]) => at = &next.kind,
+            Some(_) => return None,
+        }
+    }
+    Some((selector?, cases)).filter(|(_, c)| c.len() > 1)
 }
 
 /// A conditional jump on a comparison; `>` and `>=` become `<` and `<=` with the operands

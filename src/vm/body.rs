@@ -176,8 +176,8 @@ pub fn run(
         None => None,
     };
     let (end, stopped, mut count) = match round {
-        Some(round) => iterate::<true>(r, saved, body, *n, budget, round),
-        None => iterate::<false>(r, saved, body, *n, budget, Round::NONE),
+        Some(round) => iterate::<true>(vals, r, saved, body, *n, budget, round),
+        None => iterate::<false>(vals, r, saved, body, *n, budget, Round::NONE),
     };
     // Where the interpreter goes on: the body's start, or (left unfinished) the instruction.
     let mut resume = 0u32;
@@ -186,7 +186,9 @@ pub fn run(
         if let Some(at) = stopped {
             // The instruction the iteration stopped in: those before it ran (those jumped
             // over not counted), it did not.
-            count = count - body.count + u64::from(at);
+            // (In this order: jumps taken may have uncounted more than the count held when
+            // the run started.)
+            count = count + u64::from(at) - body.count;
             for &(reg, local, kind) in body.live.get(usize::from(at)).into_iter().flatten() {
                 let x = r[local as usize];
                 vals[reg as usize] = match kind {
@@ -210,6 +212,15 @@ pub fn run(
         };
     }
     Some((end, resume))
+}
+
+/// The value register of element `off` of the body's array `arr`, when it is one of its.
+#[inline(always)]
+fn element(arrays: &[(u32, u32)], arr: u8, off: i64) -> Option<usize> {
+    let &(base, len) = arrays.get(usize::from(arr))?;
+    (0..i64::from(len))
+        .contains(&off)
+        .then(|| base as usize + off as usize)
 }
 
 /// How a `FOR` goes round: its variable's local, its step, and the bounds it stays within
@@ -274,6 +285,7 @@ fn round(vals: &[f64], r: &[u64; 256], c: Counter) -> Option<Round> {
 /// variables given back as they were and its instructions uncounted), and the count.
 #[inline(always)]
 fn iterate<const COUNTED: bool>(
+    vals: &mut [f64],
     r: &mut [u64; 256],
     saved: &mut [u64; 256],
     body: &Body,
@@ -296,6 +308,7 @@ fn iterate<const COUNTED: bool>(
         .enumerate()
         .all(|(i, &k)| usize::from(k) == i));
     let ops = body.ops();
+    let arrays = &body.arrays[..];
     let mut at_start;
     // The body's instruction an iteration stopped in (counted from its start).
     let mut stopped = 0u16;
@@ -372,16 +385,16 @@ fn iterate<const COUNTED: bool>(
             pc += 1;
             let (d, a, b) = (m.d, m.a, m.b);
             // An integer family: `$f` of `a` and `b` (`$k`: the constant instead), stored
-            // within ±2^53 or (`$long`) into a long.
+            // within ±2^53, or (`$w` 1) into a long, or (`$w` 2) into an INTEGER.
             macro_rules! family {
-                ($f:ident, $k:expr, $long:expr) => {{
+                ($f:ident, $k:expr, $w:expr) => {{
                     let y = if $k { i64::from(m.k) } else { int!(b) };
                     match $f(int!(a), y) {
                         Some(x)
-                            if (if $long {
-                                fits(x, Width::Long)
-                            } else {
-                                exact(x)
+                            if (match $w {
+                                1 => fits(x, Width::Long),
+                                2 => fits(x, Width::Short),
+                                _ => exact(x),
                             }) =>
                         {
                             set_int!(d, x)
@@ -392,42 +405,60 @@ fn iterate<const COUNTED: bool>(
             }
             match m.code {
                 Code::Mov => r[d as usize] = r[a as usize],
-                Code::AddI => family!(add, false, false),
-                Code::AddK => family!(add, true, false),
-                Code::AddL => family!(add, false, true),
-                Code::AddKL => family!(add, true, true),
-                Code::SubI => family!(sub, false, false),
-                Code::SubK => family!(sub, true, false),
-                Code::SubL => family!(sub, false, true),
-                Code::SubKL => family!(sub, true, true),
-                Code::MulI => family!(mul, false, false),
-                Code::MulK => family!(mul, true, false),
-                Code::MulL => family!(mul, false, true),
-                Code::MulKL => family!(mul, true, true),
-                Code::ModI => family!(basic_mod, false, false),
-                Code::ModK => family!(basic_mod, true, false),
-                Code::ModL => family!(basic_mod, false, true),
-                Code::ModKL => family!(basic_mod, true, true),
-                Code::QuotI => family!(quot, false, false),
-                Code::QuotK => family!(quot, true, false),
-                Code::QuotL => family!(quot, false, true),
-                Code::QuotKL => family!(quot, true, true),
-                Code::RemI => family!(rem, false, false),
-                Code::RemK => family!(rem, true, false),
-                Code::RemL => family!(rem, false, true),
-                Code::RemKL => family!(rem, true, true),
-                Code::AndI => family!(and, false, false),
-                Code::AndK => family!(and, true, false),
-                Code::AndL => family!(and, false, true),
-                Code::AndKL => family!(and, true, true),
-                Code::OrI => family!(or, false, false),
-                Code::OrK => family!(or, true, false),
-                Code::OrL => family!(or, false, true),
-                Code::OrKL => family!(or, true, true),
-                Code::XorI => family!(xor, false, false),
-                Code::XorK => family!(xor, true, false),
-                Code::XorL => family!(xor, false, true),
-                Code::XorKL => family!(xor, true, true),
+                Code::AddI => family!(add, false, 0),
+                Code::AddK => family!(add, true, 0),
+                Code::AddL => family!(add, false, 1),
+                Code::AddKL => family!(add, true, 1),
+                Code::AddS => family!(add, false, 2),
+                Code::AddKS => family!(add, true, 2),
+                Code::SubI => family!(sub, false, 0),
+                Code::SubK => family!(sub, true, 0),
+                Code::SubL => family!(sub, false, 1),
+                Code::SubKL => family!(sub, true, 1),
+                Code::SubS => family!(sub, false, 2),
+                Code::SubKS => family!(sub, true, 2),
+                Code::MulI => family!(mul, false, 0),
+                Code::MulK => family!(mul, true, 0),
+                Code::MulL => family!(mul, false, 1),
+                Code::MulKL => family!(mul, true, 1),
+                Code::MulS => family!(mul, false, 2),
+                Code::MulKS => family!(mul, true, 2),
+                Code::ModI => family!(basic_mod, false, 0),
+                Code::ModK => family!(basic_mod, true, 0),
+                Code::ModL => family!(basic_mod, false, 1),
+                Code::ModKL => family!(basic_mod, true, 1),
+                Code::ModS => family!(basic_mod, false, 2),
+                Code::ModKS => family!(basic_mod, true, 2),
+                Code::QuotI => family!(quot, false, 0),
+                Code::QuotK => family!(quot, true, 0),
+                Code::QuotL => family!(quot, false, 1),
+                Code::QuotKL => family!(quot, true, 1),
+                Code::QuotS => family!(quot, false, 2),
+                Code::QuotKS => family!(quot, true, 2),
+                Code::RemI => family!(rem, false, 0),
+                Code::RemK => family!(rem, true, 0),
+                Code::RemL => family!(rem, false, 1),
+                Code::RemKL => family!(rem, true, 1),
+                Code::RemS => family!(rem, false, 2),
+                Code::RemKS => family!(rem, true, 2),
+                Code::AndI => family!(and, false, 0),
+                Code::AndK => family!(and, true, 0),
+                Code::AndL => family!(and, false, 1),
+                Code::AndKL => family!(and, true, 1),
+                Code::AndS => family!(and, false, 2),
+                Code::AndKS => family!(and, true, 2),
+                Code::OrI => family!(or, false, 0),
+                Code::OrK => family!(or, true, 0),
+                Code::OrL => family!(or, false, 1),
+                Code::OrKL => family!(or, true, 1),
+                Code::OrS => family!(or, false, 2),
+                Code::OrKS => family!(or, true, 2),
+                Code::XorI => family!(xor, false, 0),
+                Code::XorK => family!(xor, true, 0),
+                Code::XorL => family!(xor, false, 1),
+                Code::XorKL => family!(xor, true, 1),
+                Code::XorS => family!(xor, false, 2),
+                Code::XorKS => family!(xor, true, 2),
                 Code::NegI => set_int!(d, -int!(a)),
                 Code::BitNotI => {
                     let x = !int!(a);
@@ -576,6 +607,51 @@ fn iterate<const COUNTED: bool>(
                         jump!(m.k);
                     }
                 }
+                Code::IdxI => {
+                    let x = int!(a);
+                    if !(0..i64::from(m.k)).contains(&x) {
+                        undone!();
+                    }
+                    set_int!(d, x);
+                }
+                Code::IdxR => {
+                    let x = real!(a).round_ties_even();
+                    if !(x >= 0.0 && x < f64::from(m.k)) {
+                        undone!();
+                    }
+                    set_int!(d, x as i64);
+                }
+                Code::LoadI => match element(arrays, b, int!(a)) {
+                    Some(at) if at < vals.len() => {
+                        let x = vals[at];
+                        // A -0 is no `Int` (and no element stored as a long or an INTEGER).
+                        match to_int(x) {
+                            Some(i) if x.to_bits() != (-0.0f64).to_bits() => set_int!(d, i),
+                            _ => undone!(),
+                        }
+                    }
+                    _ => undone!(),
+                },
+                Code::LoadR => match element(arrays, b, int!(a)) {
+                    Some(at) if at < vals.len() => set_real!(d, vals[at]),
+                    _ => undone!(),
+                },
+                Code::PutI => {
+                    let x = int!(a);
+                    let fits = match m.k {
+                        1 => fits(x, Width::Long),
+                        2 => fits(x, Width::Short),
+                        _ => true,
+                    };
+                    match element(arrays, d, int!(b)) {
+                        Some(at) if fits && at < vals.len() => vals[at] = x as f64,
+                        _ => undone!(),
+                    }
+                }
+                Code::PutR => match element(arrays, d, int!(b)) {
+                    Some(at) if at < vals.len() => vals[at] = real!(a),
+                    _ => undone!(),
+                },
                 Code::Next => {
                     count -= (m.k >> 16) as u64;
                     break;
