@@ -23,6 +23,7 @@ pub mod task;
 pub mod tight;
 pub mod using;
 
+use crate::compile::body as compile_body;
 use crate::compile::bytecode::Op;
 use crate::compile::Chunk;
 use crate::devices::command::StartRef;
@@ -44,6 +45,10 @@ pub const DEFAULT_BUDGET: u64 = crate::config::DEFAULT_BUDGET;
 
 /// Deepest nesting of `Call Program.N`.
 pub const MAX_CALL_DEPTH: usize = 16;
+
+/// The fewest iterations per entry, on average over its first entries, for which a `WHILE`
+/// stays handed over to the machine (`Machine::run_body`).
+const FEWEST_ROUNDS: u64 = 16;
 
 /// Upper bound on a run with no duration whose programs never end (simulated seconds).
 pub const DEFAULT_MAX_SECONDS: u64 = 3600;
@@ -994,6 +999,7 @@ impl Machine {
         }
         let mut n = self.instructions;
         let (end, at) = body::run(&mut self.values, &mut self.body_regs, b, &mut n, budget_end)?;
+        let counted = n - self.instructions;
         self.tight_runs += 1;
         self.instructions = n;
         let next = match end {
@@ -1002,6 +1008,24 @@ impl Machine {
             // The interpreter goes on where the iteration was left.
             tight::End::Slow => b.start + at,
         };
+        // A `WHILE` is handed over at every entry whatever it does then: one that goes round
+        // only a few times each (Euclid's algorithm inside two `FOR`s) costs more to hand over
+        // than it gains, and its `loop` goes back to being a plain one. Only the speed
+        // changes: values and counts are the same either way.
+        let (entries, total) = b.trial.get();
+        if b.counter.is_none() && entries < compile_body::TRIAL {
+            b.trial.set((entries + 1, total + counted));
+            if entries + 1 == compile_body::TRIAL
+                && total + counted < u64::from(compile_body::TRIAL) * FEWEST_ROUNDS * b.count
+            {
+                let start = b.start;
+                if let Some(op) = self.image.chunks[chunk].ops.get_mut(entry as usize) {
+                    if matches!(op, Op::LoopTight { .. }) {
+                        *op = Op::Loop { target: start };
+                    }
+                }
+            }
+        }
         Some((next, end == tight::End::Budget))
     }
 
