@@ -1277,9 +1277,10 @@ pub fn run<'a>(
                         *executed = n;
                         return Exit::Yield(pc);
                     }
-                    // Not when tracing: a variable the loop writes is traced, so the machine
-                    // would give it back at once (an exit and an entry at each iteration).
-                    if trace_below == 0 && !probe {
+                    // (The machine gives back a loop it does not take: a traced run's, one that
+                    // goes round too few times; this costs every entry of the interpreter
+                    // nothing.)
+                    if !probe {
                         *executed = n;
                         return Exit::Back {
                             pc: here,

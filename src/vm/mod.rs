@@ -995,6 +995,11 @@ impl Machine {
         let traced_below = self.traced_below();
         let b = self.image.chunks.get(chunk)?.bodies.get(&entry)?;
         if b.lowest_write < traced_below {
+            // A variable it writes is traced: a `WHILE`'s `loop` goes back to a plain one
+            // rather than leave the interpreter at every iteration for nothing.
+            if b.counter.is_none() {
+                self.plain_loop(chunk, entry);
+            }
             return None;
         }
         let mut n = self.instructions;
@@ -1018,15 +1023,25 @@ impl Machine {
             if entries + 1 == compile_body::TRIAL
                 && total + counted < u64::from(compile_body::TRIAL) * FEWEST_ROUNDS * b.count
             {
-                let start = b.start;
-                if let Some(op) = self.image.chunks[chunk].ops.get_mut(entry as usize) {
-                    if matches!(op, Op::LoopTight { .. }) {
-                        *op = Op::Loop { target: start };
-                    }
-                }
+                self.plain_loop(chunk, entry);
             }
         }
         Some((next, end == tight::End::Budget))
+    }
+
+    /// The `loop` at `entry` of `chunk` that hands its loop over (`Op::LoopTight`) made a plain
+    /// one for the rest of the run.
+    fn plain_loop(&mut self, chunk: usize, entry: u32) {
+        let op = self
+            .image
+            .chunks
+            .get_mut(chunk)
+            .and_then(|c| c.ops.get_mut(entry as usize));
+        if let Some(op) = op {
+            if let Op::LoopTight { target } = *op {
+                *op = Op::Loop { target };
+            }
+        }
     }
 
     /// The loop of one instruction at the top frame of task `ti`, whose last turn ended in it
