@@ -1699,3 +1699,31 @@ END
         assert!((850.0..1150.0).contains(&n), "{:?}", counts(&on));
     }
 }
+
+#[test]
+fn a_single_line_if_may_hold_another_and_an_else_belongs_to_the_nearest() {
+    // Microsoft BASIC (GW-BASIC reference, IF statement: "IF...THEN...ELSE statements may be
+    // nested"; an ELSE goes with the nearest IF without one): `ELSE IF` chains on one line, and
+    // an IF in a THEN part.
+    let run = run_ok(
+        "inline-if",
+        "FOR X& = 0 TO 3
+  IF X& = 1 THEN A& = 1 ELSE IF X& = 2 THEN A& = 2 ELSE A& = 3
+  IF X& > 0 THEN IF X& > 1 THEN B& = 5 ELSE B& = 6
+  IF X& > 0 THEN IF X& > 2 THEN C& = 7 ELSE C& = 8 ELSE C& = 9
+  S& = S& + 1000 * A& + 100 * B& + 10 * C&: IF X& = 0 THEN Z& = C&
+NEXT
+",
+    );
+    // A& 3, 1, 2, 3; B& 0, 6, 5, 5; C& 9, 8, 8, 7.
+    assert_values(
+        &run,
+        &[
+            ("A&", 3.0),
+            ("B&", 5.0),
+            ("C&", 7.0),
+            ("Z&", 9.0),
+            ("S&", 9000.0 + 1600.0 + 320.0),
+        ],
+    );
+}
