@@ -440,15 +440,7 @@ pub struct Body {
     pub highest: Reg,
     /// The instruction after the loop.
     pub after: u32,
-    /// A loop without a counter, how often the machine ran it (its first [`TRIAL`] entries)
-    /// and the interpreter's instructions those runs counted: a loop that goes round only a
-    /// few times per entry is given back to the interpreter (`Machine::run_body`).
-    pub trial: std::cell::Cell<(u32, u64)>,
 }
-
-/// How many entries of a loop without a counter `Body::trial` counts before the machine
-/// decides whether to keep running it.
-pub const TRIAL: u32 = 64;
 
 impl Body {
     /// The instructions, ending with [`Code::Next`] (then [`Code::Exit`] when a jump leaves
@@ -1471,7 +1463,6 @@ fn translate(
         lowest_write,
         highest,
         after: next + 1,
-        trial: std::cell::Cell::new((0, 0)),
     })
 }
 

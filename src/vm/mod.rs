@@ -23,7 +23,6 @@ pub mod task;
 pub mod tight;
 pub mod using;
 
-use crate::compile::body as compile_body;
 use crate::compile::bytecode::Op;
 use crate::compile::Chunk;
 use crate::devices::command::StartRef;
@@ -37,6 +36,7 @@ pub use error::RunError;
 use exec::{Ctx, Exit};
 use indexmap::IndexMap;
 use std::cmp::Ordering;
+use std::collections::BTreeMap;
 pub use stop::StopReason;
 use task::{Frame, Task, TaskState};
 
@@ -46,9 +46,13 @@ pub const DEFAULT_BUDGET: u64 = crate::config::DEFAULT_BUDGET;
 /// Deepest nesting of `Call Program.N`.
 pub const MAX_CALL_DEPTH: usize = 16;
 
-/// The fewest iterations per entry, on average over its first entries, for which a `WHILE`
-/// stays handed over to the machine (`Machine::run_body`).
+/// The fewest iterations per entry, on average over its first [`TRIAL`] entries, for which a
+/// `WHILE` stays handed over to the machine (`Machine::run_body`).
 const FEWEST_ROUNDS: u64 = 16;
+
+/// How many entries of a `WHILE` the machine counts before it decides whether to keep running
+/// it (`Machine::run_body`).
+const TRIAL: u32 = 64;
 
 /// Upper bound on a run with no duration whose programs never end (simulated seconds).
 pub const DEFAULT_MAX_SECONDS: u64 = 3600;
@@ -198,6 +202,9 @@ pub struct Machine {
     /// The registers of a loop run on typed registers (`vm::body`), kept from one run to the
     /// next: a short loop entered often would otherwise clear them at each entry.
     body_regs: Box<body::Registers>,
+    /// Per `WHILE` handed over (chunk, its `loop`), over its first [`TRIAL`] entries: how many
+    /// there were and the interpreter's instructions they counted (`Machine::run_body`).
+    trials: BTreeMap<(usize, u32), (u32, u64)>,
 }
 
 /// Trace every registry slot whose value differs from the snapshot, in slot order.
@@ -267,6 +274,7 @@ impl Machine {
             no_data: 0,
             tight_runs: 0,
             body_regs: Box::default(),
+            trials: BTreeMap::new(),
             image,
         };
         m.devices.start(&mut m.values);
@@ -1017,13 +1025,14 @@ impl Machine {
         // only a few times each (Euclid's algorithm inside two `FOR`s) costs more to hand over
         // than it gains, and its `loop` goes back to being a plain one. Only the speed
         // changes: values and counts are the same either way.
-        let (entries, total) = b.trial.get();
-        if b.counter.is_none() && entries < compile_body::TRIAL {
-            b.trial.set((entries + 1, total + counted));
-            if entries + 1 == compile_body::TRIAL
-                && total + counted < u64::from(compile_body::TRIAL) * FEWEST_ROUNDS * b.count
-            {
-                self.plain_loop(chunk, entry);
+        if b.counter.is_none() {
+            let per_round = b.count;
+            let trial = self.trials.entry((chunk, entry)).or_insert((0, 0));
+            if trial.0 < TRIAL {
+                *trial = (trial.0 + 1, trial.1 + counted);
+                if trial.0 == TRIAL && trial.1 < u64::from(TRIAL) * FEWEST_ROUNDS * per_round {
+                    self.plain_loop(chunk, entry);
+                }
             }
         }
         Some((next, end == tight::End::Budget))
