@@ -456,9 +456,9 @@ impl<'a> Compiler<'a> {
             let case = self.layout.constant((k + 1) as f64);
             let skip = self.emit(compare_jump(Cmp::Eq, picked, case, false));
             self.span = outer;
-            // The cases are one GOSUB or GOTO each: no temporary of theirs meets `picked`.
+            // The cases are one GOSUB or GOTO each (`on_cases`): they take no temporary, so
+            // none meets `picked`.
             self.block(body);
-            self.temp_top = mark.max(self.temp_top);
             if k + 1 < cases.len() {
                 self.at_statement(s);
                 to_end.push(self.emit(Op::Jump { target: 0 }));

@@ -1011,7 +1011,16 @@ impl Machine {
             return None;
         }
         let mut n = self.instructions;
-        let (end, at) = body::run(&mut self.values, &mut self.body_regs, b, &mut n, budget_end)?;
+        let Some((end, at)) =
+            body::run(&mut self.values, &mut self.body_regs, b, &mut n, budget_end)
+        else {
+            // A `FOR` too short this time is entered once; a `WHILE` that could not start
+            // would come back at every iteration.
+            if b.counter.is_none() {
+                self.plain_loop(chunk, entry);
+            }
+            return None;
+        };
         let counted = n - self.instructions;
         self.tight_runs += 1;
         self.instructions = n;
