@@ -471,6 +471,27 @@ impl<'a> Compiler<'a> {
         self.temp_top = mark;
     }
 
+    /// `IF cond THEN then_body [ELSE else_body]`.
+    fn if_else(&mut self, s: &Stmt, cond: &Expr, then_body: &[Stmt], else_body: Option<&[Stmt]>) {
+        let to_else = self.cond_jump(cond);
+        self.block(then_body);
+        match else_body {
+            None => {
+                let end = self.here();
+                self.patch_all(to_else, end);
+            }
+            Some(else_body) => {
+                self.at_statement(s);
+                let to_end = self.emit(Op::Jump { target: 0 });
+                let else_start = self.here();
+                self.patch_all(to_else, else_start);
+                self.block(else_body);
+                let end = self.here();
+                self.patch(to_end, end);
+            }
+        }
+    }
+
     fn block(&mut self, body: &[Stmt]) {
         for s in body {
             self.at_statement(s);
@@ -572,34 +593,14 @@ impl<'a> Compiler<'a> {
                 let cond = self.expr(e);
                 self.emit(Op::WaitUntil { cond, retry });
             }
-            StmtKind::If { .. } if on_cases(&s.kind).is_some() => {
-                if let Some((selector, cases)) = on_cases(&s.kind) {
-                    self.on_jump(s, selector, &cases);
-                }
-            }
             StmtKind::If {
                 cond,
                 then_body,
                 else_body,
-            } => {
-                let to_else = self.cond_jump(cond);
-                self.block(then_body);
-                match else_body {
-                    None => {
-                        let end = self.here();
-                        self.patch_all(to_else, end);
-                    }
-                    Some(else_body) => {
-                        self.at_statement(s);
-                        let to_end = self.emit(Op::Jump { target: 0 });
-                        let else_start = self.here();
-                        self.patch_all(to_else, else_start);
-                        self.block(else_body);
-                        let end = self.here();
-                        self.patch(to_end, end);
-                    }
-                }
-            }
+            } => match on_cases(&s.kind) {
+                Some((selector, cases)) => self.on_jump(s, selector, &cases),
+                None => self.if_else(s, cond, then_body, else_body.as_deref()),
+            },
             StmtKind::While { cond, body } => {
                 let top = self.here();
                 let exit = self.cond_jump(cond);
