@@ -22,7 +22,7 @@ fn try_load(
     // PowerTools variables are declared: Var.D with two decimal places.
     let variables = if file.ends_with(".pt") {
         "autostart = true\n[variables.A]\n[variables.B]\n[variables.C]\n[variables.E]\n\
-         [variables.I]\n[variables.D]\ndecimals = 2\n"
+         [variables.I]\n[variables.J]\n[variables.D]\ndecimals = 2\n"
     } else {
         ""
     };
@@ -121,6 +121,8 @@ struct Dialect {
     file: &'static str,
     vars: &'static [&'static str],
     loop_var: &'static str,
+    /// The variable of a loop inside the loop.
+    inner_var: &'static str,
     constants: &'static [&'static str],
     ops: &'static [&'static str],
     not: &'static str,
@@ -132,6 +134,7 @@ const MB: Dialect = Dialect {
     file: "x.mb",
     vars: &["A&", "B&", "C&", "D&", "P%", "Q%", "X", "Y#"],
     loop_var: "I&",
+    inner_var: "J%",
     constants: &[
         "0",
         "1",
@@ -163,6 +166,7 @@ const PT: Dialect = Dialect {
     file: "x.pt",
     vars: &["Var.A", "Var.B", "Var.C", "Var.D", "Var.E"],
     loop_var: "Var.I",
+    inner_var: "Var.J",
     constants: &[
         "0",
         "1",
@@ -258,6 +262,32 @@ fn statement(d: &mut Draw, w: &Dialect, out: &mut String, depth: u32) {
     }
 }
 
+/// A loop inside the loop, on [`Dialect::inner_var`]: a `FOR` or a `WHILE` (`Do While`) of a
+/// few statements and a few iterations (none, when it starts past its limit).
+fn inner_loop(d: &mut Draw, w: &Dialect, out: &mut String) {
+    let mb = w.file.ends_with(".mb");
+    let j = w.inner_var;
+    let from = d.pick(&["0", "1", "-2", "5"]);
+    let to = d.pick(&["3", "6", "0", "-4", "2.5"]);
+    let step = d.pick(&["1", "2", "-1"]);
+    if d.below(2) == 0 {
+        out.push_str(&format!("For {j} = {from} To {to} Step {step}\n"));
+        for _ in 0..1 + d.below(2) {
+            statement(d, w, out, 1);
+        }
+        out.push_str("Next\n");
+    } else {
+        let cmp = if step.starts_with('-') { ">=" } else { "<=" };
+        let head = if mb { "WHILE" } else { "Do While" };
+        out.push_str(&format!("{j} = {from}\n{head} {j} {cmp} {to}\n"));
+        for _ in 0..1 + d.below(2) {
+            statement(d, w, out, 1);
+        }
+        out.push_str(&format!("{j} = {j} + {step}\n"));
+        out.push_str(if mb { "WEND\n" } else { "Loop\n" });
+    }
+}
+
 fn program(d: &mut Draw, w: &Dialect) -> String {
     let mut out = String::new();
     if w.file.ends_with(".mb") {
@@ -296,7 +326,11 @@ fn program(d: &mut Draw, w: &Dialect) -> String {
             out.push_str(&format!("{head} {i} {cmp} {to}{also}\n"));
         }
         for _ in 0..1 + d.below(4) {
-            statement(d, w, &mut out, 2);
+            if d.below(4) == 0 {
+                inner_loop(d, w, &mut out);
+            } else {
+                statement(d, w, &mut out, 2);
+            }
             if exits && d.below(3) == 0 {
                 out.push_str(&format!("IF {} THEN GOTO {}\n", condition(d, w), 90 + k));
             }
@@ -395,12 +429,13 @@ NEXT
 #[test]
 fn while_loops_run_outside_the_interpreter_from_their_second_iteration() {
     // Euclid's algorithm for every pair (i, j) of 1..=40: a WHILE of MOD and moves, entered
-    // 1,600 times, most for a few iterations (the first runs in the interpreter, the loop's
-    // `loop` hands the rest over), inside two FORs the interpreter runs.
+    // 1,600 times, most for a few iterations, inside two FORs. Here the FORs hold a power
+    // (`^`), which the translation does not know: the interpreter runs them, the WHILE's first
+    // iteration too, and the WHILE's `loop` hands the rest over.
     let program = "S& = 0
 FOR I& = 1 TO 40
   FOR J& = 1 TO 40
-    A& = I&: B& = J&
+    A& = I&: B& = J&: P& = J& ^ 1
     WHILE B& <> 0
       T& = A& MOD B&: A& = B&: B& = T&
     WEND
@@ -427,14 +462,15 @@ NEXT
     // stays in the interpreter.
     assert_eq!(machine.tight_runs(), 64);
     // 1 + 4 before (FOR I: its for.check included), then for each I its FOR J (4) and
-    // `for.next`; for each pair 2 stores, the WHILE's last test (a compare-and-jump), the sum
-    // (2) and NEXT J; for each round the test, the MOD and 3 stores and the `loop`; `END`.
+    // `for.next`; for each pair 2 stores, the power (2), the WHILE's last test (a
+    // compare-and-jump), the sum (2) and NEXT J; for each round the test, the MOD and 3
+    // stores and the `loop`; `END`.
     let rounds: u64 = (1..=40i64)
         .flat_map(|i| (1..=40).map(move |j| gcd(i, j).1 as u64))
         .sum();
     assert_eq!(
         summary.instructions,
-        5 + 40 * (4 + 1) + 1600 * (2 + 1 + 2 + 1) + rounds * 6 + 1
+        5 + 40 * (4 + 1) + 1600 * (2 + 2 + 1 + 2 + 1) + rounds * 6 + 1
     );
     for budget in [3, 7, 50] {
         assert_eq!(both("x.mb", program, budget).1, None);
@@ -443,7 +479,7 @@ NEXT
     // each of the 199 that goes round is handed over.
     let collatz = "M& = 0
 FOR I& = 1 TO 200
-  N& = I&: L& = 0
+  N& = I&: L& = 0: P& = I& ^ 1
   WHILE N& <> 1
     IF N& MOD 2 = 0 THEN N& = N& \\ 2 ELSE N& = 3 * N& + 1
     L& = L& + 1
@@ -456,6 +492,90 @@ NEXT
     assert_eq!(machine.tight_runs(), 199);
     assert_eq!(machine.value_of("M&"), Some(124.0));
     assert_eq!(both("x.mb", collatz, 7).1, None);
+}
+
+#[test]
+fn a_loop_holding_loops_runs_outside_the_interpreter_as_one() {
+    // Euclid's algorithm for every pair (i, j) of 1..=100: the WHILE inside the FOR J inside
+    // the FOR I. The FOR I's body holds the rest, so the machine runs the whole of it: once
+    // when nothing stops it, and when a budget does, each turn goes on where the last one
+    // stopped (the start of a loop inside), in the same run.
+    let program = "S& = 0
+FOR I& = 1 TO 100
+  FOR J& = 1 TO 100
+    A& = I&: B& = J&
+    WHILE B& <> 0
+      T& = A& MOD B&: A& = B&: B& = T&
+    WEND
+    S& = S& + A&
+  NEXT
+NEXT
+";
+    let gcd = |mut a: i64, mut b: i64| {
+        let mut rounds = 0u64;
+        while b != 0 {
+            (a, b) = (b, a % b);
+            rounds += 1;
+        }
+        (a, rounds)
+    };
+    let pairs = || (1..=100i64).flat_map(|i| (1..=100).map(move |j| gcd(i, j)));
+    let sum: i64 = pairs().map(|p| p.0).sum();
+    let rounds: u64 = pairs().map(|p| p.1).sum();
+    // As in the interpreter: 1 + 4 before, for each I its FOR J (4) and `for.next`; for each
+    // pair 2 stores, the WHILE's last test, the sum (2) and NEXT J; for each round the test,
+    // the MOD, 3 stores and the `loop`; `END`.
+    let count = 5 + 100 * (4 + 1) + 10_000 * (2 + 1 + 2 + 1) + rounds * 6 + 1;
+    let (machine, summary) = run_untraced(load("body-nested", "x.mb", program, 1_000_000));
+    assert!(summary.error.is_none());
+    assert_eq!(machine.value_of("S&"), Some(sum as f64));
+    assert_eq!(summary.instructions, count);
+    assert_eq!(machine.tight_runs(), 1);
+    // At 1,000 instructions a turn, a turn goes on in the run where the last one stopped: one
+    // run a turn (the interpreter would enter each FOR J, or each WHILE, on its own).
+    let (machine, summary) = run_untraced(load("body-nested-turns", "x.mb", program, 1_000));
+    assert_eq!(summary.instructions, count);
+    assert_eq!(machine.value_of("S&"), Some(sum as f64));
+    let turns = count / 1_000 + 1;
+    assert!(
+        machine.tight_runs() <= turns + 1,
+        "{} runs in {turns} turns",
+        machine.tight_runs()
+    );
+    for budget in [3, 7, 50, 1_000] {
+        assert_eq!(both("x.mb", program, budget).1, None);
+    }
+    // INTEGER counters, a STEP, a FOR that does not go round, a fault inside the inner loop
+    // (an INTEGER overflow at the place the interpreter gives), all as the interpreter does.
+    let faults = "DIM G%(9)
+S& = 0
+FOR I% = 0 TO 9
+  FOR J% = 9 TO 0 STEP -3
+    G%(J%) = G%(J%) + I% * J%
+  NEXT
+  FOR K% = 5 TO 1
+    S& = S& + 1
+  NEXT
+  S& = S& + G%(I%)
+NEXT
+FOR I% = 1 TO 20
+  FOR J% = 1 TO 10
+    P% = I% * J% * 200
+  NEXT
+NEXT
+";
+    for budget in [3, 7, 50, 1_000_000] {
+        let (_, error, runs) = both("x.mb", faults, budget);
+        let (line, _, message) = error.expect("an overflow");
+        assert_eq!(line, 14);
+        assert!(message.contains("Overflow"), "{message}");
+        // The first FOR I in one run; the second in one until the iteration that overflows,
+        // which (its product a temporary that may be -0) is left undone from its start: the
+        // interpreter runs it again, and its FOR J runs outside on its own up to the fault.
+        if budget == 1_000_000 {
+            assert_eq!(runs, 3);
+        }
+    }
 }
 
 #[test]

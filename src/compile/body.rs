@@ -161,6 +161,24 @@ enum Ir {
     },
     /// The real `s` into element `off` of array `arr`.
     PutR { s: Local, off: Local, arr: u8 },
+    /// The `loop` of a loop inside the body: back to the target, where the interpreter
+    /// tests its budget.
+    Back,
+    /// The `for.check` of a `FOR` inside the body, on `Int`s: to the target when `var` is
+    /// past `limit` in the direction of `step` (a step of 0 is the interpreter's fault).
+    ForCheckI {
+        var: Local,
+        limit: Local,
+        step: Local,
+    },
+    /// Its `for.next`: `var += step` within `w`; then the [`Ir::Back`] after it goes back to
+    /// the target unless `var` is past `limit` (then the instruction after that goes on).
+    ForNextI {
+        var: Local,
+        limit: Local,
+        step: Local,
+        w: Width,
+    },
     /// The end of the body: the loop's `for.next`, or its `loop` going back.
     Next,
     /// Out of the loop: the instruction after its end.
@@ -282,6 +300,19 @@ pub enum Code {
     IdxI,
     /// `d` = the real subscript `a` rounded (halves to even), within `0..k`.
     IdxR,
+    /// Back to `k & 0xffff` (the `loop` of a loop inside the body), counting again the
+    /// `-(k >> 16)` instructions of the interpreter's it goes back over; the run stops there
+    /// when the budget is spent, as the interpreter does, the `a + 256 * b` instructions of
+    /// the body from there on not run.
+    Back,
+    /// The `for.check` of a `FOR` inside the body: to `k` (as [`Code::Jump`]) when the `Int`
+    /// `a` is past `b` in the direction of the step `d`; a step of 0 leaves the iteration.
+    ForCheckI,
+    /// Its `for.next`, the variable a long: `d += b` (leaving the iteration when the sum does
+    /// not fit), then on to the [`Code::Back`] after it, or past it when `d` is past `a`.
+    ForNextL,
+    /// [`Code::ForNextL`] of an INTEGER variable.
+    ForNextS,
     /// `d` = element `a` of the body's array `b` (`Body::arrays`), whole.
     LoadI,
     /// `d` = element `a` of the body's array `b`, a real.
@@ -341,6 +372,7 @@ impl Code {
                 self,
                 Code::JgtI | Code::JgeI | Code::IdxI | Code::LoadI | Code::PutI
             )
+            || matches!(self, Code::ForCheckI | Code::ForNextL | Code::ForNextS)
     }
 
     /// Whether `k` is a jump's target.
@@ -359,6 +391,8 @@ impl Code {
                 | Code::JgtI
                 | Code::JgeI
                 | Code::JcmpR
+                | Code::Back
+                | Code::ForCheckI
         )
     }
 }
@@ -423,8 +457,9 @@ pub struct Body {
     /// The locals an iteration left undone must give back as they were at its start.
     pub kept: Vec<Local>,
     /// The arrays whose elements it reads or writes (in `vals`, not in locals): the
-    /// register of the first element, and how many there are.
-    pub arrays: Vec<(Reg, u32)>,
+    /// register of the first element, and how many there are; every instruction reaching an
+    /// element names one of them ([`Body::arrays`]).
+    arrays: Vec<(Reg, u32)>,
     /// A `FOR`'s variable, limit and step; none for a loop that goes round by a `loop`.
     pub counter: Option<Counter>,
     /// The body's first instruction: a `FOR`'s after its `for.check`, a `WHILE`'s the first
@@ -440,6 +475,9 @@ pub struct Body {
     pub highest: Reg,
     /// The instruction after the loop.
     pub after: u32,
+    /// It holds loops ([`Code::Back`], [`Code::ForCheckI`], [`Code::ForNextL`],
+    /// [`Code::ForNextS`]).
+    pub nested: bool,
 }
 
 impl Body {
@@ -447,6 +485,13 @@ impl Body {
     /// the loop), every jump's target among them.
     pub fn ops(&self) -> &[Micro] {
         &self.ops
+    }
+
+    /// The arrays whose elements it reads or writes: the register of each one's first
+    /// element, and how many there are. Every instruction reaching an element (`LoadI`,
+    /// `LoadR`, `PutI`, `PutR`) names one of them by its place here.
+    pub fn arrays(&self) -> &[(Reg, u32)] {
+        &self.arrays
     }
 }
 
@@ -487,6 +532,34 @@ pub fn find(
         }
     }
     bodies
+}
+
+/// Where a run of a body of `bodies` may start other than at an iteration's start from the
+/// instruction entering it: at the start of a loop inside (where a run whose budget is spent
+/// there stops), and at a `WHILE`'s start (where the interpreter yields at its `loop`). By
+/// instruction: the instruction entering the loop, and the body's instruction. Of bodies
+/// holding the same instruction, the outermost takes it.
+pub fn heads(bodies: &BTreeMap<u32, Body>) -> BTreeMap<u32, (u32, u16)> {
+    let mut heads: BTreeMap<u32, (u32, u16, u32)> = BTreeMap::new();
+    for (&entry, b) in bodies {
+        let span = b.after.saturating_sub(b.start);
+        let inside = b
+            .ops()
+            .iter()
+            .filter(|m| m.code == Code::Back)
+            .filter_map(|m| b.op_of.get((m.k & 0xffff) as usize).copied());
+        let own = b.counter.is_none().then_some(0);
+        for at in inside.chain(own) {
+            let pc = b.start + u32::from(at);
+            if heads.get(&pc).is_none_or(|h| h.2 < span) {
+                heads.insert(pc, (entry, at, span));
+            }
+        }
+    }
+    heads
+        .into_iter()
+        .map(|(pc, (entry, at, _))| (pc, (entry, at)))
+        .collect()
 }
 
 /// Make each instruction of the fused `ops` entering a loop of `bodies` the one that leaves
@@ -576,6 +649,25 @@ enum Step {
         off: Reg,
         s: Reg,
         to: Store,
+    },
+    /// The `loop` of a loop inside the body: back to `t`.
+    Back {
+        t: u32,
+    },
+    /// The `for.check` of a `FOR` inside the body: to `t` when `var` is past `limit` (the
+    /// step in the register after it).
+    ForCheck {
+        var: Reg,
+        limit: Reg,
+        t: u32,
+    },
+    /// Its `for.next`: `var += step` (an INTEGER when `short`), back to `t` unless past
+    /// `limit`.
+    ForNext {
+        var: Reg,
+        limit: Reg,
+        t: u32,
+        short: bool,
     },
 }
 
@@ -780,6 +872,27 @@ fn steps(op: Op, scratch: Reg, whole: &dyn Fn(Reg) -> bool) -> Option<Vec<Step>>
                 to: element_store(decimals)?,
             },
         ]),
+        Op::Loop { target } => one(Step::Back { t: target }),
+        Op::ForCheck { var, limit, exit } => one(Step::ForCheck {
+            var,
+            limit,
+            t: exit,
+        }),
+        Op::ForNext {
+            var,
+            limit,
+            body,
+            decimals,
+        } => one(Step::ForNext {
+            var,
+            limit,
+            t: body,
+            short: match decimals {
+                0 => false,
+                INT_STORE => true,
+                _ => return None,
+            },
+        }),
         _ => None,
     }
 }
@@ -807,6 +920,7 @@ impl Step {
             | Step::Store { d, .. }
             | Step::Sub { d, .. }
             | Step::Load { d, .. } => Some(d),
+            Step::ForNext { var, .. } => Some(var),
             _ => None,
         }
     }
@@ -821,14 +935,28 @@ impl Step {
             Step::Sub { s, .. } => vec![s],
             Step::Load { off, .. } => vec![off],
             Step::Put { off, s, .. } => vec![off, s],
+            Step::Back { .. } => vec![],
+            Step::ForCheck { var, limit, .. } | Step::ForNext { var, limit, .. } => {
+                vec![var, limit, limit.wrapping_add(1)]
+            }
         }
     }
 
     fn target(&self) -> Option<u32> {
         match *self {
-            Step::Jump { t } | Step::JumpZero { t, .. } | Step::JumpCmp { t, .. } => Some(t),
+            Step::Jump { t }
+            | Step::JumpZero { t, .. }
+            | Step::JumpCmp { t, .. }
+            | Step::Back { t }
+            | Step::ForCheck { t, .. }
+            | Step::ForNext { t, .. } => Some(t),
             _ => None,
         }
+    }
+
+    /// Whether its jump goes back (to the start of a loop inside the body).
+    fn goes_back(&self) -> bool {
+        matches!(self, Step::Back { .. } | Step::ForNext { .. })
     }
 }
 
@@ -892,6 +1020,9 @@ impl Step {
                 s: read(s),
                 to,
             },
+            // A loop's variable, limit and step are never temporaries (`translate` refuses
+            // them).
+            Step::Back { .. } | Step::ForCheck { .. } | Step::ForNext { .. } => self,
         }
     }
 }
@@ -899,7 +1030,9 @@ impl Step {
 /// Give each write of a temporary a register of its own (a version), and each read the
 /// version last written before it, so that a temporary holding an integer in one statement
 /// and a real in the next is an `Int` in the one and a `Real` in the other. A read that some
-/// way into it reaches without passing that write (a jump over it) refuses the body.
+/// way into it reaches without passing that write (a jump over it, a loop inside going back
+/// to between the two) refuses the body, and so does a read of a temporary no instruction
+/// before it writes.
 fn rename_temporaries(
     by_op: &mut [Vec<Step>],
     temps: &Range<Reg>,
@@ -923,14 +1056,19 @@ fn rename_temporaries(
             let read = |r: Reg| -> Reg {
                 match current.get(&r) {
                     Some(&(v, w)) if temps.contains(&r) => {
-                        // A jump from before the write to past it and up to here.
+                        // A jump to past the write and up to here, from before the write or
+                        // (going back) from here or after.
                         if jumps
                             .iter()
-                            .any(|&(from, to)| from < w && to > w && to <= k)
+                            .any(|&(from, to)| (from < w || from >= k) && to > w && to <= k)
                         {
                             skipped.set(true);
                         }
                         v
+                    }
+                    None if temps.contains(&r) => {
+                        skipped.set(true);
+                        r
                     }
                     _ => r,
                 }
@@ -986,7 +1124,10 @@ fn sign_matters(s: &Step, v: Reg, kind_of: &dyn Fn(Reg) -> Known) -> bool {
         | Step::JumpZero { .. }
         | Step::JumpCmp { .. }
         | Step::Sub { .. }
-        | Step::Load { .. } => false,
+        | Step::Load { .. }
+        | Step::Back { .. }
+        | Step::ForCheck { .. }
+        | Step::ForNext { .. } => false,
     }
 }
 
@@ -1061,6 +1202,8 @@ fn result(
         Step::Sub { .. } => INT,
         Step::Load { int: true, .. } => INT,
         Step::Load { int: false, .. } => REAL,
+        // A whole variable plus a whole step (`translate` sees that both are `Int`s).
+        Step::ForNext { .. } => INT,
         _ => return None,
     })
 }
@@ -1116,10 +1259,27 @@ fn translate(
         debug_assert!(scratch >= VIRTUAL);
         let s = steps(*ops.get(i as usize)?, scratch, whole)?;
         for step in &s {
-            if let Some(t) = step.target() {
-                if t <= i || t > next + 1 {
-                    return None;
+            // A loop inside goes back within the body (to an instruction that is not before
+            // its start); every other jump goes forward, at most out of the loop.
+            match step.target() {
+                Some(t) if step.goes_back() && !(start..=i).contains(&t) => return None,
+                Some(t) if !step.goes_back() && (t <= i || t > next + 1) => return None,
+                _ => {}
+            }
+            match *step {
+                // A `for.next` inside adds a step known to be whole to a whole variable, as
+                // the body's own does.
+                Step::ForNext { .. } if sure.get(i as usize).is_none_or(|f| f & SURE == 0) => {
+                    return None
                 }
+                Step::ForCheck { var, limit, .. } | Step::ForNext { var, limit, .. }
+                    if [var, limit, limit.wrapping_add(1)]
+                        .iter()
+                        .any(|r| temps.contains(r)) =>
+                {
+                    return None
+                }
+                _ => {}
             }
         }
         by_op.push(s);
@@ -1128,39 +1288,54 @@ fn translate(
     let all: Vec<Step> = by_op.iter().flatten().copied().collect();
     // Temporaries, their versions and scratch registers: dead at the end of their statement.
     let scratch_reg = |r: Reg| r >= VIRTUAL;
-    // The registers surely written before each instruction, whichever way control came (jumps
-    // go forward only, so one pass in order sees every way into an instruction first). A
-    // register read where it may not have been written holds the value of the iteration before
-    // or of before the loop: a variable is loaded on entry; a temporary cannot be.
+    // The registers surely written before each instruction, whichever way control came
+    // (passes in order until nothing changes: a loop inside goes back to what a pass has
+    // seen). A register read where it may not have been written holds the value of the
+    // iteration before or of before the loop: a variable is loaded on entry (`observed`); a
+    // temporary cannot be.
     let len = by_op.len();
     let mut before: Vec<Option<Vec<Reg>>> = vec![None; len + 1];
     before[0] = Some(Vec::new());
-    let meet = |slot: &mut Option<Vec<Reg>>, set: &[Reg]| {
-        *slot = Some(match slot.take() {
+    let meet = |slot: &mut Option<Vec<Reg>>, set: &[Reg]| -> bool {
+        let now: Vec<Reg> = match slot {
             None => set.to_vec(),
-            Some(old) => old.into_iter().filter(|r| set.contains(r)).collect(),
-        });
+            Some(old) => old.iter().copied().filter(|r| set.contains(r)).collect(),
+        };
+        let changed = slot.as_ref().is_none_or(|old| old.len() != now.len());
+        *slot = Some(now);
+        changed
     };
-    for (k, s) in by_op.iter().enumerate() {
-        let mut set = before[k].clone().unwrap_or_default();
-        let mut falls = true;
-        for step in s {
-            for r in step.read() {
-                if !set.contains(&r) && scratch_reg(r) {
-                    return None;
+    let mut observed: Vec<Reg> = Vec::new();
+    loop {
+        let mut changed = false;
+        observed.clear();
+        for (k, s) in by_op.iter().enumerate() {
+            let mut set = before[k].clone().unwrap_or_default();
+            let mut falls = true;
+            for step in s {
+                for r in step.read() {
+                    if !set.contains(&r) {
+                        if scratch_reg(r) {
+                            return None;
+                        }
+                        observed.push(r);
+                    }
                 }
+                if let Some(d) = step.written() {
+                    set.push(d);
+                }
+                // A jump out of the loop goes nowhere in it.
+                if let Some(t) = step.target().filter(|&t| t <= next) {
+                    changed |= meet(&mut before[(t - start) as usize], &set);
+                }
+                falls &= !matches!(step, Step::Jump { .. } | Step::Back { .. });
             }
-            if let Some(d) = step.written() {
-                set.push(d);
+            if falls {
+                changed |= meet(&mut before[k + 1], &set);
             }
-            // A jump out of the loop goes nowhere in it.
-            if let Some(t) = step.target().filter(|&t| t <= next) {
-                meet(&mut before[(t - start) as usize], &set);
-            }
-            falls &= !matches!(step, Step::Jump { .. });
         }
-        if falls {
-            meet(&mut before[k + 1], &set);
+        if !changed {
+            break;
         }
     }
     // Every variable and constant the body reads or writes is loaded, and the loop variable.
@@ -1185,9 +1360,15 @@ fn translate(
         return None;
     }
     // Kinds: loaded registers as their values are; written ones as every write makes them.
+    // A register the body always writes before it reads it (a `FOR`'s limit inside) is what
+    // its writes make it: the value loaded is only stored back (and one that is not that kind
+    // keeps the loop from starting).
     let mut known: BTreeMap<Reg, Known> = BTreeMap::new();
     for &r in &ins {
         let int = whole(r) && constant(r).is_none_or(|c| c.abs() <= EXACT as f64);
+        if !int && written.contains(&r) && !observed.contains(&r) && Some(r) != var {
+            continue;
+        }
         known.insert(r, if int { INT } else { REAL });
     }
     loop {
@@ -1213,8 +1394,20 @@ fn translate(
     }
     let kind_of = |r: Reg| known.get(&r).copied().unwrap_or(INT);
     // The loop variable, and every variable written, hold what the interpreter would store:
-    // the variable whole, an integer never a -0 it could not give back.
+    // the variable whole, an integer never a -0 it could not give back. So do the variables,
+    // limits and steps of the loops inside.
     if var.is_some_and(|v| kind_of(v) != INT) {
+        return None;
+    }
+    let inside_not_int = all.iter().any(|s| match *s {
+        Step::ForCheck { var, limit, .. } | Step::ForNext { var, limit, .. } => {
+            [var, limit, limit.wrapping_add(1)]
+                .iter()
+                .any(|&r| kind_of(r) != INT)
+        }
+        _ => false,
+    });
+    if inside_not_int {
         return None;
     }
     if written
@@ -1271,7 +1464,7 @@ fn translate(
     let mut first_micro: Vec<usize> = Vec::new();
     // Jumps to patch: micro index, target instruction.
     let mut patches: Vec<(usize, u32)> = Vec::new();
-    let mut skip_at: Vec<(usize, u16)> = Vec::new();
+    let mut skip_at: Vec<(usize, i32)> = Vec::new();
     // The body's instruction each IR instruction comes from.
     let mut ir_op: Vec<u16> = Vec::new();
     for (k, s) in by_op.iter().enumerate() {
@@ -1421,6 +1614,25 @@ fn translate(
     if snapshot && !stored.is_empty() {
         return None;
     }
+    // A run whose budget is spent at the start of a loop inside stops there, and may start
+    // there again: the instruction going back lands on the first of the interpreter's
+    // instruction it goes back to, where no temporary is live. It carries how many of the
+    // body's instructions are left from there.
+    let count = u64::from(next - start) + 1;
+    let mut ops = ops;
+    for (m, micro) in ops.iter_mut().enumerate() {
+        if micro.code != Code::Back {
+            continue;
+        }
+        let to = usize::try_from(micro.k & 0xffff).ok()?;
+        let from = i64::from(*op_of.get(m)?);
+        let head = from + 1 + i64::from(micro.k >> 16);
+        let at = *op_of.get(to)?;
+        if i64::from(at) != head || !live.get(usize::from(at))?.is_empty() {
+            return None;
+        }
+        [micro.a, micro.b] = u16::try_from(count - u64::from(at)).ok()?.to_le_bytes();
+    }
     // Every register read or written on entry, on leaving, or given to the interpreter, and
     // every element.
     let given = live.iter().flatten().map(|g| g.0);
@@ -1442,6 +1654,22 @@ fn translate(
         .chain(var)
         .min()
         .unwrap_or(Reg::MAX);
+    // Every instruction reaching an element names one of the arrays (`vm::body` reaches
+    // elements unchecked past that).
+    let names_array = |m: &Micro| match m.code {
+        Code::LoadI | Code::LoadR => usize::from(m.b) < arrays.len(),
+        Code::PutI | Code::PutR => usize::from(m.d) < arrays.len(),
+        _ => true,
+    };
+    if !ops.iter().all(names_array) {
+        return None;
+    }
+    let nested = ops.iter().any(|m| {
+        matches!(
+            m.code,
+            Code::Back | Code::ForCheckI | Code::ForNextL | Code::ForNextS
+        )
+    });
     Some(Body {
         ops,
         op_of,
@@ -1459,10 +1687,11 @@ fn translate(
             short,
         }),
         start,
-        count: u64::from(next - start) + 1,
+        count,
         lowest_write,
         highest,
         after: next + 1,
+        nested,
     })
 }
 
@@ -1568,28 +1797,42 @@ fn ir_regs(ir: &Ir) -> (Vec<Local>, Option<Local>) {
         Ir::IdxI { d, s, .. } | Ir::IdxR { d, s, .. } => (vec![s], Some(d)),
         Ir::LoadI { d, off, .. } | Ir::LoadR { d, off, .. } => (vec![off], Some(d)),
         Ir::PutI { s, off, .. } | Ir::PutR { s, off, .. } => (vec![s, off], None),
-        Ir::Jump | Ir::Next | Ir::Exit => (vec![], None),
+        Ir::ForCheckI { var, limit, step } => (vec![var, limit, step], None),
+        Ir::ForNextI {
+            var, limit, step, ..
+        } => (vec![var, limit, step], Some(var)),
+        Ir::Jump | Ir::Back | Ir::Next | Ir::Exit => (vec![], None),
     }
 }
 
-/// Whether the temporary `t`, written at IR instruction `at`, is read by none of the
-/// instructions after `after` before one writes it again, whichever way control goes.
+/// Whether the temporary `t` is read by none of the IR instructions after `after` before one
+/// writes it again, whichever way control goes (forward, or back into a loop inside; the
+/// iteration's end ends the search: a temporary is dead once its statement is done).
 fn dead_after(ir: &[Ir], jumps: &[(usize, usize)], t: Local, after: usize) -> bool {
-    let mut w = ir.len();
-    for (j, op) in ir.iter().enumerate().skip(after + 1) {
+    let mut seen = vec![false; ir.len()];
+    let mut ways = vec![after + 1];
+    while let Some(j) = ways.pop() {
+        let Some(op) = ir.get(j) else { continue };
+        if std::mem::replace(&mut seen[j], true) {
+            continue;
+        }
         let (reads, write) = ir_regs(op);
         if reads.contains(&t) {
             return false;
         }
         if write == Some(t) {
-            w = j;
-            break;
+            continue;
         }
+        if !matches!(op, Ir::Jump | Ir::Back | Ir::Next | Ir::Exit) {
+            ways.push(j + 1);
+        }
+        // A `for.next` done goes on past its `Back`.
+        if matches!(op, Ir::ForNextI { .. }) {
+            ways.push(j + 2);
+        }
+        ways.extend(jumps.iter().filter(|w| w.0 == j).map(|w| w.1));
     }
-    // A jump from before the write to past it would reach what follows with `t` unwritten.
-    !jumps
-        .iter()
-        .any(|&(from, to)| from > after && from < w && to > w)
+    true
 }
 
 /// Pack the IR instructions `ir` (whose jumps `jumps` give, as IR indices, and skip what
@@ -1600,7 +1843,7 @@ fn lower(
     ir: &[Ir],
     ir_op: &[u16],
     jumps: &[(usize, usize)],
-    skip_at: &[(usize, u16)],
+    skip_at: &[(usize, i32)],
     temp_local: &dyn Fn(Local) -> bool,
     const_of: &dyn Fn(Local) -> Option<i32>,
     arr_len: &dyn Fn(u8) -> Option<u32>,
@@ -1698,14 +1941,14 @@ fn lower(
     index[ir.len()] = out.len();
     // A jump's `k`: its target, and above it how many of the interpreter's instructions it
     // skips (uncounted when it is taken).
-    let mut skip_of = vec![0u16; ir.len()];
+    let mut skip_of = vec![0i32; ir.len()];
     for &(m, n) in skip_at {
         *skip_of.get_mut(m)? = n;
     }
     for &(from, to) in jumps {
         let t = *index.get(to)?;
-        let skip = *skip_of.get(from)?;
-        if t > usize::from(u16::MAX) || skip > i16::MAX as u16 {
+        let skip = i16::try_from(*skip_of.get(from)?).ok()?;
+        if t > usize::from(u16::MAX) {
             return None;
         }
         out.get_mut(*index.get(from)?)?.k = t as i32 | i32::from(skip) << 16;
@@ -1729,10 +1972,16 @@ fn lower(
         codes.as_slice(),
         [.., Code::Next] | [.., Code::Next, Code::Exit]
     );
+    // A `for.next` inside goes on to the `Back` after it or past it: to an instruction.
+    let for_next = |m: usize| {
+        matches!(out[m].code, Code::ForNextL | Code::ForNextS)
+            && (codes.get(m + 1) != Some(&Code::Back) || m + 2 >= out.len())
+    };
     if !ends
         || out
             .iter()
             .any(|m| m.code.jumps() && !(0..len).contains(&(m.k & 0xffff)))
+        || (0..out.len()).any(for_next)
     {
         return None;
     }
@@ -1826,6 +2075,20 @@ fn pack(ir: &Ir) -> Micro {
             m(Code::PutI, arr, s, off, k)
         }
         Ir::PutR { s, off, arr } => m(Code::PutR, arr, s, off, 0),
+        Ir::Back => m(Code::Back, 0, 0, 0, 0),
+        Ir::ForCheckI { var, limit, step } => m(Code::ForCheckI, step, var, limit, 0),
+        Ir::ForNextI {
+            var,
+            limit,
+            step,
+            w,
+        } => {
+            let code = match w {
+                Width::Long => Code::ForNextL,
+                Width::Short => Code::ForNextS,
+            };
+            m(code, var, limit, step, 0)
+        }
         Ir::Next => m(Code::Next, 0, 0, 0, 0),
         Ir::Exit => m(Code::Exit, 0, 0, 0, 0),
         // The families go through `Family` first; this is their form on registers.
@@ -1854,7 +2117,7 @@ fn emit(
     arr_of: &dyn Fn(Array) -> u8,
     out: &mut Vec<Ir>,
     patches: &mut Vec<(usize, u32)>,
-    skips: &mut Vec<(usize, u16)>,
+    skips: &mut Vec<(usize, i32)>,
 ) {
     let int = |r: Reg| kind_of(r).kind == Kind::Int;
     // The register `r` as a real: itself, or converted into `conv[k]` (checked for -0 when
@@ -1893,8 +2156,10 @@ fn emit(
             });
         }
     };
-    let skip = |t: u32, out: &Vec<Ir>, skips: &mut Vec<(usize, u16)>| {
-        skips.push((out.len(), (t - i - 1) as u16));
+    // How many of the interpreter's instructions a jump from `i` to `t` skips (going back,
+    // minus how many it goes back over).
+    let skip = |t: u32, out: &Vec<Ir>, skips: &mut Vec<(usize, i32)>| {
+        skips.push((out.len(), t as i32 - i as i32 - 1));
     };
     match *step {
         Step::Bin { op, d, a, b } => {
@@ -2055,6 +2320,37 @@ fn emit(
             patches.push((out.len(), t));
             skip(t, out, skips);
             out.push(Ir::Jump);
+        }
+        Step::Back { t } => {
+            patches.push((out.len(), t));
+            skip(t, out, skips);
+            out.push(Ir::Back);
+        }
+        // `translate` has seen that the variable, the limit and the step are `Int`s.
+        Step::ForCheck { var, limit, t } => {
+            patches.push((out.len(), t));
+            skip(t, out, skips);
+            out.push(Ir::ForCheckI {
+                var: l(var),
+                limit: l(limit),
+                step: l(limit.wrapping_add(1)),
+            });
+        }
+        Step::ForNext {
+            var,
+            limit,
+            t,
+            short,
+        } => {
+            out.push(Ir::ForNextI {
+                var: l(var),
+                limit: l(limit),
+                step: l(limit.wrapping_add(1)),
+                w: if short { Width::Short } else { Width::Long },
+            });
+            patches.push((out.len(), t));
+            skip(t, out, skips);
+            out.push(Ir::Back);
         }
         Step::JumpZero { c, zero, t } => {
             patches.push((out.len(), t));

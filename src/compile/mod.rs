@@ -224,6 +224,10 @@ pub struct Chunk {
     /// The loops the machine may run outside the interpreter on typed registers
     /// ([`body::Body`]), by the instruction their body starts at.
     pub bodies: BTreeMap<u32, body::Body>,
+    /// Where the machine may go on running a loop of [`Chunk::bodies`] at the start of a turn
+    /// (`body::heads`): by instruction, the loop's entering instruction and its body's
+    /// instruction.
+    pub heads: BTreeMap<u32, (u32, u16)>,
 }
 
 /// Compile a program that checked without errors. `src` and `file` are its text and name
@@ -325,7 +329,7 @@ impl<'a> Compiler<'a> {
         }
         let temps = self.layout.temp_base()..self.layout.temp_base() + MAX_TEMPS;
         let sure = whole::operands(&self.ops, &temps, &|r| self.layout.is_whole(r));
-        let bodies = body::find(
+        let mut bodies = body::find(
             &self.ops,
             &sure,
             &temps,
@@ -339,7 +343,16 @@ impl<'a> Compiler<'a> {
         bytecode::specialize_text(&mut self.ext);
         let sure = whole::per_instruction(&self.ops, &sure);
         tight::mark(&mut self.ops, &sure);
+        // A loop `vm::tight` runs (one store an iteration: a fill, a sieve's marking) goes
+        // faster there than as a part of a body holding it (bench/array's sieve took 1.6
+        // times as long so): such a body stays with the interpreter, which hands that loop
+        // over.
+        bodies.retain(|_, b| {
+            !(b.start..b.after)
+                .any(|i| matches!(self.ops.get(i as usize), Some(Op::ForTight { .. })))
+        });
         body::mark(&mut self.ops, &bodies);
+        let heads = body::heads(&bodies);
         let regs_end = self
             .ops
             .iter()
@@ -370,6 +383,7 @@ impl<'a> Compiler<'a> {
             ext: self.ext,
             data: self.data,
             bodies,
+            heads,
         })
     }
 

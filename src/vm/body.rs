@@ -15,7 +15,7 @@ use super::exec::{
     round_long,
 };
 use super::tight::End;
-use crate::compile::body::{cmp_of, Body, Code, Counter, Kind, Width, EXACT, INT_OPS};
+use crate::compile::body::{cmp_of, Body, Code, Counter, Kind, Micro, Width, EXACT, INT_OPS};
 use crate::fixed::{to_fixed, trunc_i32};
 
 /// The fewest iterations of a loop worth leaving the interpreter for.
@@ -128,6 +128,11 @@ fn copy_each<const N: usize>(to: &mut [u64; 256], from: &[u64; 256]) {
 pub struct Registers {
     r: [u64; 256],
     saved: [u64; 256],
+    /// The body's arrays ([`Body::arrays`]), each within the values (checked on entry): the
+    /// value register of its first element, and how many there are. A fixed table, next to
+    /// the locals: an element's instruction reaches it without a register of its own (LLVM
+    /// had no register to spare for a slice).
+    elems: [(u32, u32); 256],
 }
 
 impl Default for Registers {
@@ -135,28 +140,52 @@ impl Default for Registers {
         Registers {
             r: [0; 256],
             saved: [0; 256],
+            elems: [(0, 0); 256],
         }
     }
 }
 
-/// Run the iterations of the loop `body` that are plain, starting at the start of its body,
-/// on the values `vals` (in the registers `regs`), counting the interpreter's instructions in
-/// `n` against `budget` (the interpreter's test: after a `for.next` that goes round again, or
-/// a `loop`). Where it stopped, and for an iteration left to the interpreter, the body's
-/// instruction it goes on at; `None` when it did not start (a register outside `vals`, a value
-/// an `Int` cannot hold, a constant not what the translation saw; a `FOR`'s step that is not
-/// a whole number other than 0, or fewer than [`FEWEST`] iterations left).
+/// Run the iterations of the loop `body` that are plain, starting at its body's instruction
+/// `from` (its start, or the start of a loop inside where a run stopped), on the values
+/// `vals` (in the registers `regs`), counting the interpreter's instructions in `n` against
+/// `budget` (the interpreter's test: after a `for.next` that goes round again, or a `loop`).
+/// How it ended, and the body's instruction the interpreter goes on at when it did not end
+/// the loop (an iteration left to it, a budget spent); `None` when it did not start (a
+/// register outside `vals`, a value an `Int` cannot hold, a constant not what the translation
+/// saw; a `FOR`'s step that is not a whole number other than 0, or fewer than [`FEWEST`]
+/// iterations left; `from` not an instruction a run starts at).
 pub fn run(
     vals: &mut [f64],
     regs: &mut Registers,
     body: &Body,
+    from: u16,
     n: &mut u64,
     budget: u64,
 ) -> Option<(End, u32)> {
     if body.highest as usize >= vals.len() || body.locals > 256 {
         return None;
     }
-    let Registers { r, saved } = regs;
+    // The first instruction of `from`: the start, or one a loop inside goes back to.
+    let first = if from == 0 {
+        0
+    } else {
+        let ops = body.ops();
+        let at = body.op_of.iter().position(|&o| o == from)?;
+        let heads = ops
+            .iter()
+            .any(|m| m.code == Code::Back && (m.k & 0xffff) as usize == at);
+        if !heads {
+            return None;
+        }
+        at
+    };
+    for (i, &(base, len)) in body.arrays().iter().enumerate() {
+        if base as usize + len as usize > vals.len() {
+            return None;
+        }
+        *regs.elems.get_mut(i)? = (base, len);
+    }
+    let r = &mut regs.r;
     for &(reg, local, kind) in &body.ins {
         let x = vals[reg as usize];
         r[local as usize] = match kind {
@@ -172,31 +201,47 @@ pub fn run(
         }
     }
     let round = match body.counter {
-        Some(c) => Some(round(vals, r, c)?),
+        // A run going on inside an iteration goes on however few are left after it.
+        Some(c) => Some(round(vals, r, c, if from == 0 { FEWEST } else { 0.0 })?),
         None => None,
     };
-    let (end, stopped, mut count) = match round {
-        Some(round) => iterate::<true>(vals, r, saved, body, *n, budget, round),
-        None => iterate::<false>(vals, r, saved, body, *n, budget, Round::NONE),
+    // Counted as if the run started at the body's start, the instructions before `from` not
+    // run (a count below them wraps, and comes back at the first iteration's end).
+    let start = (*n).wrapping_sub(u64::from(from));
+    let (end, stopped, count) = match round {
+        // A body holding loops has its own copy: their instructions in the same one cost
+        // `bench/loop` 8 % more instructions (LLVM keeping the instruction's index in memory).
+        Some(round) if body.nested => {
+            iterate::<true, true>(vals, regs, body, first, start, budget, round)
+        }
+        Some(round) => iterate::<true, false>(vals, regs, body, 0, start, budget, round),
+        None if body.nested => {
+            iterate::<false, true>(vals, regs, body, first, start, budget, Round::NONE)
+        }
+        None => iterate::<false, false>(vals, regs, body, 0, start, budget, Round::NONE),
     };
-    // Where the interpreter goes on: the body's start, or (left unfinished) the instruction.
-    let mut resume = 0u32;
-    if end == End::Slow {
-        // Left undone from its start, or unfinished at an instruction.
-        if let Some(at) = stopped {
-            // The instruction the iteration stopped in: those before it ran (those jumped
-            // over not counted), it did not.
-            // (In this order: jumps taken may have uncounted more than the count held when
-            // the run started.)
-            count = count + u64::from(at) - body.count;
-            for &(reg, local, kind) in body.live.get(usize::from(at)).into_iter().flatten() {
-                let x = r[local as usize];
-                vals[reg as usize] = match kind {
-                    Kind::Int => x as i64 as f64,
-                    Kind::Real => f64::from_bits(x),
-                };
-            }
-            resume = u32::from(at);
+    let r = &regs.r;
+    let (resume, count) = match (end, stopped) {
+        // Left undone from the start of an iteration: the first started at `from`.
+        (End::Slow, None) if count == start => (from, count.wrapping_add(u64::from(from))),
+        (End::Slow, None) => (0, count),
+        // Unfinished at an instruction: those before it ran (those jumped over not counted),
+        // it did not. (In this order: jumps taken may have uncounted more than the count
+        // held when the run started.)
+        (End::Slow, Some(at)) => (
+            at,
+            count.wrapping_add(u64::from(at)).wrapping_sub(body.count),
+        ),
+        (_, at) => (at.unwrap_or(0), count),
+    };
+    // The temporaries live where the interpreter goes on (none at an iteration's start).
+    if end != End::Done {
+        for &(reg, local, kind) in body.live.get(usize::from(resume)).into_iter().flatten() {
+            let x = r[local as usize];
+            vals[reg as usize] = match kind {
+                Kind::Int => x as i64 as f64,
+                Kind::Real => f64::from_bits(x),
+            };
         }
     }
     *n = count;
@@ -211,16 +256,15 @@ pub fn run(
             Kind::Real => f64::from_bits(x),
         };
     }
-    Some((end, resume))
+    Some((end, u32::from(resume)))
 }
 
-/// The value register of element `off` of the body's array `arr`, when it is one of its.
+/// The value register of element `off` of the body's array `arr`, when it is one of its
+/// (`elems` as [`Registers::elems`]).
 #[inline(always)]
-fn element(arrays: &[(u32, u32)], arr: u8, off: i64) -> Option<usize> {
-    let &(base, len) = arrays.get(usize::from(arr))?;
-    (0..i64::from(len))
-        .contains(&off)
-        .then(|| base as usize + off as usize)
+fn element(elems: &[(u32, u32); 256], arr: u8, off: i64) -> Option<usize> {
+    let (base, len) = elems[usize::from(arr)];
+    ((off as u64) < u64::from(len)).then(|| base as usize + off as usize)
 }
 
 /// How a `FOR` goes round: its variable's local, its step, and the bounds it stays within
@@ -248,15 +292,15 @@ impl Round {
 }
 
 /// How the `FOR` of `c` goes round from the values `vals` and the locals `r` loaded; `None`
-/// when the step is not a whole number other than 0, or fewer than [`FEWEST`] iterations are
+/// when the step is not a whole number other than 0, or fewer than `fewest` iterations are
 /// left.
-fn round(vals: &[f64], r: &[u64; 256], c: Counter) -> Option<Round> {
+fn round(vals: &[f64], r: &[u64; 256], c: Counter, fewest: f64) -> Option<Round> {
     let limit = *vals.get(c.limit as usize)?;
     let step = to_int(*vals.get(c.limit as usize + 1)?).filter(|&s| s != 0)?;
     let var = usize::from(c.var.0);
     let left = (limit - r[var] as i64 as f64) / step as f64;
     // NaN (an infinite limit less an infinite one…) is no count.
-    if left.partial_cmp(&(FEWEST - 1.0)).is_none_or(|o| o.is_lt()) {
+    if left.partial_cmp(&(fewest - 1.0)).is_none_or(|o| o.is_lt()) {
         return None;
     }
     let width = if c.short { Width::Short } else { Width::Long };
@@ -278,17 +322,21 @@ fn round(vals: &[f64], r: &[u64; 256], c: Counter) -> Option<Round> {
     })
 }
 
-/// Run iterations of `body` on the locals `r` from the start of its body, counting the
-/// interpreter's instructions from `count` against `budget`; a `FOR`'s (`COUNTED`) going round
-/// as `round` says, any other's by its `loop`. How it ended, and for an iteration left
-/// unfinished the body's instruction it stopped in (`None`: left undone from its start, its
-/// variables given back as they were and its instructions uncounted), and the count.
-#[inline(always)]
-fn iterate<const COUNTED: bool>(
+/// Run iterations of `body` (one holding loops when `NESTED`) on the locals `r`, the first
+/// from its instruction `first` (0 unless `NESTED`),
+/// counting the interpreter's instructions from `count` (as if the first had started at the
+/// body's start) against `budget`; a `FOR`'s (`COUNTED`) going round as `round` says, any
+/// other's by its `loop`. How it ended; the body's instruction an iteration was left
+/// unfinished in (its count not yet taken back to it), or where the budget was spent at the
+/// start of a loop inside (counted), or `None` when it was left undone from its start (its
+/// variables given back as they were, and the count as it was then); and the count.
+#[inline(never)]
+#[allow(clippy::too_many_arguments)]
+fn iterate<const COUNTED: bool, const NESTED: bool>(
     vals: &mut [f64],
-    r: &mut [u64; 256],
-    saved: &mut [u64; 256],
+    regs: &mut Registers,
     body: &Body,
+    first: usize,
     mut count: u64,
     budget: u64,
     round: Round,
@@ -301,6 +349,7 @@ fn iterate<const COUNTED: bool>(
         lo,
         width,
     } = round;
+    let Registers { r, saved, elems } = regs;
     let kept = body.kept.len().min(256);
     debug_assert!(body
         .kept
@@ -308,8 +357,11 @@ fn iterate<const COUNTED: bool>(
         .enumerate()
         .all(|(i, &k)| usize::from(k) == i));
     let ops = body.ops();
-    let arrays = &body.arrays[..];
+    let base = ops.as_ptr();
+    // Elements are reached from here: every array of the body is within the values (`run`).
+    let vals = vals.as_mut_ptr();
     let mut at_start;
+    let mut first = first;
     // The body's instruction an iteration stopped in (counted from its start).
     let mut stopped = 0u16;
     let end = 'iterations: loop {
@@ -328,8 +380,15 @@ fn iterate<const COUNTED: bool>(
             }
         }
         at_start = count;
-        count += body.count;
-        let mut pc = 0usize;
+        count = count.wrapping_add(body.count);
+        let at = if NESTED {
+            std::mem::take(&mut first)
+        } else {
+            0
+        };
+        debug_assert!(at < ops.len());
+        // SAFETY: `first` is an instruction of `ops` (`run` found it there).
+        let mut pc: *const Micro = unsafe { base.add(at) };
         macro_rules! int {
             ($l:expr) => {
                 r[$l as usize] as i64
@@ -352,7 +411,9 @@ fn iterate<const COUNTED: bool>(
         }
         macro_rules! undone {
             () => {{
-                stopped = body.op_of.get(pc - 1).copied().unwrap_or(0);
+                // SAFETY: both point into `ops`.
+                let at = unsafe { pc.offset_from(base) } as usize;
+                stopped = body.op_of.get(at - 1).copied().unwrap_or(0);
                 break 'iterations End::Slow;
             }};
         }
@@ -371,24 +432,27 @@ fn iterate<const COUNTED: bool>(
         macro_rules! jump {
             ($k:expr) => {{
                 keep_branch();
-                let k: i32 = $k;
-                count -= (k >> 16) as u64;
-                pc = (k & 0xffff) as usize;
+                let k: i64 = $k;
+                count = count.wrapping_sub((k >> 16) as u64);
+                // SAFETY: a jump's target is an instruction of `ops` (`Body::ops`).
+                pc = unsafe { base.add((k & 0xffff) as usize) };
             }};
         }
         loop {
-            debug_assert!(pc < ops.len());
-            // SAFETY: `pc` is 0 or a jump's target, or one past an instruction that is not
-            // the last (`Next`, which leaves this loop): each is an instruction of `ops`
+            debug_assert!(ops.as_ptr_range().contains(&pc));
+            // SAFETY: `pc` points at the first instruction or a jump's target, or one past an
+            // instruction that is not the last (`Next`, which leaves this loop), or past the
+            // `Back` after a `for.next` (not the last either): each is an instruction of `ops`
             // (`Body::ops`).
-            let m = unsafe { *ops.get_unchecked(pc) };
-            pc += 1;
-            let (d, a, b) = (m.d, m.a, m.b);
+            let m = unsafe { *pc };
+            pc = unsafe { pc.add(1) };
+            // (`k` widened once: its 32-bit and 64-bit forms would take two registers.)
+            let (d, a, b, k) = (m.d, m.a, m.b, i64::from(m.k));
             // An integer family: `$f` of `a` and `b` (`$k`: the constant instead), stored
             // within ±2^53, or (`$w` 1) into a long, or (`$w` 2) into an INTEGER.
             macro_rules! family {
                 ($f:ident, $k:expr, $w:expr) => {{
-                    let y = if $k { i64::from(m.k) } else { int!(b) };
+                    let y = if $k { k } else { int!(b) };
                     match $f(int!(a), y) {
                         Some(x)
                             if (match $w {
@@ -469,11 +533,11 @@ fn iterate<const COUNTED: bool>(
                 }
                 Code::NotI => set_int!(d, i64::from(int!(a) == 0)),
                 Code::CmpI => {
-                    set_int!(d, i64::from(cmp_of(m.k as u8).test_ord(&int!(a), &int!(b))))
+                    set_int!(d, i64::from(cmp_of(k as u8).test_ord(&int!(a), &int!(b))))
                 }
                 Code::FitI => {
                     let x = int!(a);
-                    let w = if m.k == 0 { Width::Long } else { Width::Short };
+                    let w = if k == 0 { Width::Long } else { Width::Short };
                     if !fits(x, w) {
                         undone!();
                     }
@@ -498,7 +562,7 @@ fn iterate<const COUNTED: bool>(
                     set_real!(d, int_rem_of(real!(a), y, false));
                 }
                 Code::IntR => {
-                    let op = INT_OPS[(m.k as usize) % INT_OPS.len()];
+                    let op = INT_OPS[(k as usize) % INT_OPS.len()];
                     from_real!(d, integer(op, real!(a), real!(b), false))
                 }
                 Code::BitNotR => {
@@ -508,7 +572,7 @@ fn iterate<const COUNTED: bool>(
                     }
                     set_int!(d, x);
                 }
-                Code::CmpR => set_int!(d, i64::from(cmp_of(m.k as u8).test(real!(a), real!(b)))),
+                Code::CmpR => set_int!(d, i64::from(cmp_of(k as u8).test(real!(a), real!(b)))),
                 Code::NotR => set_int!(d, i64::from(real!(a) == 0.0)),
                 Code::ToR => set_real!(d, int!(a) as f64),
                 Code::ToRSigned => {
@@ -528,8 +592,8 @@ fn iterate<const COUNTED: bool>(
                     from_real!(d, v.ok_or(()))
                 }
                 Code::ShortR => from_real!(d, int16(real!(a)).ok_or(())),
-                Code::FixedR => match to_fixed(real!(a), m.k as u8) {
-                    Some(x) if m.k == 0 => from_real!(d, Ok::<f64, ()>(x)),
+                Code::FixedR => match to_fixed(real!(a), k as u8) {
+                    Some(x) if k == 0 => from_real!(d, Ok::<f64, ()>(x)),
                     Some(x) => set_real!(d, x),
                     None => undone!(),
                 },
@@ -542,7 +606,7 @@ fn iterate<const COUNTED: bool>(
                 }
                 Code::CheckR => {
                     let x = real!(a);
-                    let ok = if m.k == 0 {
+                    let ok = if k == 0 {
                         (f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(&x)
                     } else {
                         (-32768.0..=32767.0).contains(&x)
@@ -551,113 +615,160 @@ fn iterate<const COUNTED: bool>(
                         undone!();
                     }
                 }
-                Code::Jump => jump!(m.k),
+                Code::Jump => jump!(k),
                 Code::JzI => {
                     if int!(a) == 0 {
-                        jump!(m.k);
+                        jump!(k);
                     }
                 }
                 Code::JnzI => {
                     if int!(a) != 0 {
-                        jump!(m.k);
+                        jump!(k);
                     }
                 }
                 Code::JzR => {
                     if real!(a) == 0.0 {
-                        jump!(m.k);
+                        jump!(k);
                     }
                 }
                 Code::JnzR => {
                     if real!(a) != 0.0 {
-                        jump!(m.k);
+                        jump!(k);
                     }
                 }
                 Code::JeqI => {
                     if int!(a) == int!(b) {
-                        jump!(m.k);
+                        jump!(k);
                     }
                 }
                 Code::JneI => {
                     if int!(a) != int!(b) {
-                        jump!(m.k);
+                        jump!(k);
                     }
                 }
                 Code::JltI => {
                     if int!(a) < int!(b) {
-                        jump!(m.k);
+                        jump!(k);
                     }
                 }
                 Code::JleI => {
                     if int!(a) <= int!(b) {
-                        jump!(m.k);
+                        jump!(k);
                     }
                 }
                 Code::JgtI => {
                     if int!(a) > int!(b) {
-                        jump!(m.k);
+                        jump!(k);
                     }
                 }
                 Code::JgeI => {
                     if int!(a) >= int!(b) {
-                        jump!(m.k);
+                        jump!(k);
                     }
                 }
                 Code::JcmpR => {
                     if cmp_of(d / 2).test(real!(a), real!(b)) == (d % 2 == 1) {
-                        jump!(m.k);
+                        jump!(k);
                     }
                 }
                 Code::IdxI => {
                     let x = int!(a);
-                    if !(0..i64::from(m.k)).contains(&x) {
+                    if !(0..k).contains(&x) {
                         undone!();
                     }
                     set_int!(d, x);
                 }
                 Code::IdxR => {
                     let x = real!(a).round_ties_even();
-                    if !(x >= 0.0 && x < f64::from(m.k)) {
+                    if !(x >= 0.0 && x < k as f64) {
                         undone!();
                     }
                     set_int!(d, x as i64);
                 }
-                Code::LoadI => match element(arrays, b, int!(a)) {
-                    Some(at) if at < vals.len() => {
-                        let x = vals[at];
-                        // A -0 is no `Int` (and no element stored as a long or an INTEGER).
-                        match to_int(x) {
-                            Some(i) if x.to_bits() != (-0.0f64).to_bits() => set_int!(d, i),
-                            _ => undone!(),
+                Code::LoadI => match element(elems, b, int!(a)) {
+                    Some(at) => {
+                        // SAFETY: an element of one of the body's arrays, each within the
+                        // values (`run`); an instruction names only the body's (`Body::ops`).
+                        let x = unsafe { *vals.add(at) };
+                        // An element of a long or INTEGER array is a 32-bit integer, never
+                        // -0 (the bits tell both); any other is left to the interpreter.
+                        let i = x as i32;
+                        if f64::from(i).to_bits() != x.to_bits() {
+                            undone!();
                         }
+                        set_int!(d, i64::from(i));
                     }
-                    _ => undone!(),
+                    None => undone!(),
                 },
-                Code::LoadR => match element(arrays, b, int!(a)) {
-                    Some(at) if at < vals.len() => set_real!(d, vals[at]),
-                    _ => undone!(),
+                // SAFETY (elements): as `LoadI`'s.
+                Code::LoadR => match element(elems, b, int!(a)) {
+                    Some(at) => set_real!(d, unsafe { *vals.add(at) }),
+                    None => undone!(),
                 },
                 Code::PutI => {
                     let x = int!(a);
-                    let fits = match m.k {
+                    let fits = match k {
                         1 => fits(x, Width::Long),
                         2 => fits(x, Width::Short),
                         _ => true,
                     };
-                    match element(arrays, d, int!(b)) {
-                        Some(at) if fits && at < vals.len() => vals[at] = x as f64,
+                    match element(elems, d, int!(b)) {
+                        Some(at) if fits => unsafe { *vals.add(at) = x as f64 },
                         _ => undone!(),
                     }
                 }
-                Code::PutR => match element(arrays, d, int!(b)) {
-                    Some(at) if at < vals.len() => vals[at] = real!(a),
-                    _ => undone!(),
+                Code::PutR => match element(elems, d, int!(b)) {
+                    Some(at) => unsafe { *vals.add(at) = real!(a) },
+                    None => undone!(),
                 },
+                Code::Back | Code::ForCheckI | Code::ForNextL | Code::ForNextS if !NESTED => {
+                    undone!()
+                }
+                Code::Back => {
+                    jump!(k);
+                    // There the interpreter tests its budget, the body's instructions from
+                    // there on not run.
+                    let left = u64::from(a) | u64::from(b) << 8;
+                    let done = count.wrapping_sub(left);
+                    if done >= budget {
+                        stopped = (body.count - left) as u16;
+                        count = done;
+                        break 'iterations End::Budget;
+                    }
+                }
+                Code::ForCheckI => {
+                    let (x, l, s) = (int!(a), int!(b), int!(d));
+                    if s == 0 {
+                        undone!();
+                    }
+                    if (s > 0 && x > l) || (s < 0 && x < l) {
+                        jump!(k);
+                    }
+                }
+                Code::ForNextL | Code::ForNextS => {
+                    let s = int!(b);
+                    let v = int!(d) + s;
+                    let w = if m.code == Code::ForNextL {
+                        Width::Long
+                    } else {
+                        Width::Short
+                    };
+                    if !fits(v, w) {
+                        undone!();
+                    }
+                    set_int!(d, v);
+                    let l = int!(a);
+                    // On to the `Back` after it, or past it.
+                    let round = (s > 0 && v <= l) || (s < 0 && v >= l);
+                    // SAFETY: a `Back` follows, not the last instruction (`Body::ops`).
+                    pc = unsafe { pc.add(usize::from(!round)) };
+                }
                 Code::Next => {
-                    count -= (m.k >> 16) as u64;
+                    count = count.wrapping_sub((k >> 16) as u64);
                     break;
                 }
                 Code::Exit => {
-                    count -= (m.k >> 16) as u64;
+                    count = count.wrapping_sub((k >> 16) as u64);
                     break 'iterations End::Done;
                 }
             }

@@ -974,7 +974,7 @@ impl Machine {
         let traced_below = self.traced_below();
         let c = self.image.chunks.get(chunk)?;
         let Some(plan) = tight::plan(&c.ops, &c.sure, start, traced_below) else {
-            return self.run_body(chunk, start.checked_sub(1)?, budget_end);
+            return self.run_body(chunk, start.checked_sub(1)?, 0, budget_end);
         };
         let get = |r: u32| self.values.get(r as usize).copied();
         let (x, l, s) = (get(plan.var)?, get(plan.limit)?, get(plan.limit + 1)?);
@@ -996,10 +996,17 @@ impl Machine {
     }
 
     /// Run here (`vm::body`) the loop that instruction `entry` of `chunk` enters (its
-    /// `for.check` or its `loop`), about to run an iteration from its start, when its body is
+    /// `for.check` or its `loop`), about to run its body's instruction `from` (0: an iteration
+    /// from its start; else the start of a loop inside, where a run stopped), when its body is
     /// translated and writes nothing traced. Where the task goes on, and whether its budget is
     /// spent; `None` when the interpreter is to run it.
-    fn run_body(&mut self, chunk: usize, entry: u32, budget_end: u64) -> Option<(u32, bool)> {
+    fn run_body(
+        &mut self,
+        chunk: usize,
+        entry: u32,
+        from: u16,
+        budget_end: u64,
+    ) -> Option<(u32, bool)> {
         let traced_below = self.traced_below();
         let b = self.image.chunks.get(chunk)?.bodies.get(&entry)?;
         if b.lowest_write < traced_below {
@@ -1011,9 +1018,14 @@ impl Machine {
             return None;
         }
         let mut n = self.instructions;
-        let Some((end, at)) =
-            body::run(&mut self.values, &mut self.body_regs, b, &mut n, budget_end)
-        else {
+        let Some((end, at)) = body::run(
+            &mut self.values,
+            &mut self.body_regs,
+            b,
+            from,
+            &mut n,
+            budget_end,
+        ) else {
             // A `FOR` too short this time is entered once; a `WHILE` that could not start
             // would come back at every iteration.
             if b.counter.is_none() {
@@ -1024,11 +1036,10 @@ impl Machine {
         let counted = n - self.instructions;
         self.tight_runs += 1;
         self.instructions = n;
+        // The interpreter goes on after the loop, or where the run was left.
         let next = match end {
             tight::End::Done => b.after,
-            tight::End::Budget => b.start,
-            // The interpreter goes on where the iteration was left.
-            tight::End::Slow => b.start + at,
+            tight::End::Budget | tight::End::Slow => b.start + at,
         };
         // A `WHILE` is handed over at every entry whatever it does then: one that goes round
         // only a few times each (Euclid's algorithm inside two `FOR`s) costs more to hand over
@@ -1062,24 +1073,36 @@ impl Machine {
         }
     }
 
-    /// The loop of one instruction at the top frame of task `ti`, whose last turn ended in it
-    /// (its budget spent), goes on here when [`Machine::run_loop`] can: whether the turn is
-    /// over.
+    /// The loop at the top frame of task `ti`, whose last turn ended in it (its budget spent),
+    /// goes on here when [`Machine::run_loop`] or [`Machine::run_body`] can: a `FOR` about to
+    /// start an iteration, or a loop whose body starts there or holds a loop starting there
+    /// (`Chunk::heads`). Whether the turn is over.
     fn resume_loop(&mut self, ti: usize, budget_end: u64) -> bool {
         let Some(frame) = self.tasks[ti].frames.last().copied() else {
             return false;
         };
-        let entered = frame.pc.checked_sub(1).is_some_and(|p| {
-            let c = self.image.chunks.get(frame.chunk);
-            matches!(
-                c.and_then(|c| c.ops.get(p as usize)),
-                Some(Op::ForTight { .. })
-            )
-        });
-        if !entered {
+        let Some(c) = self.image.chunks.get(frame.chunk) else {
             return false;
-        }
-        let Some((next, spent)) = self.run_loop(frame.chunk, frame.pc, budget_end) else {
+        };
+        let op = |p: u32| c.ops.get(p as usize);
+        let entered = frame
+            .pc
+            .checked_sub(1)
+            .is_some_and(|p| matches!(op(p), Some(Op::ForTight { .. })));
+        // A loop handed over still (a `WHILE` may have been given its plain `loop` back).
+        let head = c.heads.get(&frame.pc).copied().filter(|&(entry, _)| {
+            matches!(op(entry), Some(Op::ForTight { .. } | Op::LoopTight { .. }))
+        });
+        // The outermost loop first: a `FOR` inside one, run alone, would leave the rest of the
+        // outer loop's iterations to the interpreter.
+        let ran = head
+            .and_then(|(entry, from)| self.run_body(frame.chunk, entry, from, budget_end))
+            .or_else(|| {
+                entered
+                    .then(|| self.run_loop(frame.chunk, frame.pc, budget_end))
+                    .flatten()
+            });
+        let Some((next, spent)) = ran else {
             return false;
         };
         if let Some(f) = self.tasks[ti].frames.last_mut() {
@@ -1306,7 +1329,7 @@ impl Machine {
                 Exit::Probed { .. } => return,
                 Exit::Back { pc, start } => {
                     let (next, spent) = self
-                        .run_body(frame.chunk, pc, budget_end)
+                        .run_body(frame.chunk, pc, 0, budget_end)
                         .unwrap_or((start, false));
                     set_pc(self, next);
                     if spent {
