@@ -579,6 +579,43 @@ NEXT
 }
 
 #[test]
+fn an_element_of_two_subscripts_is_reached_with_both_checks() {
+    // The offset of G&(i, j) (both subscripts checked, i * 7 + j) is one instruction outside
+    // the interpreter. The second sum's second subscript leaves the array at K& = 35: the
+    // interpreter's fault, at its place, with the sum of the iterations before.
+    let program = "DIM G&(4, 6)
+FOR I& = 0 TO 4
+  FOR J& = 0 TO 6
+    G&(I&, J&) = I& * 10 + J&
+  NEXT
+NEXT
+S& = 0
+FOR K& = 0 TO 34
+  S& = S& + G&(K& \\ 7, K& MOD 7)
+NEXT
+FOR K& = 0 TO 40
+  S& = S& + G&(K& MOD 5, K& \\ 5)
+NEXT
+";
+    let first: i64 = (0..35).map(|k| (k / 7) * 10 + k % 7).sum();
+    let second: i64 = (0..35).map(|k| (k % 5) * 10 + k / 5).sum();
+    let (machine, summary) = run_untraced(load("body-2d", "x.mb", program, 1_000_000));
+    let error = summary.error.as_ref().expect("a subscript out of range");
+    assert_eq!(error.line, 12);
+    assert!(
+        error.message.contains("Subscript out of range"),
+        "{}",
+        error.message
+    );
+    assert_eq!(machine.value_of("S&"), Some((first + second) as f64));
+    assert_eq!(machine.value_of("K&"), Some(35.0));
+    assert!(machine.tight_runs() >= 3);
+    for budget in [3, 7, 1_000_000] {
+        assert!(both("x.mb", program, budget).1.is_some());
+    }
+}
+
+#[test]
 fn a_do_while_left_by_a_jump_out_ends_where_the_interpreter_ends_it() {
     // PowerTools `Do While` … `Loop` (as the labeler's programs write it: spec/labeling.md)
     // going round until its own test fails; a MotionBASIC `WHILE` left in the middle of an

@@ -300,6 +300,9 @@ pub enum Code {
     IdxI,
     /// `d` = the real subscript `a` rounded (halves to even), within `0..k`.
     IdxR,
+    /// `d` = the offset of element (`a`, `b`) of a two-subscript array whose lengths are
+    /// `k & 0xffff` and `k >> 16` (each `Int` subscript within its own).
+    Idx2,
     /// Back to `k & 0xffff` (the `loop` of a loop inside the body), counting again the
     /// `-(k >> 16)` instructions of the interpreter's it goes back over; the run stops there
     /// when the budget is spent, as the interpreter does, the `a + 256 * b` instructions of
@@ -370,7 +373,7 @@ impl Code {
             )
             || matches!(
                 self,
-                Code::JgtI | Code::JgeI | Code::IdxI | Code::LoadI | Code::PutI
+                Code::JgtI | Code::JgeI | Code::IdxI | Code::Idx2 | Code::LoadI | Code::PutI
             )
             || matches!(self, Code::ForCheckI | Code::ForNextL | Code::ForNextS)
     }
@@ -1859,6 +1862,17 @@ fn lower(
         // An integer subscript that only picks the element of the one-subscript array the
         // next instruction loads or stores: that instruction's test of its offset against
         // the array's length is the subscript's (`load.idx`, `store.idx`).
+        // The offset of an element of a two-subscript array: both subscripts checked, the
+        // first times the second's length plus the second, in one instruction when its
+        // temporaries are read nowhere else.
+        if let Some(m) = offset2(ir, k, jumps, &targets, temp_local, const_of) {
+            op_of.push(*ir_op.get(k)?);
+            out.push(m);
+            let at = out.len() - 1;
+            index.get_mut(k + 1..k + 4)?.fill(at);
+            k += 4;
+            continue;
+        }
         if let Ir::IdxI { d: t, s: idx, len } = *op {
             let next = ir.get(k + 1).copied();
             let picks = |off: Local, arr: u8| {
@@ -1986,6 +2000,54 @@ fn lower(
         return None;
     }
     Some((out, op_of))
+}
+
+/// The [`Code::Idx2`] standing for the IR instructions from `k`: the subscripts of an element
+/// of a two-subscript array (`subscr`, `subscr`, a product by the second's length, a sum),
+/// when each subscript is within 16 bits' lengths, no jump lands inside, and the temporaries
+/// before the sum are read nowhere after it.
+fn offset2(
+    ir: &[Ir],
+    k: usize,
+    jumps: &[(usize, usize)],
+    targets: &[usize],
+    temp_local: &dyn Fn(Local) -> bool,
+    const_of: &dyn Fn(Local) -> Option<i32>,
+) -> Option<Micro> {
+    let [Ir::IdxI {
+        d: t1,
+        s: s1,
+        len: l1,
+    }, Ir::IdxI {
+        d: t2,
+        s: s2,
+        len: l2,
+    }, Ir::MulI { d: t3, a: x, b: y }, Ir::AddI { d, a: p, b: q }] = *ir.get(k..k + 4)?
+    else {
+        return None;
+    };
+    let by_len = |c: Local| const_of(c).is_some_and(|c| i64::from(c) == i64::from(l2));
+    let product = (x == t1 && by_len(y)) || (y == t1 && by_len(x));
+    let sum = (p == t3 && q == t2) || (p == t2 && q == t3);
+    let temps = [t1, t2, t3];
+    let fits = l1 <= 0xffff && l2 <= 0xffff && l1 > 0 && l2 > 0;
+    let plain = product
+        && sum
+        && fits
+        && s2 != t1
+        && t1 != t2
+        && t3 != t2
+        && (k + 1..k + 4).all(|j| !targets.contains(&j))
+        && temps
+            .iter()
+            .all(|&t| t == d || (temp_local(t) && dead_after(ir, jumps, t, k + 3)));
+    plain.then_some(Micro {
+        code: Code::Idx2,
+        d,
+        a: s1,
+        b: s2,
+        k: (l1 | l2 << 16) as i32,
+    })
 }
 
 fn cmp_index(c: Cmp) -> u8 {

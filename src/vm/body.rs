@@ -678,6 +678,14 @@ fn iterate<const COUNTED: bool, const NESTED: bool>(
                     }
                     set_int!(d, x);
                 }
+                Code::Idx2 => {
+                    let (i, j) = (int!(a), int!(b));
+                    let (n, m) = (k & 0xffff, (k >> 16) & 0xffff);
+                    if !((0..n).contains(&i) && (0..m).contains(&j)) {
+                        undone!();
+                    }
+                    set_int!(d, i * m + j);
+                }
                 Code::IdxR => {
                     let x = real!(a).round_ties_even();
                     if !(x >= 0.0 && x < k as f64) {
