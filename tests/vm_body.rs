@@ -194,8 +194,11 @@ const ARRAYS: [&str; 4] = ["A&(10)", "B%(10)", "R(10)", "G&(3, 3)"];
 /// An element of one of [`ARRAYS`]: mostly a subscript within its bounds (`AND` of whole
 /// bits, of a real rounded first), sometimes any expression (out of range: a fault).
 fn element(d: &mut Draw, w: &Dialect, depth: u32) -> String {
-    let sub = |d: &mut Draw, mask: &str| match d.below(6) {
+    // A constant subscript names the element's own register (which a store through the
+    // array must be seen in).
+    let sub = |d: &mut Draw, mask: &str| match d.below(7) {
         0 => expr(d, w, depth),
+        1 => format!("{}", d.below(if mask == "3" { 4 } else { 8 })),
         _ => format!("({} AND {mask})", expr(d, w, depth)),
     };
     match d.below(4) {
@@ -856,5 +859,39 @@ NEXT
         let (n, e, _) = both("x.mb", program, budget);
         assert_eq!(e.map(|e| (e.0, e.1)), Some((4, 25)));
         assert_eq!(n, summary.instructions);
+    }
+}
+
+#[test]
+fn an_element_named_by_a_constant_subscript_sees_the_stores_through_its_array() {
+    // `A&(3)` (a constant subscript) is the element's own register: a body that also stores
+    // through `A&(I&)` must read it after those stores, as the interpreter does.
+    let flat = "DIM A&(9)
+FOR I& = 0 TO 9
+  A&(I&) = I& * 2
+  S& = S& + A&(3)
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-alias", "x.mb", flat, 1_000_000));
+    assert!(summary.error.is_none());
+    assert_eq!(machine.value_of("S&"), Some((6 * 7) as f64));
+    // A bubble sort (its swaps stores through the array) inside a loop that reads one
+    // element by its register, at budgets that stop it at the start of each loop inside.
+    let sort = "DIM A&(20)
+FOR R% = 1 TO 30
+  FOR I% = 0 TO 18
+    FOR J% = 0 TO 18 - I%
+      IF A&(J%) > A&(J% + 1) THEN
+        X& = A&(J%): A&(J%) = A&(J% + 1): A&(J% + 1) = X&
+      END IF
+    NEXT
+  NEXT
+  FOR I% = 0 TO 19: A&(I%) = (I% * 7 + R%) MOD 13: NEXT
+  T& = T& + A&(10)
+NEXT
+";
+    for budget in [7, 100, 333, 1_000, 1_000_000] {
+        assert_eq!(both("x.mb", flat, budget).1, None);
+        assert_eq!(both("x.mb", sort, budget).1, None);
     }
 }

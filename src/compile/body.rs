@@ -1462,6 +1462,17 @@ fn translate(
     if arrays.len() > usize::from(u8::MAX) {
         return None;
     }
+    // An element the body names by its register (a constant subscript) is a copy in a local,
+    // which a store through its array would not change: such a body stays with the
+    // interpreter.
+    let aliased = |r: &Reg| {
+        arrays
+            .iter()
+            .any(|a| (a.base..a.base.saturating_add(a.len)).contains(r))
+    };
+    if ins.iter().chain(&written).any(aliased) {
+        return None;
+    }
     let arr_of = |a: Array| arrays.iter().position(|&x| x == a).unwrap_or(0) as u8;
     let mut out: Vec<Ir> = Vec::new();
     let mut first_micro: Vec<usize> = Vec::new();
