@@ -429,33 +429,44 @@ NEXT
     assert_eq!(both("x.mb", program, 7).1, None);
 }
 
-#[test]
-fn while_loops_run_outside_the_interpreter_from_their_second_iteration() {
-    // Euclid's algorithm for every pair (i, j) of 1..=40: a WHILE of MOD and moves, entered
-    // 1,600 times, most for a few iterations, inside two FORs. Here the FORs hold a power
-    // (`^`), which the translation does not know: the interpreter runs them, the WHILE's first
-    // iteration too, and the WHILE's `loop` hands the rest over.
-    let program = "S& = 0
-FOR I& = 1 TO 40
-  FOR J& = 1 TO 40
-    A& = I&: B& = J&: P& = J& ^ 1
+/// Euclid's algorithm for every pair (i, j) of 1..=`n` in MotionBASIC, `more` after the
+/// pair's two stores: a WHILE inside a FOR J inside a FOR I, summing the divisors into `S&`.
+fn euclid(n: u32, more: &str) -> String {
+    format!(
+        "S& = 0
+FOR I& = 1 TO {n}
+  FOR J& = 1 TO {n}
+    A& = I&: B& = J&{more}
     WHILE B& <> 0
       T& = A& MOD B&: A& = B&: B& = T&
     WEND
     S& = S& + A&
   NEXT
 NEXT
-";
+"
+    )
+}
+
+/// The greatest common divisor of `a` and `b`, and how many rounds Euclid's algorithm takes.
+fn gcd(mut a: i64, mut b: i64) -> (i64, u64) {
+    let mut rounds = 0;
+    while b != 0 {
+        (a, b) = (b, a % b);
+        rounds += 1;
+    }
+    (a, rounds)
+}
+
+#[test]
+fn while_loops_run_outside_the_interpreter_from_their_second_iteration() {
+    // Euclid's algorithm for every pair (i, j) of 1..=40: a WHILE of MOD and moves, entered
+    // 1,600 times, most for a few iterations, inside two FORs. Here the FORs hold a power
+    // (`^`), which the translation does not know: the interpreter runs them, the WHILE's first
+    // iteration too, and the WHILE's `loop` hands the rest over.
+    let program = euclid(40, ": P& = J& ^ 1");
+    let program = program.as_str();
     let (machine, summary) = run_untraced(load("body-gcd", "x.mb", program, 1_000_000));
     assert!(summary.error.is_none());
-    let gcd = |mut a: i64, mut b: i64| {
-        let mut rounds = 0;
-        while b != 0 {
-            (a, b) = (b, a % b);
-            rounds += 1;
-        }
-        (a, rounds)
-    };
     let sum: i64 = (1..=40i64)
         .flat_map(|i| (1..=40).map(move |j| gcd(i, j).0))
         .sum();
@@ -469,7 +480,7 @@ NEXT
     // compare-and-jump), the sum (2) and NEXT J; for each round the test, the MOD and 3
     // stores and the `loop`; `END`.
     let rounds: u64 = (1..=40i64)
-        .flat_map(|i| (1..=40).map(move |j| gcd(i, j).1 as u64))
+        .flat_map(|i| (1..=40).map(move |j| gcd(i, j).1))
         .sum();
     assert_eq!(
         summary.instructions,
@@ -503,25 +514,8 @@ fn a_loop_holding_loops_runs_outside_the_interpreter_as_one() {
     // the FOR I. The FOR I's body holds the rest, so the machine runs the whole of it: once
     // when nothing stops it, and when a budget does, each turn goes on where the last one
     // stopped (the start of a loop inside), in the same run.
-    let program = "S& = 0
-FOR I& = 1 TO 100
-  FOR J& = 1 TO 100
-    A& = I&: B& = J&
-    WHILE B& <> 0
-      T& = A& MOD B&: A& = B&: B& = T&
-    WEND
-    S& = S& + A&
-  NEXT
-NEXT
-";
-    let gcd = |mut a: i64, mut b: i64| {
-        let mut rounds = 0u64;
-        while b != 0 {
-            (a, b) = (b, a % b);
-            rounds += 1;
-        }
-        (a, rounds)
-    };
+    let program = euclid(100, "");
+    let program = program.as_str();
     let pairs = || (1..=100i64).flat_map(|i| (1..=100).map(move |j| gcd(i, j)));
     let sum: i64 = pairs().map(|p| p.0).sum();
     let rounds: u64 = pairs().map(|p| p.1).sum();
