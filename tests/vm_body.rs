@@ -266,8 +266,9 @@ fn statement(d: &mut Draw, w: &Dialect, out: &mut String, depth: u32) {
 }
 
 /// A loop inside the loop, on [`Dialect::inner_var`]: a `FOR` or a `WHILE` (`Do While`) of a
-/// few statements and a few iterations (none, when it starts past its limit).
-fn inner_loop(d: &mut Draw, w: &Dialect, out: &mut String) {
+/// few statements and a few iterations (none, when it starts past its limit); with `exit`, a
+/// statement may leave both loops (`GOTO` that line).
+fn inner_loop(d: &mut Draw, w: &Dialect, out: &mut String, exit: Option<usize>) {
     let mb = w.file.ends_with(".mb");
     let j = w.inner_var;
     let from = d.pick(&["0", "1", "-2", "5"]);
@@ -277,6 +278,9 @@ fn inner_loop(d: &mut Draw, w: &Dialect, out: &mut String) {
         out.push_str(&format!("For {j} = {from} To {to} Step {step}\n"));
         for _ in 0..1 + d.below(2) {
             statement(d, w, out, 1);
+        }
+        if let Some(line) = exit.filter(|_| d.below(2) == 0) {
+            out.push_str(&format!("IF {} THEN GOTO {line}\n", condition(d, w)));
         }
         out.push_str("Next\n");
     } else {
@@ -330,7 +334,7 @@ fn program(d: &mut Draw, w: &Dialect) -> String {
         }
         for _ in 0..1 + d.below(4) {
             if d.below(4) == 0 {
-                inner_loop(d, w, &mut out);
+                inner_loop(d, w, &mut out, exits.then_some(90 + k));
             } else {
                 statement(d, w, &mut out, 2);
             }
