@@ -893,3 +893,42 @@ NEXT
         assert_eq!(both("x.mb", sort, budget).1, None);
     }
 }
+
+#[test]
+fn string_compares_and_assignments_run_outside_the_interpreter_as_its_own() {
+    // `K$ = N$(i)` copies an element's text into K$'s own; each compare of the six gives what
+    // the interpreter gives (byte order, a shorter string first).
+    let program = "DIM N$(5)
+N$(0) = \"AB\": N$(1) = \"ABC\": N$(2) = \"B\": N$(3) = \"\": N$(4) = \"ab\"
+FOR I& = 0 TO 999
+  K$ = N$(I& MOD 5)
+  IF K$ = \"ABC\" THEN C& = C& + 1
+  IF K$ <> \"AB\" THEN D& = D& + 1
+  IF K$ < \"B\" THEN E& = E& + 1
+  IF K$ <= \"AB\" THEN F& = F& + 1
+  IF K$ > N$(4) THEN G& = G& + 1
+  IF K$ >= \"\" THEN H& = H& + 1
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-text", "x.mb", program, 1_000_000));
+    assert!(summary.error.is_none());
+    assert_eq!(machine.tight_runs(), 1);
+    let texts = ["AB", "ABC", "B", "", "ab"];
+    let count = |f: &dyn Fn(&str) -> bool| (0..1000).filter(|i| f(texts[i % 5])).count() as f64;
+    for (name, want) in [
+        ("C&", count(&|k| k == "ABC")),
+        ("D&", count(&|k| k != "AB")),
+        ("E&", count(&|k| k < "B")),
+        ("F&", count(&|k| k <= "AB")),
+        ("G&", count(&|k| k > "ab")),
+        // Every string is at least the empty one.
+        ("H&", count(&|_| true)),
+    ] {
+        assert_eq!(machine.value_of(name), Some(want), "{name}");
+    }
+    let k = machine.value_of("K$").expect("K$") as usize;
+    assert_eq!(machine.strings()[k], "ab");
+    for budget in [7, 100, 1_000_000] {
+        assert_eq!(both("x.mb", program, budget).1, None);
+    }
+}

@@ -16,7 +16,7 @@
 //! The translation works on the instructions before fusion (each of which the interpreter
 //! counts as one): the superinstructions stand in place of the same instructions.
 
-use super::bytecode::{BinaryOp, Cmp, Op, Reg, INT_STORE, REAL_STORE};
+use super::bytecode::{BinaryOp, Cmp, ExtOp, Op, Reg, INT_STORE, REAL_STORE};
 use super::whole::SURE;
 use std::collections::BTreeMap;
 use std::ops::Range;
@@ -179,6 +179,15 @@ enum Ir {
         step: Local,
         w: Width,
     },
+    /// `d` = whether the strings whose handles are the reals `a` and `b` compare as `cmp`.
+    TextCmp {
+        cmp: Cmp,
+        d: Local,
+        a: Local,
+        b: Local,
+    },
+    /// The string whose handle is the real `s` into the cell whose handle is the real `cell`.
+    TextSet { cell: Local, s: Local },
     /// The end of the body: the loop's `for.next`, or its `loop` going back.
     Next,
     /// Out of the loop: the instruction after its end.
@@ -316,6 +325,12 @@ pub enum Code {
     ForNextL,
     /// [`Code::ForNextL`] of an INTEGER variable.
     ForNextS,
+    /// `d` = whether the strings whose handles are the reals `a` and `b` compare as
+    /// [`cmp_of`] `k` says; a handle that is none leaves the iteration.
+    TextCmp,
+    /// The string whose handle is the real `b` copied into the cell whose handle is the real
+    /// `a` (a variable's own, not the empty string's).
+    TextSet,
     /// `d` = element `a` of the body's array `b` (`Body::arrays`), whole.
     LoadI,
     /// `d` = element `a` of the body's array `b`, a real.
@@ -479,8 +494,11 @@ pub struct Body {
     /// The instruction after the loop.
     pub after: u32,
     /// It holds loops ([`Code::Back`], [`Code::ForCheckI`], [`Code::ForNextL`],
-    /// [`Code::ForNextS`]).
+    /// [`Code::ForNextS`]): the runner's second copy runs it.
     pub nested: bool,
+    /// It holds strings ([`Code::TextCmp`], [`Code::TextSet`]): the runner's third copy runs
+    /// it.
+    pub text: bool,
 }
 
 impl Body {
@@ -509,6 +527,7 @@ pub const EXACT: i64 = 1 << 53;
 /// going back to the start of a `WHILE` (or of any loop a backward jump makes).
 pub fn find(
     ops: &[Op],
+    ext: &[ExtOp],
     sure: &[u8],
     temps: &Range<Reg>,
     whole: &dyn Fn(Reg) -> bool,
@@ -530,7 +549,7 @@ pub fn find(
             },
             _ => continue,
         };
-        if let Some(body) = translate(ops, sure, at, temps, whole, constant) {
+        if let Some(body) = translate(ops, ext, sure, at, temps, whole, constant) {
             bodies.insert(entry, body);
         }
     }
@@ -657,6 +676,19 @@ enum Step {
     Back {
         t: u32,
     },
+    /// `d` = whether the strings whose handles are in `a` and `b` compare as `cmp` says.
+    TextCmp {
+        cmp: Cmp,
+        d: Reg,
+        a: Reg,
+        b: Reg,
+    },
+    /// The string whose handle is in `s` copied into the string variable whose register is
+    /// `cell` (holding its handle, which stays).
+    TextSet {
+        cell: Reg,
+        s: Reg,
+    },
     /// The `for.check` of a `FOR` inside the body: to `t` when `var` is past `limit` (the
     /// step in the register after it).
     ForCheck {
@@ -713,7 +745,7 @@ enum Store {
 /// The steps of instruction `op` (a fused store, or a subscript an element's load or store
 /// checks itself, goes through `scratch`, a register of its own; `whole`: a register holds
 /// only whole numbers); `None` when the translation does not know it.
-fn steps(op: Op, scratch: Reg, whole: &dyn Fn(Reg) -> bool) -> Option<Vec<Step>> {
+fn steps(op: Op, ext: &[ExtOp], scratch: Reg, whole: &dyn Fn(Reg) -> bool) -> Option<Vec<Step>> {
     let bin = |op: BinaryOp| -> Option<Bin> {
         Some(match op {
             BinaryOp::Add => Bin::Add,
@@ -876,6 +908,12 @@ fn steps(op: Op, scratch: Reg, whole: &dyn Fn(Reg) -> bool) -> Option<Vec<Step>>
             },
         ]),
         Op::Loop { target } => one(Step::Back { t: target }),
+        // A string instruction of the side table counting as one.
+        Op::Ext { at, copies: 0 } => match *ext.get(at as usize)? {
+            ExtOp::CompareText { cmp, dst, a, b } => one(Step::TextCmp { cmp, d: dst, a, b }),
+            ExtOp::StoreText { dst, src } => one(Step::TextSet { cell: dst, s: src }),
+            _ => None,
+        },
         Op::ForCheck { var, limit, exit } => one(Step::ForCheck {
             var,
             limit,
@@ -924,6 +962,7 @@ impl Step {
             | Step::Sub { d, .. }
             | Step::Load { d, .. } => Some(d),
             Step::ForNext { var, .. } => Some(var),
+            Step::TextCmp { d, .. } => Some(d),
             _ => None,
         }
     }
@@ -939,6 +978,8 @@ impl Step {
             Step::Load { off, .. } => vec![off],
             Step::Put { off, s, .. } => vec![off, s],
             Step::Back { .. } => vec![],
+            Step::TextCmp { a, b, .. } => vec![a, b],
+            Step::TextSet { cell, s } => vec![cell, s],
             Step::ForCheck { var, limit, .. } | Step::ForNext { var, limit, .. } => {
                 vec![var, limit, limit.wrapping_add(1)]
             }
@@ -1026,6 +1067,16 @@ impl Step {
             // A loop's variable, limit and step are never temporaries (`translate` refuses
             // them).
             Step::Back { .. } | Step::ForCheck { .. } | Step::ForNext { .. } => self,
+            Step::TextCmp { cmp, d, a, b } => Step::TextCmp {
+                cmp,
+                d: w(d),
+                a: read(a),
+                b: read(b),
+            },
+            Step::TextSet { cell, s } => Step::TextSet {
+                cell: read(cell),
+                s: read(s),
+            },
         }
     }
 }
@@ -1130,7 +1181,9 @@ fn sign_matters(s: &Step, v: Reg, kind_of: &dyn Fn(Reg) -> Known) -> bool {
         | Step::Load { .. }
         | Step::Back { .. }
         | Step::ForCheck { .. }
-        | Step::ForNext { .. } => false,
+        | Step::ForNext { .. }
+        | Step::TextCmp { .. }
+        | Step::TextSet { .. } => false,
     }
 }
 
@@ -1207,6 +1260,7 @@ fn result(
         Step::Load { int: false, .. } => REAL,
         // A whole variable plus a whole step (`translate` sees that both are `Int`s).
         Step::ForNext { .. } => INT,
+        Step::TextCmp { .. } => INT,
         _ => return None,
     })
 }
@@ -1217,6 +1271,7 @@ fn result(
 /// and the registers it uses fit.
 fn translate(
     ops: &[Op],
+    ext: &[ExtOp],
     sure: &[u8],
     at: Loop,
     temps: &Range<Reg>,
@@ -1260,7 +1315,7 @@ fn translate(
     for i in start..next {
         let scratch = u32::MAX - i;
         debug_assert!(scratch >= VIRTUAL);
-        let s = steps(*ops.get(i as usize)?, scratch, whole)?;
+        let s = steps(*ops.get(i as usize)?, ext, scratch, whole)?;
         for step in &s {
             // A loop inside goes back within the body (to an instruction that is not before
             // its start); every other jump goes forward, at most out of the loop.
@@ -1463,12 +1518,13 @@ fn translate(
         return None;
     }
     // An element the body names by its register (a constant subscript) is a copy in a local,
-    // which a store through its array would not change: such a body stays with the
-    // interpreter.
+    // which a store through its array would not change: a body that stores through that
+    // array stays with the interpreter.
     let aliased = |r: &Reg| {
-        arrays
-            .iter()
-            .any(|a| (a.base..a.base.saturating_add(a.len)).contains(r))
+        all.iter().any(|s| match *s {
+            Step::Put { arr, .. } => (arr.base..arr.base.saturating_add(arr.len)).contains(r),
+            _ => false,
+        })
     };
     if ins.iter().chain(&written).any(aliased) {
         return None;
@@ -1622,6 +1678,8 @@ fn translate(
         .iter()
         .filter_map(|s| match *s {
             Step::Put { arr, .. } => Some(arr.base),
+            // A string variable's text, traced as the variable.
+            Step::TextSet { cell, .. } => Some(cell),
             _ => None,
         })
         .collect();
@@ -1684,6 +1742,9 @@ fn translate(
             Code::Back | Code::ForCheckI | Code::ForNextL | Code::ForNextS
         )
     });
+    let text = ops
+        .iter()
+        .any(|m| matches!(m.code, Code::TextCmp | Code::TextSet));
     Some(Body {
         ops,
         op_of,
@@ -1706,6 +1767,7 @@ fn translate(
         highest,
         after: next + 1,
         nested,
+        text,
     })
 }
 
@@ -1812,6 +1874,8 @@ fn ir_regs(ir: &Ir) -> (Vec<Local>, Option<Local>) {
         Ir::LoadI { d, off, .. } | Ir::LoadR { d, off, .. } => (vec![off], Some(d)),
         Ir::PutI { s, off, .. } | Ir::PutR { s, off, .. } => (vec![s, off], None),
         Ir::ForCheckI { var, limit, step } => (vec![var, limit, step], None),
+        Ir::TextCmp { d, a, b, .. } => (vec![a, b], Some(d)),
+        Ir::TextSet { cell, s } => (vec![cell, s], None),
         Ir::ForNextI {
             var, limit, step, ..
         } => (vec![var, limit, step], Some(var)),
@@ -2149,6 +2213,8 @@ fn pack(ir: &Ir) -> Micro {
         }
         Ir::PutR { s, off, arr } => m(Code::PutR, arr, s, off, 0),
         Ir::Back => m(Code::Back, 0, 0, 0, 0),
+        Ir::TextCmp { cmp, d, a, b } => m(Code::TextCmp, d, a, b, i32::from(cmp_index(cmp))),
+        Ir::TextSet { cell, s } => m(Code::TextSet, 0, cell, s, 0),
         Ir::ForCheckI { var, limit, step } => m(Code::ForCheckI, step, var, limit, 0),
         Ir::ForNextI {
             var,
@@ -2398,6 +2464,25 @@ fn emit(
             patches.push((out.len(), t));
             skip(t, out, skips);
             out.push(Ir::Back);
+        }
+        // Handles as reals (a constant's real copy is made on entry).
+        Step::TextCmp { cmp, d, a, b } => {
+            let (ra, rb) = (real(a, 0, false, out), real(b, 1, false, out));
+            int_into(
+                d,
+                &|d| Ir::TextCmp {
+                    cmp,
+                    d,
+                    a: ra,
+                    b: rb,
+                },
+                false,
+                out,
+            );
+        }
+        Step::TextSet { cell, s } => {
+            let (rc, rs) = (real(cell, 0, false, out), real(s, 1, false, out));
+            out.push(Ir::TextSet { cell: rc, s: rs });
         }
         // `translate` has seen that the variable, the limit and the step are `Int`s.
         Step::ForCheck { var, limit, t } => {

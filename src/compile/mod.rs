@@ -331,6 +331,7 @@ impl<'a> Compiler<'a> {
         let sure = whole::operands(&self.ops, &temps, &|r| self.layout.is_whole(r));
         let mut bodies = body::find(
             &self.ops,
+            &self.ext,
             &sure,
             &temps,
             &|r| self.layout.is_whole(r),

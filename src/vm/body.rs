@@ -158,6 +158,7 @@ pub fn run(
     vals: &mut [f64],
     regs: &mut Registers,
     body: &Body,
+    strings: &mut [String],
     from: u16,
     n: &mut u64,
     budget: u64,
@@ -211,14 +212,30 @@ pub fn run(
     let (end, stopped, count) = match round {
         // A body holding loops has its own copy: their instructions in the same one cost
         // `bench/loop` 8 % more instructions (LLVM keeping the instruction's index in memory).
+        // (Strings have a third: theirs in the second cost Bubble sort's body 7 % more.)
+        Some(round) if body.text => {
+            iterate::<true, true, true>(vals, regs, body, strings, first, start, budget, round)
+        }
         Some(round) if body.nested => {
-            iterate::<true, true>(vals, regs, body, first, start, budget, round)
+            iterate::<true, true, false>(vals, regs, body, strings, first, start, budget, round)
         }
-        Some(round) => iterate::<true, false>(vals, regs, body, 0, start, budget, round),
-        None if body.nested => {
-            iterate::<false, true>(vals, regs, body, first, start, budget, Round::NONE)
+        Some(round) => {
+            iterate::<true, false, false>(vals, regs, body, strings, 0, start, budget, round)
         }
-        None => iterate::<false, false>(vals, regs, body, 0, start, budget, Round::NONE),
+        None => {
+            let (none, s) = (Round::NONE, start);
+            match (body.text, body.nested) {
+                (true, _) => {
+                    iterate::<false, true, true>(vals, regs, body, strings, first, s, budget, none)
+                }
+                (false, true) => {
+                    iterate::<false, true, false>(vals, regs, body, strings, first, s, budget, none)
+                }
+                (false, false) => {
+                    iterate::<false, false, false>(vals, regs, body, strings, 0, s, budget, none)
+                }
+            }
+        }
     };
     let r = &regs.r;
     let (resume, count) = match (end, stopped) {
@@ -257,6 +274,52 @@ pub fn run(
         };
     }
     Some((end, u32::from(resume)))
+}
+
+/// The string handle `x` as an index into a table of `len` strings: what `exec::handle`
+/// takes (a whole number within the table), without its message.
+#[inline(always)]
+fn text_at(x: f64, len: usize) -> Option<usize> {
+    // The bare conversion to `i64` (one to `usize` is twenty instructions): a negative, huge
+    // or NaN `x` does not convert back to itself, or is past the table.
+    let i = crate::fixed::trunc_i64(x);
+    (i as f64 == x && (i as u64) < len as u64).then_some(i as usize)
+}
+
+/// The byte order of `x` and `y` (as `Ord` on slices gives it), a short string's compared
+/// here: a call to `memcmp` would make LLVM load again every constant the runner keeps in a
+/// register.
+#[inline(always)]
+fn text_order(x: &[u8], y: &[u8]) -> std::cmp::Ordering {
+    let n = x.len().min(y.len());
+    if n > 16 {
+        return x.cmp(y);
+    }
+    for (a, b) in x.iter().zip(y).take(n) {
+        if a != b {
+            return a.cmp(b);
+        }
+    }
+    x.len().cmp(&y.len())
+}
+
+/// Copy string `from` into `cell` (both within `strings`), as `exec::copy_text` does, here:
+/// a call would make LLVM load again every constant the runner keeps in a register.
+#[inline(always)]
+fn set_text(strings: &mut [String], cell: usize, from: usize) {
+    let (dst, src) = match cell.cmp(&from) {
+        std::cmp::Ordering::Equal => return,
+        std::cmp::Ordering::Less => {
+            let (low, high) = strings.split_at_mut(from);
+            (&mut low[cell], &high[0])
+        }
+        std::cmp::Ordering::Greater => {
+            let (low, high) = strings.split_at_mut(cell);
+            (&mut high[0], &low[from])
+        }
+    };
+    dst.clear();
+    crate::check::text::push(dst, src);
 }
 
 /// The value register of element `off` of the body's array `arr`, when it is one of its
@@ -332,10 +395,11 @@ fn round(vals: &[f64], r: &[u64; 256], c: Counter, fewest: f64) -> Option<Round>
 /// variables given back as they were, and the count as it was then); and the count.
 #[inline(never)]
 #[allow(clippy::too_many_arguments)]
-fn iterate<const COUNTED: bool, const NESTED: bool>(
+fn iterate<const COUNTED: bool, const NESTED: bool, const TEXT: bool>(
     vals: &mut [f64],
     regs: &mut Registers,
     body: &Body,
+    strings: &mut [String],
     first: usize,
     mut count: u64,
     budget: u64,
@@ -731,6 +795,39 @@ fn iterate<const COUNTED: bool, const NESTED: bool>(
                 },
                 Code::Back | Code::ForCheckI | Code::ForNextL | Code::ForNextS if !NESTED => {
                     undone!()
+                }
+                Code::TextCmp | Code::TextSet if !TEXT => undone!(),
+                // A handle that is none is the interpreter's fault to give.
+                Code::TextCmp => {
+                    let n = strings.len();
+                    match (text_at(real!(a), n), text_at(real!(b), n)) {
+                        (Some(x), Some(y)) => {
+                            let (x, y) = (strings[x].as_bytes(), strings[y].as_bytes());
+                            // (`k` as `cmp_index` numbers them: `=`, `<>`, `<`, `<=`, `>`,
+                            // `>=`; an equality first tests the lengths.)
+                            let holds = if k < 2 {
+                                (x.len() == y.len() && text_order(x, y).is_eq()) == (k == 0)
+                            } else {
+                                let o = text_order(x, y);
+                                match k {
+                                    2 => o.is_lt(),
+                                    3 => o.is_le(),
+                                    4 => o.is_gt(),
+                                    _ => o.is_ge(),
+                                }
+                            };
+                            set_int!(d, i64::from(holds));
+                        }
+                        _ => undone!(),
+                    }
+                }
+                // Cell 0 is the empty string every unassigned string reads: never a variable's.
+                Code::TextSet => {
+                    let n = strings.len();
+                    match (text_at(real!(a), n), text_at(real!(b), n)) {
+                        (Some(cell), Some(from)) if cell != 0 => set_text(strings, cell, from),
+                        _ => undone!(),
+                    }
                 }
                 Code::Back => {
                     jump!(k);

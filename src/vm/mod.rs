@@ -1022,6 +1022,7 @@ impl Machine {
             &mut self.values,
             &mut self.body_regs,
             b,
+            &mut self.image.strings,
             from,
             &mut n,
             budget_end,
