@@ -1,6 +1,7 @@
-//! Loops whose body is straight-line arithmetic (with forward jumps: `IF … THEN … END IF`
-//! inside), which the machine runs outside the interpreter on typed registers (`vm::body`):
-//! what they are, and their body translated for it.
+//! Loops whose body is arithmetic (with forward jumps: `IF … THEN … END IF` inside; loops
+//! inside; array elements; string compares and assignments), which the machine runs outside
+//! the interpreter on typed registers (`vm::body`): what they are, and their body translated
+//! for it.
 //!
 //! The interpreter keeps every value as an `f64`, so an integer operator converts its operands
 //! to integers and back at each instruction, and a long's store tests its value's range and

@@ -1,8 +1,10 @@
-//! Loops whose body is straight-line arithmetic, run outside the interpreter on typed
-//! registers: integers as `i64`, reals as `f64` (`compile::body` says which loops, and how
-//! their bodies are translated). The interpreter's `for.check` hands such a `FOR` to the
-//! machine (`Machine::enter_loop`), as it does the loops of `vm::tight`; the `loop` at the end
-//! of a `WHILE` hands it over from its second iteration (`Machine::run_body`).
+//! Loops whose body is arithmetic (loops, elements and strings inside), run outside the
+//! interpreter on typed registers: integers as `i64`, reals as `f64` (`compile::body` says
+//! which loops, and how their bodies are translated). The interpreter's `for.check` hands such
+//! a `FOR` to the machine (`Machine::enter_loop`), as it does the loops of `vm::tight`; the
+//! `loop` at the end of a `WHILE` hands it over from its second iteration
+//! (`Machine::run_body`); a turn that starts where a run stopped inside one goes on in it
+//! (`Machine::resume_loop`).
 //!
 //! Each value is the one the interpreter would compute, and each iteration counts the
 //! interpreter's instructions. An iteration in which anything is not plain — a fault, an
