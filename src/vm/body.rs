@@ -14,7 +14,7 @@
 
 use super::exec::{
     basic_div_of, basic_mod_of, int as rounded_int, int16, int_rem_of, integer, keep_branch,
-    round_long,
+    put_text, round_long, text_index,
 };
 use super::tight::End;
 use crate::compile::body::{cmp_of, Body, Code, Counter, Kind, Micro, Width, EXACT, INT_OPS};
@@ -278,16 +278,6 @@ pub fn run(
     Some((end, u32::from(resume)))
 }
 
-/// The string handle `x` as an index into a table of `len` strings: what `exec::handle`
-/// takes (a whole number within the table), without its message.
-#[inline(always)]
-fn text_at(x: f64, len: usize) -> Option<usize> {
-    // The bare conversion to `i64` (one to `usize` is twenty instructions): a negative, huge
-    // or NaN `x` does not convert back to itself, or is past the table.
-    let i = crate::fixed::trunc_i64(x);
-    (i as f64 == x && (i as u64) < len as u64).then_some(i as usize)
-}
-
 /// The byte order of `x` and `y` (as `Ord` on slices gives it), a short string's compared
 /// here: a call to `memcmp` would make LLVM load again every constant the runner keeps in a
 /// register.
@@ -303,25 +293,6 @@ fn text_order(x: &[u8], y: &[u8]) -> std::cmp::Ordering {
         }
     }
     x.len().cmp(&y.len())
-}
-
-/// Copy string `from` into `cell` (both within `strings`), as `exec::copy_text` does, here:
-/// a call would make LLVM load again every constant the runner keeps in a register.
-#[inline(always)]
-fn set_text(strings: &mut [String], cell: usize, from: usize) {
-    let (dst, src) = match cell.cmp(&from) {
-        std::cmp::Ordering::Equal => return,
-        std::cmp::Ordering::Less => {
-            let (low, high) = strings.split_at_mut(from);
-            (&mut low[cell], &high[0])
-        }
-        std::cmp::Ordering::Greater => {
-            let (low, high) = strings.split_at_mut(cell);
-            (&mut high[0], &low[from])
-        }
-    };
-    dst.clear();
-    crate::check::text::push(dst, src);
 }
 
 /// The value register of element `off` of the body's array `arr`, when it is one of its
@@ -802,7 +773,7 @@ fn iterate<const COUNTED: bool, const NESTED: bool, const TEXT: bool>(
                 // A handle that is none is the interpreter's fault to give.
                 Code::TextCmp => {
                     let n = strings.len();
-                    match (text_at(real!(a), n), text_at(real!(b), n)) {
+                    match (text_index(real!(a), n), text_index(real!(b), n)) {
                         (Some(x), Some(y)) => {
                             let (x, y) = (strings[x].as_bytes(), strings[y].as_bytes());
                             // (`k` as `cmp_index` numbers them: `=`, `<>`, `<`, `<=`, `>`,
@@ -826,8 +797,8 @@ fn iterate<const COUNTED: bool, const NESTED: bool, const TEXT: bool>(
                 // Cell 0 is the empty string every unassigned string reads: never a variable's.
                 Code::TextSet => {
                     let n = strings.len();
-                    match (text_at(real!(a), n), text_at(real!(b), n)) {
-                        (Some(cell), Some(from)) if cell != 0 => set_text(strings, cell, from),
+                    match (text_index(real!(a), n), text_index(real!(b), n)) {
+                        (Some(cell), Some(from)) if cell != 0 => put_text(strings, cell, from),
                         _ => undone!(),
                     }
                 }

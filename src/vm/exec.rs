@@ -1863,15 +1863,18 @@ fn subscript(x: f64, len: u32) -> Option<u32> {
 /// A string handle in a register, as an index of the string table.
 #[inline(always)]
 fn handle(x: f64, strings: &[String]) -> Result<usize, String> {
+    text_index(x, strings.len()).ok_or_else(|| not_a_string(x))
+}
+
+/// The string handle `x` as an index into a table of `len` strings, when it is one: what
+/// [`handle`] takes, without its message (`vm::body` leaves an iteration on `None`).
+#[inline(always)]
+pub(super) fn text_index(x: f64, len: usize) -> Option<usize> {
     // A whole number converts back to itself (no `fract`, a library call on x86-64). Through
     // the bare conversion to `i64` (`usize`'s is twenty instructions): a negative, huge or NaN
     // `x` fails either test, as it failed through `usize`.
     let i = crate::fixed::trunc_i64(x);
-    if i as f64 == x && (i as u64) < strings.len() as u64 {
-        Ok(i as usize)
-    } else {
-        Err(not_a_string(x))
-    }
+    (i as f64 == x && (i as u64) < len as u64).then_some(i as usize)
 }
 
 /// The work of an [`Op::TextJump`] but its jump: the comparison of the side table's `at`,
@@ -1934,6 +1937,13 @@ fn set_text(strings: &mut [String], cell: usize, src: usize) -> bool {
 
 /// Copy string `src` into `cell`, without asking whether it changes.
 fn copy_text(strings: &mut [String], cell: usize, src: usize) {
+    put_text(strings, cell, src);
+}
+
+/// [`copy_text`]'s work, inline: in `vm::body`'s runner a call would make LLVM load again
+/// every constant it keeps in a register.
+#[inline(always)]
+pub(super) fn put_text(strings: &mut [String], cell: usize, src: usize) {
     if cell != src {
         let (dst, from) = two(strings, cell, src);
         dst.clear();
