@@ -1107,7 +1107,7 @@ fn wild_program() -> BoxedStrategy<String> {
 }
 
 /// Deep block nesting, long operator chains, deeply nested expressions: around the limits
-/// (512 tokens a line, 64 nested blocks).
+/// (512 tokens a line, 64 nested blocks, 256 levels with ELSEIF chains).
 fn deep_input() -> BoxedStrategy<String> {
     const KINDS: &[u8] = &[0, 1, 2, 3];
     let opener = select(KINDS);
@@ -1125,6 +1125,18 @@ fn deep_input() -> BoxedStrategy<String> {
                 nested_blocks(&kinds, close, &leaf, &openers, &closers)
             }
         ),
+        // ELSEIF chains around their limit (each ELSEIF nests one deeper, 256 in all), some
+        // with a block inside every branch.
+        1 => (1usize..300, any::<bool>()).prop_map(|(n, nested)| {
+            let mut s = String::from("IF X = 0 THEN\n");
+            for k in 1..n {
+                s += &format!("ELSEIF X = {k} THEN\n");
+                if nested {
+                    s += "FOR I% = 1 TO 2\nX = X + 1\nNEXT\n";
+                }
+            }
+            s + "ELSE\nX = 1\nEND IF\n"
+        }),
         // Long chains of binary operators (many of them longer than 512 tokens).
         2 => (prop::collection::vec((pick(ALL_OPS), num_atom()), 1..400), num_atom()).prop_map(
             |(rest, first)| op_chain(format!("PLEN& = {first}"), rest)

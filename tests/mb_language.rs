@@ -1727,3 +1727,33 @@ NEXT
         ],
     );
 }
+
+/// A QuickBASIC `ELSEIF` chain at its longest (each ELSEIF nests one level deeper in the tree,
+/// 256 levels in all: the FOR around it, the IF, 253 ELSEIFs, the FOR inside the last) with a
+/// block in every branch checks, compiles and runs on a test thread's
+/// stack, and picks the branch of the first true condition.
+#[test]
+fn a_longest_elseif_chain_runs_and_picks_the_first_true_branch() {
+    let mut program = String::from("N& = 0\nFOR X& = 0 TO 300\nIF X& = 0 THEN\nN& = N& + 1\n");
+    for k in 1..254 {
+        program += &format!("ELSEIF X& = {k} THEN\nFOR I% = 1 TO {k}\nN& = N& + 1\nNEXT\n");
+    }
+    program += "ELSEIF X& < 1000 THEN\nN& = N& + 100000\nELSE\nN& = -1\nEND IF\nNEXT\n";
+    let run = run_ok("elseif_chain", &program);
+    // Branch k adds k (branch 0 adds 1), the 47 values past 253 add 100000 each.
+    let want = 1.0 + (1..254).sum::<i64>() as f64 + 47.0 * 100000.0;
+    assert_values(&run, &[("N&", want)]);
+    // One more ELSEIF is refused at its line, not by a stack overflow.
+    let longer = program.replacen(
+        "ELSEIF X& < 1000",
+        "ELSEIF X& = 254 THEN\nN& = 0\nELSEIF X& < 1000",
+        1,
+    );
+    let p = one_error("elseif_too_long", &longer);
+    assert_eq!(p.code, "pacer::syntax::nesting");
+    assert!(
+        p.message.contains("nested deeper than 256"),
+        "{}",
+        p.message
+    );
+}

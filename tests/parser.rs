@@ -3,7 +3,9 @@
 
 use pacer::diag::Problem;
 use pacer::span::Span;
-use pacer::syntax::ast::{BinOp, Expr, ExprKind, Name, ProgramAst, Stmt, StmtKind, UnOp, Using};
+use pacer::syntax::ast::{
+    BinOp, Expr, ExprKind, Name, NumForm, ProgramAst, Stmt, StmtKind, UnOp, Using,
+};
 use pacer::syntax::parse_program;
 
 // ---------------------------------------------------------------------------------------------
@@ -64,7 +66,7 @@ fn text(src: &str, span: Span) -> &str {
 /// An expression as an S-expression, to check the shape the parser built.
 fn shape(e: &Expr) -> String {
     match &e.kind {
-        ExprKind::Number(v) => format!("{v}"),
+        ExprKind::Number(v, _) => format!("{v}"),
         ExprKind::Bool(true) => "ON".into(),
         ExprKind::Bool(false) => "OFF".into(),
         ExprKind::Name(n) => n.text(),
@@ -128,7 +130,7 @@ fn assignment() {
     assert_eq!(segments(&target), ["Var", "Count"]);
     assert_eq!(target.span, at(src, "Var.Count"));
     assert_eq!(target.segments[1].span, at(src, "Count"));
-    assert_eq!(value.kind, ExprKind::Number(5.0));
+    assert_eq!(value.kind, ExprKind::Number(5.0, NumForm::Whole));
     assert_eq!(value.span, at(src, "5"));
 }
 
@@ -253,7 +255,7 @@ fn dwell_for_time() {
     let StmtKind::DwellTime(e, _) = s.kind else {
         panic!("not a dwell: {s:?}")
     };
-    assert_eq!(e.kind, ExprKind::Number(0.5));
+    assert_eq!(e.kind, ExprKind::Number(0.5, NumForm::Real));
     assert_eq!(e.span, at(src, "0.5"));
 
     let s = single("Dwell For Time Var.T * 2");
@@ -270,7 +272,7 @@ fn dwell_for_master_dist() {
     let StmtKind::DwellMaster(e, _) = s.kind else {
         panic!("not a master dwell: {s:?}")
     };
-    assert_eq!(e.kind, ExprKind::Number(12.5));
+    assert_eq!(e.kind, ExprKind::Number(12.5, NumForm::Real));
     assert_eq!(e.span, at(src, "12.5"));
 }
 
@@ -281,7 +283,7 @@ fn wait_for_time() {
     let StmtKind::WaitTime(e) = s.kind else {
         panic!("not a timed wait: {s:?}")
     };
-    assert_eq!(e.kind, ExprKind::Number(1.5));
+    assert_eq!(e.kind, ExprKind::Number(1.5, NumForm::Real));
     assert_eq!(e.span, at(src, "1.5"));
 }
 
@@ -417,8 +419,8 @@ fn for_to_step_next() {
     };
     assert_eq!(var.text(), "Var.I");
     assert_eq!(var.span, at(src, "Var.I"));
-    assert_eq!(from.kind, ExprKind::Number(1.0));
-    assert_eq!(to.kind, ExprKind::Number(10.0));
+    assert_eq!(from.kind, ExprKind::Number(1.0, NumForm::Whole));
+    assert_eq!(to.kind, ExprKind::Number(10.0, NumForm::Whole));
     assert_eq!(step.as_ref().map(shape).as_deref(), Some("2"));
     assert_eq!(body.len(), 1);
 

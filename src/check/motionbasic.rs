@@ -15,8 +15,8 @@ use crate::registry::{
 };
 use crate::span::Span;
 use crate::syntax::ast::{
-    BinOp, Expr, ExprKind, GearForm, MoveForm, Name, Place, PrintItem, ProgramAst, Segment, Stmt,
-    StmtKind, UnOp,
+    BinOp, Expr, ExprKind, GearForm, MoveForm, Name, NumForm, Place, PrintItem, ProgramAst,
+    Segment, Stmt, StmtKind, UnOp,
 };
 use crate::syntax::Dialect;
 use indexmap::{IndexMap, IndexSet};
@@ -233,7 +233,7 @@ impl Array {
 /// The value of a constant expression (numbers and arithmetic on them), as `DIM` bounds are.
 pub fn constant(e: &Expr) -> Option<f64> {
     match &e.kind {
-        ExprKind::Number(v) => Some(*v),
+        ExprKind::Number(v, _) => Some(*v),
         ExprKind::Paren(a) => constant(a),
         ExprKind::Unary(UnOp::Neg, a) => constant(a).map(|v| -v),
         ExprKind::Binary(op, a, b) => {
@@ -256,8 +256,8 @@ pub fn constant(e: &Expr) -> Option<f64> {
 /// The lowest subscript `OPTION BASE e` gives: `e` is the number 0 or 1 as written.
 pub fn option_base(e: &Expr) -> Option<u32> {
     match e.kind {
-        ExprKind::Number(0.0) => Some(0),
-        ExprKind::Number(1.0) => Some(1),
+        ExprKind::Number(0.0, NumForm::Whole) => Some(0),
+        ExprKind::Number(1.0, NumForm::Whole) => Some(1),
         _ => None,
     }
 }
@@ -633,7 +633,7 @@ impl Variables {
                 args.iter().for_each(|a| self.expr(a))
             }
             ExprKind::AxisSet(args) => args.iter().for_each(|a| self.expr(a)),
-            ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
+            ExprKind::Number(..) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
         }
     }
 }
@@ -803,11 +803,12 @@ impl<'v> MotionBasic<'v> {
             ty,
             long,
             int16: false,
+            int_const: false,
             truth,
             span: e.span,
         };
         match &e.kind {
-            ExprKind::Number(v) if !v.is_finite() => {
+            ExprKind::Number(v, _) if !v.is_finite() => {
                 cx.push(Problem::error(
                     "pacer::check::number",
                     e.span,
@@ -816,9 +817,46 @@ impl<'v> MotionBasic<'v> {
                 ));
                 None
             }
-            ExprKind::Number(v) => {
-                let long = v.fract() == 0.0 && v.abs() <= f64::from(i32::MAX);
-                Some(typed(K::Const(*v), Ty::Num, long, false))
+            ExprKind::Number(v, form @ (NumForm::Integer | NumForm::Long))
+                if v.fract() != 0.0
+                    || (*form == NumForm::Integer && !(-32768.0..=32767.0).contains(v))
+                    || !(f64::from(i32::MIN)..=f64::from(i32::MAX)).contains(v) =>
+            {
+                let (what, range) = if *form == NumForm::Integer {
+                    ("an INTEGER constant (`%`)", "-32768 to 32767")
+                } else {
+                    ("a LONG constant (`&`)", "-2147483648 to 2147483647")
+                };
+                cx.push(
+                    Problem::error(
+                        "pacer::check::number",
+                        e.span,
+                        format!("Overflow: {what} is a whole number from {range}"),
+                        "not such a number",
+                    )
+                    .with_help("write it without the suffix, or with `!` or `#` for a real"),
+                );
+                None
+            }
+            ExprKind::Number(v, form) => {
+                let whole = v.fract() == 0.0;
+                // Microsoft BASIC's type of the literal: `1000` is an INTEGER, `1000&` a LONG,
+                // `1000!` a SINGLE. A literal with a point or exponent but a whole value keeps
+                // computing as a long, as before suffixes were read.
+                let long = match form {
+                    NumForm::Whole | NumForm::Real => whole && v.abs() <= f64::from(i32::MAX),
+                    NumForm::Integer | NumForm::Long => true,
+                    NumForm::Single | NumForm::Double => false,
+                };
+                let mut t = typed(K::Const(*v), Ty::Num, long, false);
+                t.int_const = match form {
+                    NumForm::Whole => whole && v.abs() <= 32767.0,
+                    NumForm::Integer => true,
+                    _ => false,
+                };
+                // `7%` is a `%` operand: INTEGER arithmetic on it is done in 16 bits.
+                t.int16 = *form == NumForm::Integer;
+                Some(t)
             }
             ExprKind::Bool(b) => Some(typed(
                 K::Bool {
@@ -1153,7 +1191,7 @@ impl<'v> MotionBasic<'v> {
 fn integer_operand(t: &typed::Expr) -> bool {
     match &t.kind {
         _ if t.int16 => true,
-        K::Const(v) => v.fract() == 0.0 && v.abs() <= 32767.0,
+        K::Const(_) => t.int_const,
         K::Neg(inner) | K::Paren(inner) => integer_operand(inner),
         _ => false,
     }
@@ -1167,6 +1205,7 @@ fn placeholder(ty: Ty, span: Span) -> typed::Expr {
         ty,
         long: false,
         int16: false,
+        int_const: false,
         truth: false,
         span,
     }
@@ -1514,6 +1553,7 @@ impl MotionBasic<'_> {
             ty,
             long,
             int16: false,
+            int_const: false,
             truth: false,
             span: e.span,
         })
@@ -2052,12 +2092,13 @@ impl MotionBasic<'_> {
     }
 }
 
-/// A literal written with a point or an exponent (`1E7`, `2.0`): a SINGLE or DOUBLE in Microsoft
-/// BASIC even when its value is whole. The tree keeps the value only, so the literal's span
-/// tells: written as plain digits, it is exactly as long as the integer's digits.
+/// A literal written with a point, an exponent or a real suffix (`1E7`, `2.0`, `2!`): a SINGLE
+/// or DOUBLE in Microsoft BASIC even when its value is whole.
 fn real_literal(e: &Expr) -> bool {
     match &e.kind {
-        ExprKind::Number(v) => e.span.end - e.span.start != format!("{v}").len(),
+        ExprKind::Number(_, form) => {
+            matches!(form, NumForm::Real | NumForm::Single | NumForm::Double)
+        }
         ExprKind::Paren(a) | ExprKind::Unary(UnOp::Neg, a) => real_literal(a),
         _ => false,
     }
@@ -2069,7 +2110,9 @@ fn print_precision(e: &Expr) -> typed::PrintHow {
     fn double(e: &Expr) -> bool {
         match &e.kind {
             ExprKind::Name(n) => n.text().ends_with('#'),
-            ExprKind::Number(x) => {
+            ExprKind::Number(_, NumForm::Double) => true,
+            ExprKind::Number(_, NumForm::Single) => false,
+            ExprKind::Number(x, _) => {
                 let digits = format!("{:e}", x.abs());
                 let mantissa = digits.split('e').next().unwrap_or_default();
                 mantissa.chars().filter(char::is_ascii_digit).count() > 7

@@ -34,18 +34,19 @@ pub fn expr(e: &Expr, registry: &Registry) -> Result<typed::Expr, Problem> {
         ty,
         long: false,
         int16: false,
+        int_const: false,
         truth: ty == Ty::Bool,
         span: e.span,
     };
     match &e.kind {
-        ExprKind::Number(v) if !v.is_finite() => Err(Problem::error(
+        ExprKind::Number(v, _) if !v.is_finite() => Err(Problem::error(
             "pacer::check::number",
             e.span,
             "this number is too large to represent",
             "out of range",
         )
         .with_help("numbers are 64-bit floating point while computing, and 32-bit where stored")),
-        ExprKind::Number(v) => Ok(typed(K::Const(*v), Ty::Num)),
+        ExprKind::Number(v, _) => Ok(typed(K::Const(*v), Ty::Num)),
         ExprKind::Bool(b) => Ok(typed(
             K::Bool {
                 value: *b,
@@ -257,7 +258,7 @@ fn num_operand(op: BinOp, e: &Expr, t: Ty) -> Result<(), Problem> {
 fn mixed(op: BinOp, a: &Expr, ta: Ty, b: &Expr, tb: Ty) -> Problem {
     let num_side = if ta == Ty::Num { a } else { b };
     debug_assert_ne!(ta, tb);
-    let help = if matches!(num_side.kind, ExprKind::Number(v) if v == 0.0 || v == 1.0) {
+    let help = if matches!(num_side.kind, ExprKind::Number(v, _) if v == 0.0 || v == 1.0) {
         "a bit is ON or OFF, not 1 or 0: write `= ON` or `= OFF`".to_string()
     } else {
         "both sides must be numbers, or both ON/OFF values".to_string()
@@ -310,7 +311,7 @@ fn keep_expr(cx: &mut Context<'_>, e: &Expr) -> Option<typed::Expr> {
                     unknown(a, registry, out);
                 }
             }
-            ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
+            ExprKind::Number(..) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
         }
     }
     let mut problems = Vec::new();

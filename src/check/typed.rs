@@ -35,6 +35,9 @@ pub struct Expr {
     /// variable or element: Microsoft BASIC computes it in 16 bits, so a result outside -32768
     /// to 32767 is an Overflow even before it is stored.
     pub int16: bool,
+    /// A constant Microsoft BASIC types as INTEGER: digits within 16 bits (`1000`), or written
+    /// with `%`. It may be an operand of INTEGER arithmetic; `1000&` and `1000!` may not.
+    pub int_const: bool,
     /// A truth value (-1/0 in MotionBASIC, ON/OFF in PowerTools): a condition on it may jump
     /// without computing it.
     pub truth: bool,

@@ -252,7 +252,7 @@ fn statement<R: Rules>(rules: &mut R, cx: &mut Context<'_>, s: &Stmt) -> Option<
                         "the step is a number"
                     };
                     let checked = rules.expr(cx, st, Want::Number(why));
-                    if !basic && matches!(st.kind, ast::ExprKind::Number(v) if v == 0.0) {
+                    if !basic && matches!(st.kind, ast::ExprKind::Number(v, _) if v == 0.0) {
                         cx.push(Problem::error(
                             "pacer::check::step",
                             st.span,

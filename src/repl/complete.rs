@@ -21,6 +21,7 @@ const MB_KEYWORDS: &[&str] = &[
     "IF",
     "THEN",
     "ELSE",
+    "ELSEIF",
     "ENDIF",
     "WHILE",
     "WHILETRUE",

@@ -150,7 +150,7 @@ fn shift_expr(e: &mut Expr, by: usize) {
             args.iter_mut().for_each(|a| shift_expr(a, by));
         }
         ExprKind::AxisSet(args) => args.iter_mut().for_each(|a| shift_expr(a, by)),
-        ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
+        ExprKind::Number(..) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
     }
 }
 

@@ -38,6 +38,12 @@ mod tests {
         let mb = Dialect::MotionBasic;
         assert!(incomplete("IF X& > 1 THEN", mb));
         assert!(!incomplete("IF X& > 1 THEN Y& = 2", mb));
+        // An ELSEIF goes on with the block; its END IF closes the chain.
+        assert!(incomplete("IF X& > 1 THEN\nY& = 2\nELSEIF X& < 0 THEN", mb));
+        assert!(!incomplete(
+            "IF X& > 1 THEN\nY& = 2\nELSEIF X& < 0 THEN\nY& = 1\nEND IF",
+            mb
+        ));
         assert!(incomplete("WHILE X& < 3", mb));
         assert!(!incomplete("WHILE X& < 3\nX& = X& + 1\nWEND", mb));
     }

@@ -87,8 +87,8 @@ pub struct Expr {
 /// The kinds of expression.
 #[derive(Debug, Clone, PartialEq)]
 pub enum ExprKind {
-    /// A numeric literal.
-    Number(f64),
+    /// A numeric literal and how it is written.
+    Number(f64, NumForm),
     /// ON/TRUE/… or OFF/FALSE/….
     Bool(bool),
     /// A reference to an object member, variable or bit.
@@ -105,6 +105,23 @@ pub enum ExprKind {
     Str(String),
     /// An axis set `{1}`, `{web~, knife~}` (MotionBASIC).
     AxisSet(Vec<Expr>),
+}
+
+/// How a numeric literal is written, which gives its type in Microsoft BASIC.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum NumForm {
+    /// Digits only (`1000`): an INTEGER within 16 bits, a LONG beyond.
+    Whole,
+    /// With a point or an `E` exponent (`2.0`, `1E7`): a SINGLE, a DOUBLE beyond 7 digits.
+    Real,
+    /// With `%`, or `&H`/`&O` within 16 bits (`7%`, `&HFF`): an INTEGER.
+    Integer,
+    /// With `&`, or `&H`/`&O` beyond 16 bits (`1000&`, `&HFFFF&`): a LONG.
+    Long,
+    /// With `!` (`2!`): a SINGLE.
+    Single,
+    /// With `#` or a `D` exponent (`7#`, `1.5D3`): a DOUBLE.
+    Double,
 }
 
 /// The forms of the MotionBASIC `GEAR` statement.

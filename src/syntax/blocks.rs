@@ -12,6 +12,8 @@ pub struct Words {
     pub if_: &'static str,
     /// The alternative branch.
     pub else_: &'static str,
+    /// An alternative with its own condition (MotionBASIC only).
+    pub elseif: &'static str,
     /// Closes a conditional block.
     pub endif: &'static str,
     /// Opens a conditional loop.
@@ -30,6 +32,7 @@ pub struct Words {
 pub const POWERTOOLS_WORDS: Words = Words {
     if_: "If",
     else_: "Else",
+    elseif: "Elseif",
     endif: "Endif",
     while_: "Do While",
     wend: "Loop",
@@ -42,6 +45,7 @@ pub const POWERTOOLS_WORDS: Words = Words {
 pub const MOTIONBASIC_WORDS: Words = Words {
     if_: "IF",
     else_: "ELSE",
+    elseif: "ELSEIF",
     endif: "ENDIF",
     while_: "WHILE",
     wend: "WEND",
@@ -56,6 +60,8 @@ enum Frame {
         span: Span,
         then_body: Vec<Stmt>,
         else_body: Option<(Span, Vec<Stmt>)>,
+        /// Opened by an `ELSEIF`: the `END IF` that closes it closes the block it continues.
+        chained: bool,
     },
     Do {
         cond: super::ast::Expr,
@@ -95,6 +101,7 @@ impl Frame {
                 span,
                 then_body,
                 else_body,
+                ..
             } => Stmt {
                 kind: StmtKind::If {
                     cond,
@@ -139,6 +146,9 @@ impl Frame {
 /// Deepest nesting of blocks accepted (keeps every later pass's recursion shallow).
 pub const MAX_NESTING: usize = 64;
 
+/// Deepest nesting of the tree, where each `ELSEIF` of a chain is one level deeper.
+pub const MAX_DEPTH: usize = 256;
+
 /// Turn the lines of a file into its statement tree, reporting unbalanced blocks.
 pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Words) -> Vec<Stmt> {
     let mut top: Vec<Stmt> = Vec::new();
@@ -151,15 +161,32 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
             line.kind,
             LineKind::If(_) | LineKind::DoWhile(_) | LineKind::For { .. }
         );
-        if opens && stack.len() >= MAX_NESTING {
+        // An ELSEIF nests its block in the ELSE of the one before: the tree has its own, larger
+        // limit, which the blocks inside a chain count towards too.
+        let chains = matches!(line.kind, LineKind::ElseIf(_));
+        let blocks = stack
+            .iter()
+            .filter(|f| !matches!(f, Frame::If { chained: true, .. }))
+            .count();
+        let too_deep = if opens && blocks >= MAX_NESTING {
+            Some((
+                format!("blocks nested deeper than {MAX_NESTING}"),
+                w.split_help.to_string(),
+            ))
+        } else if (opens || chains) && stack.len() >= MAX_DEPTH {
+            Some((
+                format!("blocks and {}s nested deeper than {MAX_DEPTH}", w.elseif),
+                format!(
+                    "test the value once and jump (`ON … GOTO`), or split the {} chain",
+                    w.if_
+                ),
+            ))
+        } else {
+            None
+        };
+        if let Some((message, help)) = too_deep {
             problems.push(
-                Problem::error(
-                    "pacer::syntax::nesting",
-                    span,
-                    format!("blocks nested deeper than {MAX_NESTING}"),
-                    "too deep",
-                )
-                .with_help(w.split_help),
+                Problem::error("pacer::syntax::nesting", span, message, "too deep").with_help(help),
             );
             return top;
         }
@@ -174,7 +201,48 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
                 span,
                 then_body: Vec::new(),
                 else_body: None,
+                chained: false,
             }),
+            LineKind::ElseIf(cond) => match stack.last_mut() {
+                Some(Frame::If {
+                    else_body: else_body @ None,
+                    ..
+                }) => {
+                    *else_body = Some((span, Vec::new()));
+                    stack.push(Frame::If {
+                        cond,
+                        span,
+                        then_body: Vec::new(),
+                        else_body: None,
+                        chained: true,
+                    });
+                }
+                Some(Frame::If {
+                    else_body: Some((first, _)),
+                    ..
+                }) => {
+                    let first_line = line_no(*first);
+                    problems.push(
+                        Problem::error(
+                            "pacer::syntax::else",
+                            span,
+                            format!("{} after the {} of this {}", w.elseif, w.else_, w.if_),
+                            format!("{} after {}", w.elseif, w.else_),
+                        )
+                        .with_help(format!(
+                            "the {} at line {first_line} must come last: move this {} above it",
+                            w.else_, w.elseif
+                        )),
+                    )
+                }
+                other => problems.push(mismatch(
+                    w.elseif,
+                    w.if_,
+                    span,
+                    other.map(|f| f.describe(w)),
+                    &line_no,
+                )),
+            },
             LineKind::DoWhile(cond) => stack.push(Frame::Do {
                 cond,
                 span,
@@ -281,6 +349,11 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
     // Report unclosed blocks, but keep their bodies so later passes still check them.
     while let Some(frame) = stack.pop() {
         let (open, close, span) = frame.describe(w);
+        // The block an ELSEIF continues reports it.
+        if matches!(frame, Frame::If { chained: true, .. }) {
+            push(&mut stack, &mut top, frame.into_stmt());
+            continue;
+        }
         problems.push(
             Problem::error(
                 "pacer::syntax::unclosed",
@@ -335,7 +408,17 @@ fn close(
 ) {
     let (word, opener) = closer.words(w);
     match stack.pop() {
-        Some(frame) if closer.opens(&frame) => push(stack, top, frame.into_stmt()),
+        Some(frame) if closer.opens(&frame) => {
+            let mut chained = matches!(frame, Frame::If { chained: true, .. });
+            push(stack, top, frame.into_stmt());
+            // An `ELSEIF`'s block sits in the ELSE of the block it continues: one END IF
+            // closes them all.
+            while chained {
+                let Some(outer) = stack.pop() else { break };
+                chained = matches!(outer, Frame::If { chained: true, .. });
+                push(stack, top, outer.into_stmt());
+            }
+        }
         other => {
             problems.push(mismatch(
                 word,

@@ -235,7 +235,7 @@ fn expr(e: &mut Expr, table: &Table) {
             args.iter_mut().for_each(|a| expr(a, table));
         }
         ExprKind::AxisSet(items) => items.iter_mut().for_each(|a| expr(a, table)),
-        ExprKind::Number(_) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
+        ExprKind::Number(..) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
     }
 }
 

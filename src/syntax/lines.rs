@@ -1,6 +1,6 @@
 //! Lines as the grammar produces them, before block structure is assembled.
 
-use super::ast::{BinOp, DataItem, Expr, ExprKind, Name, Segment, Stmt, StmtKind, Using};
+use super::ast::{BinOp, DataItem, Expr, ExprKind, Name, NumForm, Segment, Stmt, StmtKind, Using};
 use crate::span::Span;
 
 /// A modifier written after an initiate.
@@ -35,6 +35,9 @@ pub enum LineKind {
     If(Expr),
     /// `Else`.
     Else,
+    /// `ELSEIF c THEN` (MotionBASIC, as in QuickBASIC): the rest of the block is an `ELSE`
+    /// holding an `IF c THEN` that the same `END IF` closes.
+    ElseIf(Expr),
     /// `Endif` / `End If`.
     Endif,
     /// `Do While c`.
@@ -91,7 +94,7 @@ pub fn on_jump(n: Expr, targets: Vec<Segment>, gosub: bool, span: Span) -> StmtK
                     span: n.span,
                 }),
                 Box::new(Expr {
-                    kind: ExprKind::Number((i + 1) as f64),
+                    kind: ExprKind::Number((i + 1) as f64, NumForm::Whole),
                     span: n.span,
                 }),
             ),
@@ -136,12 +139,62 @@ pub fn broken_opener(if_line: bool, l: usize, r: usize) -> Line {
 }
 
 /// A numeric literal spanning `l..r` (a literal too large for a double is infinite; the checker
-/// reports it).
+/// reports it, and a `%` or `&` literal out of its type's range).
 pub fn number(text: &str, l: usize, r: usize) -> Expr {
+    let (value, form) = literal(text);
     Expr {
-        kind: ExprKind::Number(text.parse::<f64>().unwrap_or(f64::NAN)),
+        kind: ExprKind::Number(value, form),
         span: Span::new(l, r),
     }
+}
+
+/// The value and form of a numeric literal as Microsoft BASIC writes them: digits with an
+/// optional point and exponent (`E`, or `D` for a DOUBLE), an optional type suffix (`%`, `&`,
+/// `!`, `#`), or a hexadecimal (`&H1F`) or octal (`&O17`, `&17`) integer. A hexadecimal or octal
+/// literal is the two's complement of its digits in 16 bits (`&HFFFF` is -1), in 32 bits when
+/// it has more or ends with `&` (`&HFFFF&` is 65535); beyond 32 bits it is infinite.
+pub fn literal(text: &str) -> (f64, NumForm) {
+    if let Some(rest) = text.strip_prefix('&') {
+        let (rest, long) = match rest.strip_suffix('&') {
+            Some(r) => (r, true),
+            None => (rest, false),
+        };
+        let (digits, radix) = match rest.as_bytes().first() {
+            Some(b'h' | b'H') => (&rest[1..], 16),
+            Some(b'o' | b'O') => (&rest[1..], 8),
+            _ => (rest, 8),
+        };
+        let Ok(v) = u64::from_str_radix(digits, radix) else {
+            return (f64::INFINITY, NumForm::Long);
+        };
+        return if !long && v <= 0xFFFF {
+            (f64::from(v as u16 as i16), NumForm::Integer)
+        } else if v <= 0xFFFF_FFFF {
+            (f64::from(v as u32 as i32), NumForm::Long)
+        } else {
+            (f64::INFINITY, NumForm::Long)
+        };
+    }
+    let (body, suffix) = match text.as_bytes().last() {
+        Some(b'%') => (&text[..text.len() - 1], Some(NumForm::Integer)),
+        Some(b'&') => (&text[..text.len() - 1], Some(NumForm::Long)),
+        Some(b'!') => (&text[..text.len() - 1], Some(NumForm::Single)),
+        Some(b'#') => (&text[..text.len() - 1], Some(NumForm::Double)),
+        _ => (text, None),
+    };
+    let d_exponent = body.contains(['d', 'D']);
+    let value = body
+        .replace(['d', 'D'], "e")
+        .parse::<f64>()
+        .unwrap_or(f64::NAN);
+    let form = suffix.unwrap_or(if d_exponent {
+        NumForm::Double
+    } else if body.contains(['.', 'e', 'E']) {
+        NumForm::Real
+    } else {
+        NumForm::Whole
+    });
+    (value, form)
 }
 
 /// `DEFINT`/`DEFLNG`/`DEFSNG`/`DEFDBL`/`DEFSTR` (`word` as written) over its letter ranges.

@@ -32,6 +32,8 @@ pub enum Tok<'s> {
     If,
     Then,
     Else,
+    /// `ELSEIF` (MotionBASIC).
+    ElseIf,
     Endif,
     Do,
     While,
@@ -138,6 +140,7 @@ impl Tok<'_> {
             Tok::If => word("If"),
             Tok::Then => word("Then"),
             Tok::Else => word("Else"),
+            Tok::ElseIf => word("ElseIf"),
             Tok::Endif => word("Endif"),
             Tok::Do => word("Do"),
             Tok::While => word("While"),

@@ -235,7 +235,7 @@ pub fn run<'a>(
             let x: f64 = $x;
             if !fits_i16(x) {
                 pc = $here;
-                fault!("Overflow: {x} does not fit an integer (-32768 to 32767): INTEGER (%) arithmetic is 16-bit; make an operand long (CLNG, a & variable)");
+                fault!("Overflow: {x} does not fit an integer (-32768 to 32767): INTEGER (%) arithmetic is 16-bit; make an operand long (CLNG, a & variable, a & constant such as 2&)");
             }
         }};
     }

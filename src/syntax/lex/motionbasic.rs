@@ -14,8 +14,12 @@ use logos::Logos;
 enum MbLex<'s> {
     #[token("\n")]
     Newline,
-    #[regex(r"[0-9]+(\.[0-9]*)?([eE][+-]?[0-9]+)?", |lex| lex.slice())]
-    #[regex(r"\.[0-9]+([eE][+-]?[0-9]+)?", |lex| lex.slice())]
+    /// A number as written: a type suffix and a `D` exponent are part of it, and `&H`/`&O`
+    /// integers (read by `lines::literal`).
+    #[regex(r"[0-9]+(\.[0-9]*)?([eEdD][+-]?[0-9]+)?[%&!#]?", |lex| lex.slice())]
+    #[regex(r"\.[0-9]+([eEdD][+-]?[0-9]+)?[%&!#]?", |lex| lex.slice())]
+    #[regex(r"&[Hh][0-9A-Fa-f]+&?", |lex| lex.slice())]
+    #[regex(r"&[Oo]?[0-7]+&?", |lex| lex.slice())]
     Number(&'s str),
     /// A string literal, quotes excluded.
     #[regex(r#""[^"\n]*""#, |lex| { let s = lex.slice(); &s[1..s.len() - 1] })]
@@ -32,6 +36,8 @@ enum MbLex<'s> {
     Then,
     #[token("else", ignore(case))]
     Else,
+    #[token("elseif", ignore(case))]
+    ElseIf,
     #[token("endif", ignore(case))]
     Endif,
     #[token("while", ignore(case))]
@@ -268,6 +274,7 @@ fn token(word: MbLex<'_>) -> Option<Tok<'_>> {
         MbLex::If => Tok::If,
         MbLex::Then => Tok::Then,
         MbLex::Else => Tok::Else,
+        MbLex::ElseIf => Tok::ElseIf,
         MbLex::Endif => Tok::Endif,
         MbLex::While => Tok::While,
         MbLex::WhileTrue => Tok::WhileTrue,
