@@ -46,13 +46,19 @@ fn run_untraced(loaded: Loaded) -> (Machine, RunSummary) {
     (machine, summary)
 }
 
-/// What a run leaves that a program can see: every slot's bits, the instruction count, the
-/// error's place and message.
+/// What a run leaves that a program can see: every slot's bits, then every string cell's text
+/// (as bytes), the instruction count, the error's place and message.
 fn outcome(machine: &Machine, summary: &RunSummary) -> (Vec<u64>, u64, Option<(u32, u32, String)>) {
     let slots = machine.registry().slots.len();
     let bits = machine.values()[..slots]
         .iter()
         .map(|v| v.to_bits())
+        .chain(
+            machine
+                .strings()
+                .iter()
+                .flat_map(|t| t.bytes().map(u64::from).chain([u64::MAX])),
+        )
         .collect();
     let error = summary
         .error
@@ -930,5 +936,100 @@ NEXT
     assert_eq!(machine.strings()[k], "ab");
     for budget in [7, 100, 1_000_000] {
         assert_eq!(both("x.mb", program, budget).1, None);
+    }
+}
+
+#[test]
+fn string_array_elements_are_assigned_outside_the_interpreter() {
+    // An insertion sort of a string array: the WHILE that moves elements up (`W$(J% + 1) =
+    // W$(J%)`) runs as a body, and so does the FOR that fills the array from another's
+    // elements. The texts, counts and faults are the interpreter's at every budget.
+    let program = "DIM W$(40), S$(7)
+S$(0) = \"PEAR\": S$(1) = \"APPLE\": S$(2) = \"FIG\": S$(3) = \"\": S$(4) = \"KIWI\"
+S$(5) = \"APPLES\": S$(6) = \"BANANA\": S$(7) = \"apple\"
+FOR I% = 1 TO 40
+  W$(I%) = S$((I% * 5) MOD 8)
+NEXT
+FOR I% = 2 TO 40
+  T$ = W$(I%): J% = I% - 1
+  WHILE J% > 0
+    IF W$(J%) <= T$ THEN GOTO 10
+    W$(J% + 1) = W$(J%): J% = J% - 1
+  WEND
+10 W$(J% + 1) = T$
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-text-put", "x.mb", program, 1_000_000));
+    assert!(summary.error.is_none());
+    assert!(machine.tight_runs() > 1, "{}", machine.tight_runs());
+    let texts = [
+        "PEAR", "APPLE", "FIG", "", "KIWI", "APPLES", "BANANA", "apple",
+    ];
+    let mut want: Vec<&str> = (1..=40).map(|i| texts[(i * 5) % 8]).collect();
+    want.sort_unstable();
+    let got: Vec<String> = (1..=40)
+        .map(|i| {
+            let h = machine.value_of(&format!("W$({i})")).expect("element") as usize;
+            machine.strings()[h].clone()
+        })
+        .collect();
+    assert_eq!(got, want);
+    for budget in [3, 7, 50, 1_000_000] {
+        assert_eq!(both("x.mb", program, budget).1, None);
+    }
+    // A subscript out of range in the body is the interpreter's fault, in the same place.
+    let bad = program.replace("W$(J% + 1) = W$(J%)", "W$(J% + 40) = W$(J%)");
+    let (_, error, _) = both("x.mb", &bad, 1_000_000);
+    assert!(
+        error
+            .as_ref()
+            .is_some_and(|e| e.2.contains("Subscript out of range")),
+        "{error:?}"
+    );
+}
+
+#[test]
+fn a_for_too_short_to_pay_goes_back_to_the_interpreter_after_its_trial() {
+    // The inner FOR runs 4 iterations of 6 instructions an entry: fewer than the 32 a hand-over
+    // must pay for, so after its first 64 entries the interpreter keeps it. A FOR of 40
+    // iterations is handed over at every entry. Values and counts are the same either way.
+    let short = "FOR I& = 1 TO 1000
+  X& = I&
+  FOR K% = 1 TO 4
+    Y& = Y& + (X& * K%) MOD 37
+  NEXT
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-short", "x.mb", short, 1_000_000));
+    assert!(summary.error.is_none());
+    // The outer loop holds the inner: it is one body, entered once; the inner is entered
+    // from the interpreter only where the outer body is not run.
+    let want: i64 = (1..=1000i64)
+        .map(|x| (1..=4).map(|k| (x * k) % 37).sum::<i64>())
+        .sum();
+    assert_eq!(machine.value_of("Y&"), Some(want as f64));
+    // A GOSUB in the outer loop keeps it in the interpreter, which enters the inner FOR each
+    // time round.
+    let called = "FOR I& = 1 TO 1000
+  X& = I&
+  GOSUB 100
+NEXT
+END
+100 FOR K% = 1 TO 4
+  Y& = Y& + (X& * K%) MOD 37
+NEXT
+RETURN
+";
+    let (machine, summary) = run_untraced(load("body-short-sub", "x.mb", called, 1_000_000));
+    assert!(summary.error.is_none());
+    assert_eq!(machine.value_of("Y&"), Some(want as f64));
+    assert_eq!(machine.tight_runs(), 64, "handed over in its trial only");
+    let long = called.replace("TO 4", "TO 40");
+    let (machine, _) = run_untraced(load("body-long-sub", "x.mb", &long, 1_000_000));
+    assert_eq!(machine.tight_runs(), 1000, "handed over at every entry");
+    for budget in [5, 64, 1_000_000] {
+        for p in [short, called, long.as_str()] {
+            assert_eq!(both("x.mb", p, budget).1, None);
+        }
     }
 }

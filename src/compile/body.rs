@@ -189,6 +189,8 @@ enum Ir {
     },
     /// The string whose handle is the real `s` into the cell whose handle is the real `cell`.
     TextSet { cell: Local, s: Local },
+    /// The string whose handle is the real `s` into element `off` of the string array `arr`.
+    TextPut { s: Local, off: Local, arr: u8 },
     /// The end of the body: the loop's `for.next`, or its `loop` going back.
     Next,
     /// Out of the loop: the instruction after its end.
@@ -332,6 +334,9 @@ pub enum Code {
     /// The string whose handle is the real `b` copied into the cell whose handle is the real
     /// `a` (a variable's own, not the empty string's).
     TextSet,
+    /// The string whose handle is the real `a` copied into element `b` of the body's string
+    /// array `d` (into the cell whose handle that element holds).
+    TextPut,
     /// `d` = element `a` of the body's array `b` (`Body::arrays`), whole.
     LoadI,
     /// `d` = element `a` of the body's array `b`, a real.
@@ -594,7 +599,12 @@ pub fn mark(ops: &mut [Op], bodies: &BTreeMap<u32, Body>) {
         };
         match *op {
             Op::ForCheck { var, limit, exit } if body.counter.is_some() => {
-                *op = Op::ForTight { var, limit, exit };
+                *op = Op::ForTight {
+                    var,
+                    limit,
+                    exit,
+                    kept: false,
+                };
             }
             Op::Loop { target } if body.counter.is_none() && target == body.start => {
                 *op = Op::LoopTight { target };
@@ -688,6 +698,13 @@ enum Step {
     /// `cell` (holding its handle, which stays).
     TextSet {
         cell: Reg,
+        s: Reg,
+    },
+    /// The string whose handle is in `s` copied into element `off` of the string array `arr`
+    /// (each element holding its cell's handle, which stays).
+    TextPut {
+        arr: Array,
+        off: Reg,
         s: Reg,
     },
     /// The `for.check` of a `FOR` inside the body: to `t` when `var` is past `limit` (the
@@ -913,6 +930,16 @@ fn steps(op: Op, ext: &[ExtOp], scratch: Reg, whole: &dyn Fn(Reg) -> bool) -> Op
         Op::Ext { at, copies: 0 } => match *ext.get(at as usize)? {
             ExtOp::CompareText { cmp, dst, a, b } => one(Step::TextCmp { cmp, d: dst, a, b }),
             ExtOp::StoreText { dst, src } => one(Step::TextSet { cell: dst, s: src }),
+            ExtOp::StoreTextAt {
+                base,
+                off,
+                src,
+                len,
+            } => one(Step::TextPut {
+                arr: Array { base, len },
+                off,
+                s: src,
+            }),
             _ => None,
         },
         Op::ForCheck { var, limit, exit } => one(Step::ForCheck {
@@ -981,6 +1008,7 @@ impl Step {
             Step::Back { .. } => vec![],
             Step::TextCmp { a, b, .. } => vec![a, b],
             Step::TextSet { cell, s } => vec![cell, s],
+            Step::TextPut { off, s, .. } => vec![off, s],
             Step::ForCheck { var, limit, .. } | Step::ForNext { var, limit, .. } => {
                 vec![var, limit, limit.wrapping_add(1)]
             }
@@ -1076,6 +1104,11 @@ impl Step {
             },
             Step::TextSet { cell, s } => Step::TextSet {
                 cell: read(cell),
+                s: read(s),
+            },
+            Step::TextPut { arr, off, s } => Step::TextPut {
+                arr,
+                off: read(off),
                 s: read(s),
             },
         }
@@ -1184,7 +1217,8 @@ fn sign_matters(s: &Step, v: Reg, kind_of: &dyn Fn(Reg) -> Known) -> bool {
         | Step::ForCheck { .. }
         | Step::ForNext { .. }
         | Step::TextCmp { .. }
-        | Step::TextSet { .. } => false,
+        | Step::TextSet { .. }
+        | Step::TextPut { .. } => false,
     }
 }
 
@@ -1509,7 +1543,7 @@ fn translate(
     // The arrays the body reads or writes elements of, numbered.
     let mut arrays: Vec<Array> = Vec::new();
     for step in &all {
-        if let Step::Load { arr, .. } | Step::Put { arr, .. } = *step {
+        if let Step::Load { arr, .. } | Step::Put { arr, .. } | Step::TextPut { arr, .. } = *step {
             if !arrays.contains(&arr) {
                 arrays.push(arr);
             }
@@ -1523,7 +1557,9 @@ fn translate(
     // array stays with the interpreter.
     let aliased = |r: &Reg| {
         all.iter().any(|s| match *s {
-            Step::Put { arr, .. } => (arr.base..arr.base.saturating_add(arr.len)).contains(r),
+            Step::Put { arr, .. } | Step::TextPut { arr, .. } => {
+                (arr.base..arr.base.saturating_add(arr.len)).contains(r)
+            }
             _ => false,
         })
     };
@@ -1678,7 +1714,7 @@ fn translate(
     let stored: Vec<Reg> = all
         .iter()
         .filter_map(|s| match *s {
-            Step::Put { arr, .. } => Some(arr.base),
+            Step::Put { arr, .. } | Step::TextPut { arr, .. } => Some(arr.base),
             // A string variable's text, traced as the variable.
             Step::TextSet { cell, .. } => Some(cell),
             _ => None,
@@ -1731,7 +1767,7 @@ fn translate(
     // elements unchecked past that).
     let names_array = |m: &Micro| match m.code {
         Code::LoadI | Code::LoadR => usize::from(m.b) < arrays.len(),
-        Code::PutI | Code::PutR => usize::from(m.d) < arrays.len(),
+        Code::PutI | Code::PutR | Code::TextPut => usize::from(m.d) < arrays.len(),
         _ => true,
     };
     if !ops.iter().all(names_array) {
@@ -1745,7 +1781,7 @@ fn translate(
     });
     let text = ops
         .iter()
-        .any(|m| matches!(m.code, Code::TextCmp | Code::TextSet));
+        .any(|m| matches!(m.code, Code::TextCmp | Code::TextSet | Code::TextPut));
     Some(Body {
         ops,
         op_of,
@@ -1877,6 +1913,7 @@ fn ir_regs(ir: &Ir) -> (Vec<Local>, Option<Local>) {
         Ir::ForCheckI { var, limit, step } => (vec![var, limit, step], None),
         Ir::TextCmp { d, a, b, .. } => (vec![a, b], Some(d)),
         Ir::TextSet { cell, s } => (vec![cell, s], None),
+        Ir::TextPut { s, off, .. } => (vec![s, off], None),
         Ir::ForNextI {
             var, limit, step, ..
         } => (vec![var, limit, step], Some(var)),
@@ -1973,6 +2010,9 @@ fn lower(
                 }),
                 Some(Ir::PutR { s, off, arr }) if picks(off, arr) => {
                     Some(Ir::PutR { s, off: idx, arr })
+                }
+                Some(Ir::TextPut { s, off, arr }) if picks(off, arr) => {
+                    Some(Ir::TextPut { s, off: idx, arr })
                 }
                 _ => None,
             };
@@ -2216,6 +2256,7 @@ fn pack(ir: &Ir) -> Micro {
         Ir::Back => m(Code::Back, 0, 0, 0, 0),
         Ir::TextCmp { cmp, d, a, b } => m(Code::TextCmp, d, a, b, i32::from(cmp_index(cmp))),
         Ir::TextSet { cell, s } => m(Code::TextSet, 0, cell, s, 0),
+        Ir::TextPut { s, off, arr } => m(Code::TextPut, arr, s, off, 0),
         Ir::ForCheckI { var, limit, step } => m(Code::ForCheckI, step, var, limit, 0),
         Ir::ForNextI {
             var,
@@ -2484,6 +2525,14 @@ fn emit(
         Step::TextSet { cell, s } => {
             let (rc, rs) = (real(cell, 0, false, out), real(s, 1, false, out));
             out.push(Ir::TextSet { cell: rc, s: rs });
+        }
+        Step::TextPut { arr, off, s } => {
+            let rs = real(s, 0, false, out);
+            out.push(Ir::TextPut {
+                s: rs,
+                off: l(off),
+                arr: arr_of(arr),
+            });
         }
         // `translate` has seen that the variable, the limit and the step are `Int`s.
         Step::ForCheck { var, limit, t } => {

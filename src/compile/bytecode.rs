@@ -424,8 +424,15 @@ pub enum Op {
     ForCheck { var: Reg, limit: Reg, exit: u32 },
     /// A [`Op::ForCheck`] entering a loop whose body is one instruction the machine may run
     /// outside the interpreter (`compile::tight`): when it has enough iterations, the
-    /// interpreter leaves it to its caller (`exec::Exit::Loop`).
-    ForTight { var: Reg, limit: Reg, exit: u32 },
+    /// interpreter leaves it to its caller (`exec::Exit::Loop`). `kept`: the machine has
+    /// tried it and keeps running it (`Machine::judge_for`); one that does not pay becomes a
+    /// plain [`Op::ForCheck`].
+    ForTight {
+        var: Reg,
+        limit: Reg,
+        exit: u32,
+        kept: bool,
+    },
     /// The end of a `For` body: `var += step` (the step is in the register after `limit`;
     /// stored as `decimals`, or as a real when
     /// [`REAL_STORE`]), then back to `body` unless past `limit`; the task may yield there.
@@ -569,8 +576,14 @@ pub enum Op {
 pub enum ExtOp {
     /// Copy the string `src` into the cell of the string variable `dst` (traced when it changes).
     StoreText { dst: Reg, src: Reg },
-    /// Copy the string `src` into the cell of the string array element at `base + v[off]`.
-    StoreTextAt { base: Reg, off: Reg, src: Reg },
+    /// Copy the string `src` into the cell of the string array element at `base + v[off]`
+    /// (`off` within `0..len`).
+    StoreTextAt {
+        base: Reg,
+        off: Reg,
+        src: Reg,
+        len: u32,
+    },
     /// Copy the string `src` into `cell`; `dst` = that cell (SWAP keeps a value this way).
     CopyText { dst: Reg, cell: u32, src: Reg },
     /// `a + b` of strings into `cell`; `dst` = that cell.

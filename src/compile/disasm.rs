@@ -249,7 +249,10 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 if master { "master units" } else { "s" },
                 if last { " using last" } else { "" }
             ),
-            Op::ForCheck { var, limit, exit } | Op::ForTight { var, limit, exit } => {
+            Op::ForCheck { var, limit, exit }
+            | Op::ForTight {
+                var, limit, exit, ..
+            } => {
                 format!(
                     "for.check {} to {} step {} exit @{exit}",
                     r(var),
@@ -420,7 +423,7 @@ fn ext_text(
 ) -> String {
     match op {
         ExtOp::StoreText { dst, src } => format!("store.s   {} <- {}", r(*dst), text(*src)),
-        ExtOp::StoreTextAt { base, off, src } => {
+        ExtOp::StoreTextAt { base, off, src, .. } => {
             format!("store.at.s {}[{}] <- {}", r(*base), r(*off), text(*src))
         }
         ExtOp::CopyText { dst, cell, src } => {

@@ -831,6 +831,7 @@ impl<'a> Compiler<'a> {
                 base: el.base.slot,
                 off,
                 src,
+                len: element_count(el),
             });
             return;
         }

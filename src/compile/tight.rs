@@ -16,7 +16,12 @@ pub fn mark(ops: &mut [Op], sure: &[u8]) {
         let short = exit > start && exit <= start + 2;
         let same = |p: Plan| p.var == var && p.limit == limit && p.after == exit;
         if short && plan(ops, sure, start, 0).is_some_and(same) {
-            ops[i] = Op::ForTight { var, limit, exit };
+            ops[i] = Op::ForTight {
+                var,
+                limit,
+                exit,
+                kept: false,
+            };
         }
     }
 }

@@ -769,7 +769,7 @@ fn iterate<const COUNTED: bool, const NESTED: bool, const TEXT: bool>(
                 Code::Back | Code::ForCheckI | Code::ForNextL | Code::ForNextS if !NESTED => {
                     undone!()
                 }
-                Code::TextCmp | Code::TextSet if !TEXT => undone!(),
+                Code::TextCmp | Code::TextSet | Code::TextPut if !TEXT => undone!(),
                 // A handle that is none is the interpreter's fault to give.
                 Code::TextCmp => {
                     let n = strings.len();
@@ -798,6 +798,16 @@ fn iterate<const COUNTED: bool, const NESTED: bool, const TEXT: bool>(
                 Code::TextSet => {
                     let n = strings.len();
                     match (text_index(real!(a), n), text_index(real!(b), n)) {
+                        (Some(cell), Some(from)) if cell != 0 => put_text(strings, cell, from),
+                        _ => undone!(),
+                    }
+                }
+                // An element holds its own cell's handle (never the empty string's).
+                Code::TextPut => {
+                    let n = strings.len();
+                    let cell = element(elems, d, int!(b))
+                        .and_then(|at| text_index(unsafe { *vals.add(at) }, n));
+                    match (cell, text_index(real!(a), n)) {
                         (Some(cell), Some(from)) if cell != 0 => put_text(strings, cell, from),
                         _ => undone!(),
                     }

@@ -2152,7 +2152,7 @@ fn side_table(at: u32, chunk: &Chunk, v: &mut [f64], ctx: &mut Ctx<'_, '_>) -> R
             Ok::<(), String>(())
         }),
         ExtOp::StoreText { dst, src } => store_text(dst as usize, v[src as usize], v, ctx)?,
-        ExtOp::StoreTextAt { base, off, src } => {
+        ExtOp::StoreTextAt { base, off, src, .. } => {
             let slot = base as usize + v[off as usize] as usize;
             store_text(slot, v[src as usize], v, ctx)?;
         }

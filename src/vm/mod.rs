@@ -36,7 +36,6 @@ pub use error::RunError;
 use exec::{Ctx, Exit};
 use indexmap::IndexMap;
 use std::cmp::Ordering;
-use std::collections::BTreeMap;
 pub use stop::StopReason;
 use task::{Frame, Task, TaskState};
 
@@ -50,9 +49,13 @@ pub const MAX_CALL_DEPTH: usize = 16;
 /// `WHILE` stays handed over to the machine (`Machine::run_body`).
 const FEWEST_ROUNDS: u64 = 16;
 
-/// How many entries of a `WHILE` the machine counts before it decides whether to keep running
-/// it (`Machine::run_body`).
+/// How many entries of a `WHILE` or a `FOR` the machine counts before it decides whether to
+/// keep running it (`Machine::run_body`, `Machine::judge_for`).
 const TRIAL: u32 = 64;
+
+/// The fewest of the interpreter's instructions per entry, on average over its first [`TRIAL`]
+/// entries, that the machine must run for a `FOR` to stay handed over (`Machine::judge_for`).
+const FEWEST_COUNTED: u64 = 32;
 
 /// Upper bound on a run with no duration whose programs never end (simulated seconds).
 pub const DEFAULT_MAX_SECONDS: u64 = 3600;
@@ -202,9 +205,26 @@ pub struct Machine {
     /// The registers of a loop run on typed registers (`vm::body`), kept from one run to the
     /// next: a short loop entered often would otherwise clear them at each entry.
     body_regs: Box<body::Registers>,
-    /// Per `WHILE` handed over (chunk, its `loop`), over its first [`TRIAL`] entries: how many
-    /// there were and the interpreter's instructions they counted (`Machine::run_body`).
-    trials: BTreeMap<(usize, u32), (u32, u64)>,
+    /// Per `WHILE` handed over (chunk, its `loop`) and per `FOR` (chunk, its `for.check`), over
+    /// their first [`TRIAL`] entries: how many there were and the interpreter's instructions
+    /// the machine ran in them (`Machine::run_body`, `Machine::judge_for`).
+    /// Indexed by chunk, then instruction (grown when first needed): a lookup at every entry
+    /// of a short loop must cost little.
+    trials: Vec<Vec<(u32, u64)>>,
+}
+
+/// The trial of the loop whose `for.check` or `loop` is instruction `pc` of `chunk`
+/// (`Machine::trials`).
+fn trial_of(trials: &mut Vec<Vec<(u32, u64)>>, chunk: usize, pc: u32) -> &mut (u32, u64) {
+    if trials.len() <= chunk {
+        trials.resize_with(chunk + 1, Vec::new);
+    }
+    let of_chunk = &mut trials[chunk];
+    let pc = pc as usize;
+    if of_chunk.len() <= pc {
+        of_chunk.resize(pc + 1, (0, 0));
+    }
+    &mut of_chunk[pc]
 }
 
 /// Trace every registry slot whose value differs from the snapshot, in slot order.
@@ -274,7 +294,7 @@ impl Machine {
             no_data: 0,
             tight_runs: 0,
             body_regs: Box::default(),
-            trials: BTreeMap::new(),
+            trials: Vec::new(),
             image,
         };
         m.devices.start(&mut m.values);
@@ -947,7 +967,13 @@ impl Machine {
         self.instructions += 1;
         let internal = || "internal error: a loop left to the machine that is not one".to_string();
         let c = self.image.chunks.get(chunk).ok_or_else(internal)?;
-        let Some(&Op::ForTight { var, limit, exit }) = c.ops.get(pc as usize) else {
+        let Some(&Op::ForTight {
+            var,
+            limit,
+            exit,
+            kept,
+        }) = c.ops.get(pc as usize)
+        else {
             return Err(internal());
         };
         let get = |r: u32| self.values.get(r as usize).copied();
@@ -961,9 +987,50 @@ impl Machine {
         if (s > 0.0 && x > l) || (s < 0.0 && x < l) {
             return Ok((exit, false));
         }
-        Ok(self
-            .run_loop(chunk, pc + 1, budget_end)
-            .unwrap_or((pc + 1, false)))
+        let before = self.instructions;
+        let ran = self.run_loop(chunk, pc + 1, budget_end);
+        if !kept {
+            self.judge_for(chunk, pc, self.instructions - before);
+        }
+        Ok(ran.unwrap_or((pc + 1, false)))
+    }
+
+    /// Count an entry of the `FOR` whose `for.check` is the [`Op::ForTight`] at `pc` of
+    /// `chunk`, in which the machine ran `counted` of the interpreter's instructions (0 when
+    /// the loop was left to the interpreter). A `FOR` that, over its first [`TRIAL`] entries,
+    /// runs fewer than [`FEWEST_COUNTED`] instructions per entry on average costs more to hand
+    /// over (some 600 machine instructions an entry, `probe/gosubwork`) than it gains: its
+    /// `for.check` becomes a plain one for the rest of the run; one that does is marked kept,
+    /// and no longer counted. Only the speed changes.
+    fn judge_for(&mut self, chunk: usize, pc: u32, counted: u64) {
+        let trial = trial_of(&mut self.trials, chunk, pc);
+        *trial = (trial.0 + 1, trial.1 + counted);
+        if trial.0 < TRIAL {
+            return;
+        }
+        let pays = trial.1 >= u64::from(TRIAL) * FEWEST_COUNTED;
+        let op = self
+            .image
+            .chunks
+            .get_mut(chunk)
+            .and_then(|c| c.ops.get_mut(pc as usize));
+        if let Some(op) = op {
+            if let Op::ForTight {
+                var, limit, exit, ..
+            } = *op
+            {
+                *op = if pays {
+                    Op::ForTight {
+                        var,
+                        limit,
+                        exit,
+                        kept: true,
+                    }
+                } else {
+                    Op::ForCheck { var, limit, exit }
+                };
+            }
+        }
     }
 
     /// Run here (`tight::run_plan`) the loop of one instruction starting at `start` of `chunk`,
@@ -1048,7 +1115,7 @@ impl Machine {
         // changes: values and counts are the same either way.
         if b.counter.is_none() {
             let per_round = b.count;
-            let trial = self.trials.entry((chunk, entry)).or_insert((0, 0));
+            let trial = trial_of(&mut self.trials, chunk, entry);
             if trial.0 < TRIAL {
                 *trial = (trial.0 + 1, trial.1 + counted);
                 if trial.0 == TRIAL && trial.1 < u64::from(TRIAL) * FEWEST_ROUNDS * per_round {
