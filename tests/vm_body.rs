@@ -1033,3 +1033,44 @@ RETURN
         }
     }
 }
+
+#[test]
+fn a_for_over_a_real_variable_runs_as_a_body_while_it_counts_whole_numbers() {
+    // `FOR I = …` without a suffix counts a SINGLE: whole from a whole start by a whole step,
+    // it runs outside the interpreter as a long's does. A start or step that is not whole, a
+    // count past 32 bits (no Overflow for a real, the interpreter adds on) and a body that
+    // writes the variable stay the interpreter's, with the same values and counts.
+    let counted = "DIM H&(15)
+X& = 1
+FOR I = 1 TO 3000
+  X& = (X& * 1103 + 12345) MOD 65536
+  H&((X& \\ 16) AND 15) = H&((X& \\ 16) AND 15) + I
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-real-for", "x.mb", counted, 1_000_000));
+    assert!(summary.error.is_none());
+    assert_eq!(machine.tight_runs(), 1);
+    assert_eq!(machine.value_of("I"), Some(3001.0));
+    let mut x: i64 = 1;
+    let mut h = [0i64; 16];
+    for i in 1..=3000 {
+        x = (x * 1103 + 12345) % 65536;
+        h[((x / 16) & 15) as usize] += i;
+    }
+    for (k, want) in h.iter().enumerate() {
+        assert_eq!(machine.value_of(&format!("H&({k})")), Some(*want as f64));
+    }
+    let others = [
+        counted.replace("FOR I = 1 TO 3000", "FOR I = 0.5 TO 3000"),
+        counted.replace("FOR I = 1 TO 3000", "FOR I = 1 TO 3000 STEP 0.5"),
+        counted
+            .replace("FOR I = 1 TO 3000", "FOR I = 2147483000 TO 2147484000")
+            .replace("+ I", "+ I - 2147483000"),
+        counted.replace("NEXT", "IF I = 7 THEN I = I + 0.25\nNEXT"),
+    ];
+    for p in std::iter::once(counted.to_string()).chain(others) {
+        for budget in [7, 100, 1_000_000] {
+            assert_eq!(both("x.mb", &p, budget).1, None, "{p}");
+        }
+    }
+}

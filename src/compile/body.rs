@@ -1330,11 +1330,17 @@ fn translate(
                 decimals,
             },
         ) => {
+            // A real variable (`FOR I = 1 TO N` without a suffix) counts as an `Int` when it
+            // holds a whole number on entry (`vm::body::run` loads it so, or leaves the loop
+            // to the interpreter) and only the `for.next` writes it: a whole step (tested at
+            // each entry) keeps it whole, its sum exact while it fits 32 bits (past them the
+            // interpreter's `for.next` adds it).
             let sure_next = sure.get(next as usize).is_some_and(|f| f & SURE != 0);
-            if body != start || v != var || lim != limit || !sure_next {
+            let real_var = decimals == REAL_STORE;
+            if body != start || v != var || lim != limit || !(sure_next || real_var) {
                 return None;
             }
-            if decimals != 0 && decimals != INT_STORE {
+            if decimals != 0 && decimals != INT_STORE && !real_var {
                 return None;
             }
             Some((var, limit, decimals == INT_STORE))
@@ -1458,7 +1464,8 @@ fn translate(
     // keeps the loop from starting).
     let mut known: BTreeMap<Reg, Known> = BTreeMap::new();
     for &r in &ins {
-        let int = whole(r) && constant(r).is_none_or(|c| c.abs() <= EXACT as f64);
+        let int =
+            (whole(r) && constant(r).is_none_or(|c| c.abs() <= EXACT as f64)) || Some(r) == var;
         if !int && written.contains(&r) && !observed.contains(&r) && Some(r) != var {
             continue;
         }
