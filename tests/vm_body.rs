@@ -1074,3 +1074,33 @@ NEXT
         }
     }
 }
+
+#[test]
+fn a_do_loop_that_tests_at_its_end_runs_as_a_body() {
+    // `DO … LOOP UNTIL c` is its body, a jump out unless `c`, and a jump back: the machine
+    // runs it as it runs a `WHILE`, with the interpreter's values and counts at every budget,
+    // an `EXIT DO` included.
+    let program = "N& = 0: S& = 0
+DO
+  N& = N& + 1
+  S& = (S& + N& * 7) MOD 1000003
+  IF S& = 12345 THEN EXIT DO
+LOOP UNTIL N& >= 30000
+";
+    let (machine, summary) = run_untraced(load("body-do-loop", "x.mb", program, 1_000_000));
+    assert!(summary.error.is_none());
+    assert!(machine.tight_runs() >= 1);
+    let (mut n, mut s) = (0i64, 0i64);
+    loop {
+        n += 1;
+        s = (s + n * 7) % 1_000_003;
+        if s == 12345 || n >= 30000 {
+            break;
+        }
+    }
+    assert_eq!(machine.value_of("N&"), Some(n as f64));
+    assert_eq!(machine.value_of("S&"), Some(s as f64));
+    for budget in [7, 100, 1_000_000] {
+        assert_eq!(both("x.mb", program, budget).1, None);
+    }
+}

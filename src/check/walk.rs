@@ -294,6 +294,8 @@ fn statement<R: Rules>(rules: &mut R, cx: &mut Context<'_>, s: &Stmt) -> Option<
             rules.gosub_unlabelled(cx, seg)
         }
         StmtKind::End => Some(T::End),
+        // Left only where it leaves no loop, which `syntax::blocks` reported.
+        StmtKind::Exit { .. } => None,
         StmtKind::Return if basic => Some(T::Return),
         StmtKind::Return
         | StmtKind::DwellTime(..)

@@ -211,6 +211,10 @@ pub enum StmtKind {
     Label(Segment),
     /// `Goto label` / `Jump label`.
     Goto(Segment),
+    /// `EXIT FOR` / `EXIT DO` (MotionBASIC, as QuickBASIC writes them; `for_`: which). Made a
+    /// `Goto` to the end of the innermost such loop when the blocks are assembled
+    /// (`syntax::blocks`): no later pass sees it.
+    Exit { for_: bool },
     /// `End`.
     End,
     /// `NAME(args) = value` / `NAME{axes} = value`: a MotionBASIC controller variable.

@@ -1,6 +1,6 @@
 //! Assembles lines into nested statements: If/Else/Endif, Do While/Loop, For/Next.
 
-use super::ast::{Stmt, StmtKind, Using};
+use super::ast::{Segment, Stmt, StmtKind, Using};
 use super::lines::{Line, LineKind, Modifier};
 use crate::diag::Problem;
 use crate::span::Span;
@@ -20,6 +20,10 @@ pub struct Words {
     pub while_: &'static str,
     /// Closes it.
     pub wend: &'static str,
+    /// Opens a loop whose `LOOP` may test (MotionBASIC's plain `DO`).
+    pub do_: &'static str,
+    /// Closes it.
+    pub loop_: &'static str,
     /// Opens a counted loop.
     pub for_: &'static str,
     /// Closes it.
@@ -36,6 +40,8 @@ pub const POWERTOOLS_WORDS: Words = Words {
     endif: "Endif",
     while_: "Do While",
     wend: "Loop",
+    do_: "Do While",
+    loop_: "Loop",
     for_: "For",
     next: "Next",
     split_help: "move the inner part into another program and `Call` it",
@@ -49,6 +55,8 @@ pub const MOTIONBASIC_WORDS: Words = Words {
     endif: "ENDIF",
     while_: "WHILE",
     wend: "WEND",
+    do_: "DO",
+    loop_: "LOOP",
     for_: "FOR",
     next: "NEXT",
     split_help: "move the inner part into a subroutine and call it",
@@ -67,6 +75,11 @@ enum Frame {
         cond: super::ast::Expr,
         span: Span,
         body: Vec<Stmt>,
+        /// How it opened: a plain `DO` (its `LOOP` may test, `LOOP WHILE c`), a `DO WHILE`
+        /// (`Some(false)`) or a `WHILE` (`None`).
+        plain: Option<bool>,
+        /// The label after the loop, once an `EXIT DO` jumps there.
+        exit: Option<Segment>,
     },
     For {
         var: super::ast::Name,
@@ -75,10 +88,31 @@ enum Frame {
         step: Option<super::ast::Expr>,
         span: Span,
         body: Vec<Stmt>,
+        /// The label after the loop, once an `EXIT FOR` jumps there.
+        exit: Option<Segment>,
     },
 }
 
 impl Frame {
+    /// The label after this loop, made when an `EXIT` first needs it (`n`: labels made so
+    /// far; a label with a space in it is none a program can write).
+    fn exit_label(&mut self, n: &mut usize) -> Option<Segment> {
+        let (exit, span) = match self {
+            Frame::Do { exit, span, .. } | Frame::For { exit, span, .. } => (exit, *span),
+            Frame::If { .. } => return None,
+        };
+        Some(
+            exit.get_or_insert_with(|| {
+                *n += 1;
+                Segment {
+                    text: format!("exit {n}"),
+                    span,
+                }
+            })
+            .clone(),
+        )
+    }
+
     fn body(&mut self) -> &mut Vec<Stmt> {
         match self {
             Frame::If {
@@ -110,7 +144,9 @@ impl Frame {
                 },
                 span,
             },
-            Frame::Do { cond, span, body } => Stmt {
+            Frame::Do {
+                cond, span, body, ..
+            } => Stmt {
                 kind: StmtKind::DoWhile { cond, body },
                 span,
             },
@@ -121,6 +157,7 @@ impl Frame {
                 step,
                 span,
                 body,
+                ..
             } => Stmt {
                 kind: StmtKind::For {
                     var,
@@ -137,6 +174,11 @@ impl Frame {
     fn describe(&self, w: &Words) -> (&'static str, &'static str, Span) {
         match self {
             Frame::If { span, .. } => (w.if_, w.endif, *span),
+            Frame::Do {
+                span,
+                plain: Some(_),
+                ..
+            } => (w.do_, w.loop_, *span),
             Frame::Do { span, .. } => (w.while_, w.wend, *span),
             Frame::For { span, .. } => (w.for_, w.next, *span),
         }
@@ -153,13 +195,19 @@ pub const MAX_DEPTH: usize = 256;
 pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Words) -> Vec<Stmt> {
     let mut top: Vec<Stmt> = Vec::new();
     let mut stack: Vec<Frame> = Vec::new();
+    // Labels made for `EXIT` and `LOOP WHILE` (`exit 1`, `do 2`, …).
+    let mut made = 0usize;
     let index = crate::span::LineIndex::new(src);
     let line_no = |span: Span| index.line(span.start);
     for line in lines {
         let span = line.span;
         let opens = matches!(
             line.kind,
-            LineKind::If(_) | LineKind::DoWhile(_) | LineKind::For { .. }
+            LineKind::If(_)
+                | LineKind::DoWhile(_)
+                | LineKind::DoTest(_)
+                | LineKind::Do
+                | LineKind::For { .. }
         );
         // An ELSEIF nests its block in the ELSE of the one before: the tree has its own, larger
         // limit, which the blocks inside a chain count towards too.
@@ -191,7 +239,11 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
             return top;
         }
         match line.kind {
-            LineKind::Simple(kind) => push(&mut stack, &mut top, Stmt { kind, span }),
+            LineKind::Simple(kind) => {
+                let mut stmt = Stmt { kind, span };
+                resolve_exits(&mut stmt, &mut stack, &mut made, problems, w);
+                push(&mut stack, &mut top, stmt);
+            }
             LineKind::Action { target, modifiers } => {
                 let kind = action(target, modifiers, problems);
                 push(&mut stack, &mut top, Stmt { kind, span });
@@ -247,7 +299,84 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
                 cond,
                 span,
                 body: Vec::new(),
+                plain: None,
+                exit: None,
             }),
+            LineKind::DoTest(cond) => stack.push(Frame::Do {
+                cond,
+                span,
+                body: Vec::new(),
+                plain: Some(false),
+                exit: None,
+            }),
+            LineKind::Do => stack.push(Frame::Do {
+                cond: super::ast::Expr {
+                    kind: super::ast::ExprKind::Bool(true),
+                    span,
+                },
+                span,
+                body: Vec::new(),
+                plain: Some(true),
+                exit: None,
+            }),
+            LineKind::LoopWhile(cond) => match stack.pop() {
+                Some(Frame::Do {
+                    plain: Some(true),
+                    body,
+                    span: at,
+                    exit,
+                    ..
+                }) => {
+                    // The body, then out of the loop unless `cond` holds, and back to its
+                    // start: a backward jump of its own, which the machine may run as a loop
+                    // (`compile::body`) as it does a `WHILE`.
+                    made += 1;
+                    let start = Segment {
+                        text: format!("do {made}"),
+                        span: at,
+                    };
+                    let exit = exit.unwrap_or_else(|| {
+                        made += 1;
+                        Segment {
+                            text: format!("exit {made}"),
+                            span: at,
+                        }
+                    });
+                    let stmt = |kind| Stmt { kind, span };
+                    let mut out = vec![Stmt {
+                        kind: StmtKind::Label(start.clone()),
+                        span: at,
+                    }];
+                    out.extend(body);
+                    out.push(stmt(StmtKind::If {
+                        cond: super::lines::until(cond),
+                        then_body: vec![stmt(StmtKind::Goto(exit.clone()))],
+                        else_body: None,
+                    }));
+                    out.push(stmt(StmtKind::Goto(start)));
+                    out.push(stmt(StmtKind::Label(exit)));
+                    for s in out {
+                        push(&mut stack, &mut top, s);
+                    }
+                }
+                other => {
+                    let open = other.as_ref().map(|f| f.describe(w));
+                    let mut p = mismatch(w.loop_, w.do_, span, open, &line_no);
+                    if let Some(Frame::Do {
+                        plain: Some(false), ..
+                    }) = other
+                    {
+                        p = p.with_help(format!(
+                            "a `{} WHILE`/`UNTIL` tests at its start: close it with a plain `{}`",
+                            w.do_, w.loop_
+                        ));
+                    }
+                    problems.push(p);
+                    if let Some(frame) = other {
+                        stack.push(frame);
+                    }
+                }
+            },
             LineKind::For {
                 var,
                 from,
@@ -260,6 +389,7 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
                 step,
                 span,
                 body: Vec::new(),
+                exit: None,
             }),
             LineKind::Else => match stack.last_mut() {
                 Some(Frame::If {
@@ -408,9 +538,23 @@ fn close(
 ) {
     let (word, opener) = closer.words(w);
     match stack.pop() {
-        Some(frame) if closer.opens(&frame) => {
+        Some(mut frame) if closer.opens(&frame) => {
             let mut chained = matches!(frame, Frame::If { chained: true, .. });
+            let exit = match &mut frame {
+                Frame::Do { exit, .. } | Frame::For { exit, .. } => exit.take(),
+                Frame::If { .. } => None,
+            };
             push(stack, top, frame.into_stmt());
+            if let Some(exit) = exit {
+                push(
+                    stack,
+                    top,
+                    Stmt {
+                        kind: StmtKind::Label(exit),
+                        span,
+                    },
+                );
+            }
             // An `ELSEIF`'s block sits in the ELSE of the block it continues: one END IF
             // closes them all.
             while chained {
@@ -431,6 +575,57 @@ fn close(
                 stack.push(frame);
             }
         }
+    }
+}
+
+/// `EXIT FOR` / `EXIT DO` in `stmt` (a simple statement, or one in a single-line `IF`'s parts)
+/// made a jump to the end of the innermost loop of its kind (`stack`); one outside any such
+/// loop is a problem (and is dropped).
+fn resolve_exits(
+    stmt: &mut Stmt,
+    stack: &mut [Frame],
+    made: &mut usize,
+    problems: &mut Vec<Problem>,
+    w: &Words,
+) {
+    match &mut stmt.kind {
+        StmtKind::Exit { for_ } => {
+            let for_ = *for_;
+            let frame = stack.iter_mut().rev().find(|f| match f {
+                Frame::For { .. } => for_,
+                Frame::Do { .. } => !for_,
+                Frame::If { .. } => false,
+            });
+            let (word, loop_) = if for_ {
+                ("EXIT FOR", w.for_)
+            } else {
+                ("EXIT DO", "DO or WHILE")
+            };
+            match frame.and_then(|f| f.exit_label(made)) {
+                Some(label) => stmt.kind = StmtKind::Goto(label),
+                None => {
+                    problems.push(
+                        Problem::error(
+                            "pacer::syntax::exit",
+                            stmt.span,
+                            format!("{word} outside a {loop_} loop"),
+                            "no loop to leave",
+                        )
+                        .with_help("it leaves the innermost loop of its kind around it"),
+                    );
+                }
+            }
+        }
+        StmtKind::If {
+            then_body,
+            else_body,
+            ..
+        } => {
+            for s in then_body.iter_mut().chain(else_body.iter_mut().flatten()) {
+                resolve_exits(s, stack, made, problems, w);
+            }
+        }
+        _ => {}
     }
 }
 

@@ -200,6 +200,7 @@ fn stmts(body: &mut [Stmt], table: &mut Table, problems: &mut Vec<Problem>) {
             | StmtKind::Call(_)
             | StmtKind::Label(_)
             | StmtKind::Goto(_)
+            | StmtKind::Exit { .. }
             | StmtKind::Gosub(_)
             | StmtKind::Return
             | StmtKind::End

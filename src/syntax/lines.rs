@@ -40,10 +40,16 @@ pub enum LineKind {
     ElseIf(Expr),
     /// `Endif` / `End If`.
     Endif,
-    /// `Do While c`.
+    /// `Do While c` (also MotionBASIC's `WHILE c`).
     DoWhile(Expr),
-    /// `Loop`.
+    /// MotionBASIC's `DO WHILE c` (and `DO UNTIL c` as its negation), closed by `LOOP`.
+    DoTest(Expr),
+    /// `Loop` (also MotionBASIC's `WEND`, `LOOP`).
     Loop,
+    /// A plain `DO` (MotionBASIC): its `LOOP` may test (`LOOP WHILE c`, `LOOP UNTIL c`).
+    Do,
+    /// `LOOP WHILE c` (and `LOOP UNTIL c` as its negation) closing a plain `DO`.
+    LoopWhile(Expr),
     /// `For v = a To b [Step s]`.
     For {
         var: Name,
@@ -135,6 +141,23 @@ pub fn broken_opener(if_line: bool, l: usize, r: usize) -> Line {
             LineKind::DoWhile(cond)
         },
         span: Span::new(l, r),
+    }
+}
+
+/// The condition that holds while `c` does not (`DO UNTIL c`, `LOOP UNTIL c`): `c = 0`, so that
+/// any value other than 0 ends the loop, as in Microsoft BASIC (`NOT c` would be true of 5).
+pub fn until(c: Expr) -> Expr {
+    let span = c.span;
+    Expr {
+        kind: ExprKind::Binary(
+            BinOp::Eq,
+            Box::new(c),
+            Box::new(Expr {
+                kind: ExprKind::Number(0.0, NumForm::Whole),
+                span,
+            }),
+        ),
+        span,
     }
 }
 

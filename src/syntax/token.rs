@@ -40,6 +40,10 @@ pub enum Tok<'s> {
     WhileTrue,
     Wend,
     Loop,
+    /// `UNTIL` (MotionBASIC `DO UNTIL`, `LOOP UNTIL`).
+    Until,
+    /// `EXIT` (MotionBASIC `EXIT FOR`, `EXIT DO`).
+    Exit,
     End,
     Using,
     Last,
@@ -147,6 +151,8 @@ impl Tok<'_> {
             Tok::WhileTrue => word("WhileTrue"),
             Tok::Wend => word("Wend"),
             Tok::Loop => word("Loop"),
+            Tok::Until => word("Until"),
+            Tok::Exit => word("Exit"),
             Tok::End => word("End"),
             Tok::Using => word("Using"),
             Tok::Last => word("Last"),

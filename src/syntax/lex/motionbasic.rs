@@ -46,6 +46,14 @@ enum MbLex<'s> {
     WhileTrue,
     #[token("wend", ignore(case))]
     Wend,
+    #[token("do", ignore(case))]
+    Do,
+    #[token("loop", ignore(case))]
+    Loop,
+    #[token("until", ignore(case))]
+    Until,
+    #[token("exit", ignore(case))]
+    Exit,
     #[token("for", ignore(case))]
     For,
     #[token("to", ignore(case))]
@@ -274,6 +282,10 @@ fn token(word: MbLex<'_>) -> Option<Tok<'_>> {
         MbLex::If => Tok::If,
         MbLex::Then => Tok::Then,
         MbLex::Else => Tok::Else,
+        MbLex::Do => Tok::Do,
+        MbLex::Loop => Tok::Loop,
+        MbLex::Until => Tok::Until,
+        MbLex::Exit => Tok::Exit,
         MbLex::ElseIf => Tok::ElseIf,
         MbLex::Endif => Tok::Endif,
         MbLex::While => Tok::While,
