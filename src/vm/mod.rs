@@ -990,7 +990,7 @@ impl Machine {
         let before = self.instructions;
         let ran = self.run_loop(chunk, pc + 1, budget_end);
         if !kept {
-            self.judge_for(chunk, pc, self.instructions - before);
+            self.judge_for(chunk, pc, self.instructions.saturating_sub(before));
         }
         Ok(ran.unwrap_or((pc + 1, false)))
     }
