@@ -255,12 +255,8 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
                 else_body: None,
                 chained: false,
             }),
-            LineKind::ElseIf(cond) => match stack.last_mut() {
-                Some(Frame::If {
-                    else_body: else_body @ None,
-                    ..
-                }) => {
-                    *else_body = Some((span, Vec::new()));
+            LineKind::ElseIf(cond) => {
+                if open_else(&mut stack, span, true, problems, &line_no, w) {
                     stack.push(Frame::If {
                         cond,
                         span,
@@ -269,32 +265,7 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
                         chained: true,
                     });
                 }
-                Some(Frame::If {
-                    else_body: Some((first, _)),
-                    ..
-                }) => {
-                    let first_line = line_no(*first);
-                    problems.push(
-                        Problem::error(
-                            "pacer::syntax::else",
-                            span,
-                            format!("{} after the {} of this {}", w.elseif, w.else_, w.if_),
-                            format!("{} after {}", w.elseif, w.else_),
-                        )
-                        .with_help(format!(
-                            "the {} at line {first_line} must come last: move this {} above it",
-                            w.else_, w.elseif
-                        )),
-                    )
-                }
-                other => problems.push(mismatch(
-                    w.elseif,
-                    w.if_,
-                    span,
-                    other.map(|f| f.describe(w)),
-                    &line_no,
-                )),
-            },
+            }
             LineKind::DoWhile(cond) => stack.push(Frame::Do {
                 cond,
                 span,
@@ -391,37 +362,9 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
                 body: Vec::new(),
                 exit: None,
             }),
-            LineKind::Else => match stack.last_mut() {
-                Some(Frame::If {
-                    else_body: else_body @ None,
-                    ..
-                }) => *else_body = Some((span, Vec::new())),
-                Some(Frame::If {
-                    else_body: Some((first, _)),
-                    ..
-                }) => {
-                    let first_line = line_no(*first);
-                    problems.push(
-                        Problem::error(
-                            "pacer::syntax::else",
-                            span,
-                            format!("a second {} in the same {}", w.else_, w.if_),
-                            format!("second {}", w.else_),
-                        )
-                        .with_help(format!(
-                            "this {} already has its {} at line {first_line}",
-                            w.if_, w.else_
-                        )),
-                    )
-                }
-                other => problems.push(mismatch(
-                    w.else_,
-                    w.if_,
-                    span,
-                    other.map(|f| f.describe(w)),
-                    &line_no,
-                )),
-            },
+            LineKind::Else => {
+                open_else(&mut stack, span, false, problems, &line_no, w);
+            }
             LineKind::Endif => close(
                 &mut stack,
                 &mut top,
@@ -576,6 +519,60 @@ fn close(
             }
         }
     }
+}
+
+/// An `ELSE` (or, `elseif`, an `ELSEIF`) at `span`: the innermost block, an `IF` without one
+/// yet, takes its `ELSE` part (true); anything else is reported (false).
+fn open_else(
+    stack: &mut [Frame],
+    span: Span,
+    elseif: bool,
+    problems: &mut Vec<Problem>,
+    line_no: &dyn Fn(Span) -> usize,
+    w: &Words,
+) -> bool {
+    let word = if elseif { w.elseif } else { w.else_ };
+    match stack.last_mut() {
+        Some(Frame::If {
+            else_body: else_body @ None,
+            ..
+        }) => {
+            *else_body = Some((span, Vec::new()));
+            return true;
+        }
+        Some(Frame::If {
+            else_body: Some((first, _)),
+            ..
+        }) => {
+            let first_line = line_no(*first);
+            let (message, label, help) = if elseif {
+                (
+                    format!("{word} after the {} of this {}", w.else_, w.if_),
+                    format!("{word} after {}", w.else_),
+                    format!(
+                        "the {} at line {first_line} must come last: move this {word} above it",
+                        w.else_
+                    ),
+                )
+            } else {
+                (
+                    format!("a second {word} in the same {}", w.if_),
+                    format!("second {word}"),
+                    format!("this {} already has its {word} at line {first_line}", w.if_),
+                )
+            };
+            problems
+                .push(Problem::error("pacer::syntax::else", span, message, label).with_help(help));
+        }
+        other => problems.push(mismatch(
+            word,
+            w.if_,
+            span,
+            other.map(|f| f.describe(w)),
+            line_no,
+        )),
+    }
+    false
 }
 
 /// `EXIT FOR` / `EXIT DO` in `stmt` (a simple statement, or one in a single-line `IF`'s parts)
