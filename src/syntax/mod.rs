@@ -239,6 +239,13 @@ fn in_words(src: &str, l: usize, r: usize, tok: &Tok<'_>, dialect: Dialect) -> O
                 .into(),
         );
     }
+    if matches!(tok, Tok::Using) && dialect == Dialect::MotionBasic {
+        return Some(
+            "`USING` comes right after `PRINT`, before the values it formats: \
+             `PRINT USING \"###.##\"; X, Y`"
+                .into(),
+        );
+    }
     if matches!(tok, Tok::Using) {
         return Some(
             "`Using Last` and `Using Capture.N` go after a motion initiate (`Index.0.Initiate`) \
