@@ -95,21 +95,15 @@ enum Frame {
 
 impl Frame {
     /// The label after this loop, made when an `EXIT` first needs it (`n`: labels made so
-    /// far; a label with a space in it is none a program can write).
+    /// far, `made_label`).
     fn exit_label(&mut self, n: &mut usize) -> Option<Segment> {
         let (exit, span) = match self {
             Frame::Do { exit, span, .. } | Frame::For { exit, span, .. } => (exit, *span),
             Frame::If { .. } => return None,
         };
         Some(
-            exit.get_or_insert_with(|| {
-                *n += 1;
-                Segment {
-                    text: format!("exit {n}"),
-                    span,
-                }
-            })
-            .clone(),
+            exit.get_or_insert_with(|| made_label("exit", n, span))
+                .clone(),
         )
     }
 
@@ -301,18 +295,8 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
                     // The body, then out of the loop unless `cond` holds, and back to its
                     // start: a backward jump of its own, which the machine may run as a loop
                     // (`compile::body`) as it does a `WHILE`.
-                    made += 1;
-                    let start = Segment {
-                        text: format!("do {made}"),
-                        span: at,
-                    };
-                    let exit = exit.unwrap_or_else(|| {
-                        made += 1;
-                        Segment {
-                            text: format!("exit {made}"),
-                            span: at,
-                        }
-                    });
+                    let start = made_label("do", &mut made, at);
+                    let exit = exit.unwrap_or_else(|| made_label("exit", &mut made, at));
                     let stmt = |kind| Stmt { kind, span };
                     let mut out = vec![Stmt {
                         kind: StmtKind::Label(start.clone()),
@@ -518,6 +502,16 @@ fn close(
                 stack.push(frame);
             }
         }
+    }
+}
+
+/// A label for a jump the blocks make (`exit 3`, `do 4`; `n`: labels made so far): with a
+/// space in it, it is none a program can write.
+fn made_label(what: &str, n: &mut usize, span: Span) -> Segment {
+    *n += 1;
+    Segment {
+        text: format!("{what} {n}"),
+        span,
     }
 }
 
