@@ -1204,3 +1204,52 @@ fn string_instructions_in_pairs_fault_where_each_is() {
         assert_eq!(run.machine.strings()[slot as usize], "Q", "{line}");
     }
 }
+
+/// `Y = Y + (A - B) * K` (`SubMul`, then `AddReal`), `Z = K * (A + B) + 1` (`AddMul` with the
+/// sum second), `Q = A / B` and `R = (A - B) / (A + B)` (`DivReal`).
+const MB_SCALED: &str = "A = 3.5: B = 1.25: K = 0.05: Y = 0.5\nY = Y + (A - B) * K\nZ = K * (A + B) + 1\nQ = A / B\nR = (A - B) / (A + B)\n";
+
+#[test]
+fn scaled_sums_and_real_quotients_give_the_values_faults_and_counts_of_their_instructions() {
+    let (a, b, k): (f64, f64, f64) = (3.5, 1.25, 0.05);
+    let want = [
+        ("Y", 0.5 + (a - b) * k),
+        ("Z", k * (a + b) + 1.0),
+        ("Q", a / b),
+        ("R", (a - b) / (a + b)),
+    ];
+    // The same values whatever the budget cuts the run into: a pair counts as two.
+    for budget in [10_000, 1, 2, 3, 5] {
+        let run = run_mb("fused-scaled", MB_SCALED, budget);
+        assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+        for (name, v) in want {
+            let got = val(&run, name);
+            assert_eq!(got.to_bits(), v.to_bits(), "{name}: {got}, want {v}");
+        }
+        // 4 stores, 4 + 4 + 2 + 4 instructions, `end` (`pacer disasm` of the program).
+        assert_eq!(run.summary.instructions, 19, "budget {budget}");
+    }
+    // A division by zero faults at the division, before its store: `Q` keeps its value.
+    let run = run_mb(
+        "fused-div0",
+        &format!("{MB_SCALED}Z0 = 0\nQ = B / Z0\n"),
+        10_000,
+    );
+    assert_eq!(run_error(&run), (7, "division by zero".to_string()));
+    assert_eq!(val(&run, "Q"), a / b);
+    assert_eq!(run.summary.instructions, 20);
+    // A quotient past the largest double faults at the store, naming the variable.
+    let run = run_mb(
+        "fused-div-inf",
+        "A# = 1D300\nQ = 1\nQ = A# / 1D-300\n",
+        10_000,
+    );
+    let (line, message) = run_error(&run);
+    assert_eq!(line, 3);
+    assert!(
+        message.starts_with("Q cannot take inf: the result is not a finite number"),
+        "{message}"
+    );
+    assert_eq!(val(&run, "Q"), 1.0);
+    assert_eq!(run.summary.instructions, 4);
+}

@@ -165,6 +165,12 @@ pub enum Op {
     SubAdd { t: Reg, a: Reg, b: Reg, c: Reg },
     /// `sub t <- a - b` then `sub t <- t - c`.
     SubSub { t: Reg, a: Reg, b: Reg, c: Reg },
+    // A sum or a difference scaled (a filter's `(x - y) * k`): the first into `t`, then `t`
+    // times `c` into `t` (`c * t` is `t * c`: IEEE multiplication is commutative).
+    /// `add t <- a + b` then `mul t <- t * c`.
+    AddMul { t: Reg, a: Reg, b: Reg, c: Reg },
+    /// `sub t <- a - b` then `mul t <- t * c`.
+    SubMul { t: Reg, a: Reg, b: Reg, c: Reg },
     /// `jump` to the `for.next` at `at`, and run it there (the two count as two; a fault of the
     /// `for.next` is reported at `at`). Made by [`fuse`] from a `Jump` whose target is a
     /// `ForNext` (its fields copied here); `at` keeps that `ForNext` for a jump to it.
@@ -336,6 +342,8 @@ pub enum Op {
     SubReal { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// `mul t <- a * b` then `store.r dst <- t`.
     MulReal { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `div t <- a / b` then `store.r dst <- t` (a division by zero faults at the `div`).
+    DivReal { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// Any other binary operator (division checks for zero).
     Binary {
         op: BinaryOp,
@@ -924,6 +932,8 @@ fn joined(op: Op, temps: &std::ops::Range<Reg>) -> bool {
         | Op::AddSub { t, .. }
         | Op::SubAdd { t, .. }
         | Op::SubSub { t, .. }
+        | Op::AddMul { t, .. }
+        | Op::SubMul { t, .. }
         | Op::AddModWhole { t, .. }
         | Op::NotAndWhole { t, .. }
         | Op::AndOr { t, .. }
@@ -934,6 +944,7 @@ fn joined(op: Op, temps: &std::ops::Range<Reg>) -> bool {
         | Op::AddReal { t, .. }
         | Op::SubReal { t, .. }
         | Op::MulReal { t, .. }
+        | Op::DivReal { t, .. }
         | Op::AddCheck { dst: t, .. }
         | Op::SubCheck { dst: t, .. }
         | Op::MulCheck { dst: t, .. }
@@ -956,6 +967,8 @@ fn gives_way(op: Op) -> bool {
             | Op::AddSub { .. }
             | Op::SubAdd { .. }
             | Op::SubSub { .. }
+            | Op::AddMul { .. }
+            | Op::SubMul { .. }
     )
 }
 
@@ -1478,6 +1491,20 @@ fn pair(first: Op, second: Op) -> Option<Op> {
         (Op::Mul { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
             Some(Op::MulReal { t, dst, a, b })
         }
+        (Op::Div { dst: t, a, b }, Op::StoreReal { dst, src }) if src == t => {
+            Some(Op::DivReal { t, dst, a, b })
+        }
+        (
+            first @ (Op::Add { dst: t, a, b } | Op::Sub { dst: t, a, b }),
+            Op::Mul { dst, a: x, b: y },
+        ) if dst == t && (x == t || y == t) => {
+            let c = if x == t { y } else { x };
+            Some(if matches!(first, Op::Add { .. }) {
+                Op::AddMul { t, a, b, c }
+            } else {
+                Op::SubMul { t, a, b, c }
+            })
+        }
         (
             Op::BitAnd { dst: t, a, b },
             Op::BitOr {
@@ -1607,13 +1634,16 @@ impl Op {
             }
             | Op::AddReal { t, dst, a, b }
             | Op::SubReal { t, dst, a, b }
-            | Op::MulReal { t, dst, a, b } => t.max(dst).max(a).max(b),
+            | Op::MulReal { t, dst, a, b }
+            | Op::DivReal { t, dst, a, b } => t.max(dst).max(a).max(b),
             Op::MulAddCheck { t, a, b, c, .. }
             | Op::MulAddCheckModLong { t, a, b, c, .. }
             | Op::AddAdd { t, a, b, c }
             | Op::AddSub { t, a, b, c }
             | Op::SubAdd { t, a, b, c }
-            | Op::SubSub { t, a, b, c } => t.max(a).max(b).max(c),
+            | Op::SubSub { t, a, b, c }
+            | Op::AddMul { t, a, b, c }
+            | Op::SubMul { t, a, b, c } => t.max(a).max(b).max(c),
             Op::AddModLong { t, x, dst, m, .. } | Op::AddModWhole { t, x, dst, m, .. } => {
                 t.max(x).max(dst).max(m)
             }
@@ -2239,6 +2269,94 @@ mod tests {
         assert_eq!(fused[8], Op::SubSub { t, a, b, c });
         assert_eq!(fused[10..], ops[10..]);
         for i in [1, 3, 5, 7, 9] {
+            assert_eq!(fused[i], ops[i], "@{i}");
+        }
+    }
+
+    #[test]
+    fn fuse_makes_scaled_sums_and_real_quotients() {
+        let temps = 100..110;
+        let ops = vec![
+            // `Y = Y + (A - B) * K`: the difference scaled, then the add with its store.
+            Op::Sub {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::Mul {
+                dst: 100,
+                a: 100,
+                b: 3,
+            },
+            Op::Add {
+                dst: 100,
+                a: 4,
+                b: 100,
+            },
+            Op::StoreReal { dst: 4, src: 100 },
+            // `K * (A + B)`: the sum second.
+            Op::Add {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::Mul {
+                dst: 100,
+                a: 3,
+                b: 100,
+            },
+            // `Q = A / B`.
+            Op::Div {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::StoreReal { dst: 5, src: 100 },
+            // `(A - B) * K` stored: the multiply goes with its store (a tie, and the store's
+            // test is the dearer).
+            Op::Sub {
+                dst: 100,
+                a: 1,
+                b: 2,
+            },
+            Op::Mul {
+                dst: 100,
+                a: 100,
+                b: 3,
+            },
+            Op::StoreReal { dst: 6, src: 100 },
+            // Through a variable, not a temporary: left alone.
+            Op::Sub { dst: 7, a: 1, b: 2 },
+            Op::Mul { dst: 7, a: 7, b: 3 },
+            Op::End,
+        ];
+        let mut fused = ops.clone();
+        fuse(&mut fused, temps);
+        let (t, a, b, c) = (100, 1, 2, 3);
+        assert_eq!(fused[0], Op::SubMul { t, a, b, c });
+        assert_eq!(
+            fused[2],
+            Op::AddReal {
+                t,
+                dst: 4,
+                a: 4,
+                b: t
+            }
+        );
+        assert_eq!(fused[4], Op::AddMul { t, a, b, c });
+        assert_eq!(fused[6], Op::DivReal { t, dst: 5, a, b });
+        assert_eq!(fused[8], ops[8]);
+        assert_eq!(
+            fused[9],
+            Op::MulReal {
+                t,
+                dst: 6,
+                a: t,
+                b: c
+            }
+        );
+        assert_eq!(fused[11..], ops[11..]);
+        for i in [1, 3, 5, 7, 10] {
             assert_eq!(fused[i], ops[i], "@{i}");
         }
     }

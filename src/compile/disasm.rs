@@ -43,7 +43,9 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::Add { dst, a, b } => format!("add       {} <- {} + {}", r(dst), r(a), r(b)),
             Op::Sub { dst, a, b } => format!("sub       {} <- {} - {}", r(dst), r(a), r(b)),
             Op::Mul { dst, a, b } => format!("mul       {} <- {} * {}", r(dst), r(a), r(b)),
-            Op::Div { dst, a, b } => format!("div       {} <- {} / {}", r(dst), r(a), r(b)),
+            Op::Div { dst, a, b } | Op::DivReal { t: dst, a, b, .. } => {
+                format!("div       {} <- {} / {}", r(dst), r(a), r(b))
+            }
             Op::Mod { dst, a, b } => format!("mod       {} <- {} MOD {}", r(dst), r(a), r(b)),
             Op::AddFixed {
                 dst,
@@ -88,14 +90,16 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             | Op::AddInt { t, a, b, .. }
             | Op::AddReal { t, a, b, .. }
             | Op::AddAdd { t, a, b, .. }
-            | Op::AddSub { t, a, b, .. } => {
+            | Op::AddSub { t, a, b, .. }
+            | Op::AddMul { t, a, b, .. } => {
                 format!("add       {} <- {} + {}", r(t), r(a), r(b))
             }
             Op::SubLong { t, a, b, .. }
             | Op::SubInt { t, a, b, .. }
             | Op::SubReal { t, a, b, .. }
             | Op::SubAdd { t, a, b, .. }
-            | Op::SubSub { t, a, b, .. } => {
+            | Op::SubSub { t, a, b, .. }
+            | Op::SubMul { t, a, b, .. } => {
                 format!("sub       {} <- {} - {}", r(t), r(a), r(b))
             }
             Op::MulLong { t, a, b, .. }

@@ -982,6 +982,20 @@ pub fn run<'a>(
                     wr!(t as usize, rd!(t as usize) + rd!(c as usize));
                     pc = here + 2;
                 }
+                // `c` is read after `t` is written: it may be `t` itself (`(a - b) * (a - b)`
+                // is not written so, but a pair is made from whatever the compiler emits).
+                Op::AddMul { t, a, b, c } => {
+                    n += 1;
+                    wr!(t as usize, rd!(a as usize) + rd!(b as usize));
+                    wr!(t as usize, rd!(t as usize) * rd!(c as usize));
+                    pc = here + 2;
+                }
+                Op::SubMul { t, a, b, c } => {
+                    n += 1;
+                    wr!(t as usize, rd!(a as usize) - rd!(b as usize));
+                    wr!(t as usize, rd!(t as usize) * rd!(c as usize));
+                    pc = here + 2;
+                }
                 Op::SubSub { t, a, b, c } => {
                     n += 1;
                     wr!(t as usize, rd!(a as usize) - rd!(b as usize));
@@ -1078,6 +1092,18 @@ pub fn run<'a>(
                 Op::MulReal { t, dst, a, b } => {
                     n += 1;
                     let x = rd!(a as usize) * rd!(b as usize);
+                    wr!(t as usize, x);
+                    store_real!(dst, x, here + 1);
+                    pc = here + 2;
+                }
+                Op::DivReal { t, dst, a, b } => {
+                    let y = rd!(b as usize);
+                    if y == 0.0 {
+                        pc = here;
+                        fault!("division by zero");
+                    }
+                    n += 1;
+                    let x = rd!(a as usize) / y;
                     wr!(t as usize, x);
                     store_real!(dst, x, here + 1);
                     pc = here + 2;
