@@ -1010,7 +1010,8 @@ fn target_and_value_problems_of_one_assignment_are_both_reported() {
 
 #[test]
 fn load_reports_the_problems_of_every_file() {
-    let dir = std::env::temp_dir().join(format!("pacer-checker-load-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("pacer-checker-load-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(

@@ -13,7 +13,7 @@ struct Case {
 /// Load a project with one trivial program; return (code, text under the span, message) of
 /// every problem found.
 fn problems(case: Case) -> Vec<(String, String, String)> {
-    let dir = std::env::temp_dir().join(format!(
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!(
         "pacer-config-{}-{:x}",
         std::process::id(),
         hash(case.machine) ^ hash(case.scenario).rotate_left(7)

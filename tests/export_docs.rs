@@ -35,7 +35,8 @@ const PICTURES: &[(&str, &[&str])] = &[
 #[test]
 fn the_pictures_in_docs_are_what_pacer_draws() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("pacer-export-docs-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("pacer-export-docs-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let bless = std::env::var_os("PACER_BLESS").is_some();
     for (doc, args) in PICTURES {

@@ -76,7 +76,8 @@ impl Drop for Project {
 }
 
 fn load_machine(tag: &str, machine: &str) -> (Project, Result<Loaded, pacer::diag::Diagnostics>) {
-    let dir = std::env::temp_dir().join(format!("pacer-io-map-{}-{tag}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("pacer-io-map-{}-{tag}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temp dir");
     std::fs::write(dir.join("program0.pt"), "End\n").expect("program");

@@ -139,7 +139,8 @@ fn the_labeler_labels_every_product_where_it_should() {
 
 #[test]
 fn a_burst_of_products_overflows_the_label_queue_onto_drive_io_3() {
-    let dir = std::env::temp_dir().join(format!("pacer-labeling-burst-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("pacer-labeling-burst-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temp dir");
     // More than 12 products within the 10 master units between sensor and head.
@@ -162,7 +163,8 @@ fn a_burst_of_products_overflows_the_label_queue_onto_drive_io_3() {
 #[test]
 fn without_using_capture_labels_start_late_by_the_scheduling_delay_times_line_speed() {
     // A copy of Program 1 with `Using Capture.1` removed (programs/labeling stays verbatim).
-    let dir = std::env::temp_dir().join(format!("pacer-labeling-nocapture-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("pacer-labeling-nocapture-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temp dir");
     for f in [

@@ -164,7 +164,8 @@ fn synchronized_timers_count_master_distance() {
 
 #[test]
 fn scenario_master_and_product_problems_point_at_their_place() {
-    let dir = std::env::temp_dir().join(format!("pacer-master-{}-bad", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("pacer-master-{}-bad", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temp dir");
     std::fs::write(dir.join("program0.pt"), "End\n").expect("program");

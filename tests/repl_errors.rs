@@ -221,7 +221,8 @@ fn mangled_program_lines_never_crash_a_session() {
 #[test]
 fn a_wait_nothing_can_end_is_given_up_not_hung() {
     use std::io::Write as _;
-    let data = std::env::temp_dir().join(format!("pacer-repl-wait-{}", std::process::id()));
+    let data = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("pacer-repl-wait-{}", std::process::id()));
     let mut child = std::process::Command::new(env!("CARGO_BIN_EXE_pacer"))
         .arg("repl")
         .env("XDG_DATA_HOME", &data)
@@ -250,7 +251,8 @@ fn a_wait_nothing_can_end_is_given_up_not_hung() {
 #[test]
 fn a_run_time_error_of_a_typed_line_is_shown_in_the_line_and_traced_with_its_place() {
     let mut s = empty(Dialect::MotionBasic);
-    let dir = std::env::temp_dir().join(format!("pacer-repl-error-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("pacer-repl-error-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("a scratch folder");
     let trace = dir.join("t.jsonl");
     let mut out = Vec::new();
@@ -301,7 +303,8 @@ fn a_run_time_error_of_a_typed_line_is_shown_in_the_line_and_traced_with_its_pla
 /// program does: 0 is out of range when checked (a literal) and when run (a variable).
 #[test]
 fn typed_lines_keep_a_programs_option_base() {
-    let dir = std::env::temp_dir().join(format!("pacer-repl-base-{}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("pacer-repl-base-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temp dir");
     std::fs::write(

@@ -33,7 +33,7 @@ static COUNTER: AtomicUsize = AtomicUsize::new(0);
 /// A fresh folder holding `machine.toml`, the programs and, if given, `scenario.toml`.
 fn project(tag: &str, machine: &str, programs: &[(&str, &str)], scenario: Option<&str>) -> PathBuf {
     let n = COUNTER.fetch_add(1, Ordering::SeqCst);
-    let dir = std::env::temp_dir().join(format!(
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!(
         "pacer-scheduling-{}-{}-{tag}",
         std::process::id(),
         n

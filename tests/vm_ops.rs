@@ -7,7 +7,7 @@ use pacer::trace::Trace;
 use pacer::vm::Machine;
 
 fn run(program: &str, vars: &[(&str, u8)]) -> (Machine, pacer::vm::RunSummary) {
-    let dir = std::env::temp_dir().join(format!(
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!(
         "pacer-vmops-{}-{:x}",
         std::process::id(),
         fxhash(program)

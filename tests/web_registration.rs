@@ -17,7 +17,7 @@ fn folder(name: &str) -> PathBuf {
 
 /// Run a machine folder with `scenario` instead of its own.
 fn run_with(name: &str, scenario: &str) -> Run {
-    let path = std::env::temp_dir().join(format!(
+    let path = std::path::Path::new(env!("CARGO_TARGET_TMPDIR")).join(format!(
         "pacer-web-{}-{name}-{}.toml",
         std::process::id(),
         scenario.len()

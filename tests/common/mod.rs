@@ -111,7 +111,8 @@ fn run_with(loaded: Loaded, writes: bool, observe: &mut dyn FnMut(&Machine)) -> 
 
 /// A fresh folder under the system's temp dir holding `files`.
 pub fn project(name: &str, files: &[(&str, &str)]) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("pacer-test-{}-{name}", std::process::id()));
+    let dir = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("pacer-test-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("temp dir");
     for (file, text) in files {
@@ -202,7 +203,8 @@ pub fn text(o: &std::process::Output) -> String {
 
 /// An empty scratch folder of this test process, named `pacer-<group>-<pid>-<name>`.
 pub fn scratch_in(group: &str, name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("pacer-{group}-{}-{name}", std::process::id()));
+    let d = std::path::Path::new(env!("CARGO_TARGET_TMPDIR"))
+        .join(format!("pacer-{group}-{}-{name}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
     std::fs::create_dir_all(&d).expect("temp dir");
     d
