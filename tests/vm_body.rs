@@ -824,6 +824,45 @@ NEXT
 }
 
 #[test]
+fn a_zero_remainder_reaching_a_real_has_the_sign_of_its_dividend() {
+    // Counting down to -12: the last remainders are zeros of a negative dividend (-0), the
+    // one of `I& + 24` a zero of a positive one (+0); through a division, a store, a copy
+    // into a real register, a sum. The body converts them with the dividend's sign rather
+    // than leaving the iteration (each `MOD` by 2 or 3 gives a zero every few iterations).
+    // The longs make it a body mostly of integers, which runs outside the interpreter.
+    let program = "S = 0
+FOR I& = 12 TO -12 STEP -1
+  X = (I& MOD 3) / 4
+  Y = I& MOD 4
+  V = ((I& + 24) MOD 3) / 4
+  W = (I& MOD 2) * 0.5 + (I& MOD 6)
+  S = S + (I& MOD 2) / 8
+  K& = (K& * 31 + I&) AND 65535
+  H& = H& XOR (K& + I&)
+  G& = (G& + K&) AND 255
+  J& = (J& + H&) AND 4095
+  L& = L& XOR (J& + G&)
+NEXT
+";
+    let (machine, _) = run_untraced(load("body-mod-sign", "x.mb", program, 1_000_000));
+    let value = |name: &str| machine.value_of(name).unwrap_or(f64::NAN);
+    for (name, negative) in [("X", true), ("Y", true), ("V", false), ("W", true)] {
+        let x = value(name);
+        assert!(x == 0.0 && x.is_sign_negative() == negative, "{name}: {x}");
+    }
+    assert_eq!(value("S"), 0.0);
+    let (_, error, tight) = both("x.mb", program, 1_000_000);
+    assert_eq!(error, None);
+    // Once, from its second iteration to its end: no iteration was left to the interpreter.
+    assert_eq!(tight, 1, "runs outside the interpreter");
+    assert_eq!(machine.slow_runs(), 0, "iterations left to the interpreter");
+    // The same at budgets that cut iterations in the middle.
+    for budget in [7, 10, 33] {
+        both("x.mb", program, budget);
+    }
+}
+
+#[test]
 fn a_body_that_writes_a_traced_slot_or_calls_out_stays_in_the_interpreter() {
     // An outer loop (its body holds a loop) and a body with a PRINT are not translated; the
     // inner loop is.

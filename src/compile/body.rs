@@ -118,6 +118,9 @@ enum Ir {
     /// [`Ir::ToR`] of an `Int` that may stand for -0 (a product, a `MOD`…): a 0 leaves
     /// the iteration to the interpreter, which knows the zero's sign.
     ToRSigned { d: Local, s: Local },
+    /// [`Ir::ToR`] of an `Int` a `MOD` gave, whose zero has the sign of the dividend `sign`
+    /// (an `Int` that is never -0): -0 when the dividend is negative.
+    ToRModSign { d: Local, s: Local, sign: Local },
     /// A real stored into a long (halves rounded to even).
     LongR { d: Local, s: Local },
     /// A real stored into an INTEGER.
@@ -283,6 +286,8 @@ pub enum Code {
     CmpR,
     NotR,
     ToR,
+    /// `d = a` as a real; a zero leaves the iteration (`k` 0) or takes the sign of the integer
+    /// `b` (`k` 1).
     ToRSigned,
     LongR,
     ShortR,
@@ -1581,6 +1586,9 @@ fn translate(
     let mut skip_at: Vec<(usize, i32)> = Vec::new();
     // The body's instruction each IR instruction comes from.
     let mut ir_op: Vec<u16> = Vec::new();
+    // The `Int` results of a `MOD` whose dividend is an `Int` never -0, by that dividend, while
+    // it keeps its value: a zero result has the dividend's sign (`basic_mod_of`).
+    let mut signs: BTreeMap<Reg, Reg> = BTreeMap::new();
     for (k, s) in by_op.iter().enumerate() {
         first_micro.push(out.len());
         let i = start + k as u32;
@@ -1591,12 +1599,28 @@ fn translate(
                 &kind_of,
                 &l,
                 &shadow,
+                &signs,
                 conv,
                 &arr_of,
                 &mut out,
                 &mut patches,
                 &mut skip_at,
             );
+            if let Some(w) = step.written() {
+                signs.retain(|&r, &mut a| r != w && a != w);
+            }
+            if let Step::Bin {
+                op: Bin::Int(BinaryOp::BasicMod),
+                d,
+                a,
+                b,
+            } = *step
+            {
+                if kind_of(a) == INT && kind_of(b).kind == Kind::Int && kind_of(d).kind == Kind::Int
+                {
+                    signs.insert(d, a);
+                }
+            }
         }
         ir_op.resize(out.len(), u16::try_from(k).ok()?);
     }
@@ -1894,7 +1918,8 @@ fn ir_regs(ir: &Ir) -> (Vec<Local>, Option<Local>) {
         | Ir::ShortR { d, s }
         | Ir::FixedR { d, s, .. }
         | Ir::RealR { d, s } => (vec![s], Some(d)),
-        Ir::AddI { d, a, b }
+        Ir::ToRModSign { d, s: a, sign: b }
+        | Ir::AddI { d, a, b }
         | Ir::SubI { d, a, b }
         | Ir::MulI { d, a, b }
         | Ir::ModI { d, a, b }
@@ -2225,6 +2250,7 @@ fn pack(ir: &Ir) -> Micro {
         Ir::NotR { d, s } => m(Code::NotR, d, s, 0, 0),
         Ir::ToR { d, s } => m(Code::ToR, d, s, 0, 0),
         Ir::ToRSigned { d, s } => m(Code::ToRSigned, d, s, 0, 0),
+        Ir::ToRModSign { d, s, sign } => m(Code::ToRSigned, d, s, sign, 1),
         Ir::LongR { d, s } => m(Code::LongR, d, s, 0, 0),
         Ir::ShortR { d, s } => m(Code::ShortR, d, s, 0, 0),
         Ir::FixedR { d, s, decimals } => m(Code::FixedR, d, s, 0, i32::from(decimals)),
@@ -2301,6 +2327,7 @@ fn emit(
     kind_of: &dyn Fn(Reg) -> Known,
     l: &dyn Fn(Reg) -> Local,
     shadow: &BTreeMap<Reg, Local>,
+    signs: &BTreeMap<Reg, Reg>,
     conv: [Local; 2],
     arr_of: &dyn Fn(Array) -> u8,
     out: &mut Vec<Ir>,
@@ -2308,6 +2335,18 @@ fn emit(
     skips: &mut Vec<(usize, i32)>,
 ) {
     let int = |r: Reg| kind_of(r).kind == Kind::Int;
+    // The `Int` register `r` (in local `s`) as the real `d`. A zero that may be the
+    // interpreter's -0 takes the sign of the dividend of the `MOD` that gave it, where that is
+    // known (`signs`); otherwise it leaves the iteration to the interpreter.
+    let to_real = |d: Local, r: Reg, s: Local| -> Ir {
+        if !kind_of(r).signed_zero {
+            Ir::ToR { d, s }
+        } else if let Some(&a) = signs.get(&r) {
+            Ir::ToRModSign { d, s, sign: l(a) }
+        } else {
+            Ir::ToRSigned { d, s }
+        }
+    };
     // The register `r` as a real: itself, or converted into `conv[k]` (checked for -0 when
     // `sign` matters to what reads it).
     let real = |r: Reg, k: usize, sign: bool, out: &mut Vec<Ir>| -> Local {
@@ -2318,8 +2357,8 @@ fn emit(
             return x;
         }
         let d = conv[k];
-        out.push(if sign && kind_of(r).signed_zero {
-            Ir::ToRSigned { d, s: l(r) }
+        out.push(if sign {
+            to_real(d, r, l(r))
         } else {
             Ir::ToR { d, s: l(r) }
         });
@@ -2384,8 +2423,18 @@ fn emit(
                         BinaryOp::BitOr => Ir::OrI { d, a: la, b: lb },
                         _ => Ir::XorI { d, a: la, b: lb },
                     };
-                    let signed = matches!(bop, BinaryOp::BasicMod | BinaryOp::IntDiv);
-                    int_into(d, &make, signed, out);
+                    if bop == BinaryOp::BasicMod && !int(d) && kind_of(a) == INT {
+                        // Converted at once, the dividend at hand: a zero takes its sign.
+                        out.push(make(conv[0]));
+                        out.push(Ir::ToRModSign {
+                            d: l(d),
+                            s: conv[0],
+                            sign: la,
+                        });
+                    } else {
+                        let signed = matches!(bop, BinaryOp::BasicMod | BinaryOp::IntDiv);
+                        int_into(d, &make, signed, out);
+                    }
                 }
                 Bin::Int(bop) => {
                     let (ra, rb) = (real(a, 0, false, out), real(b, 1, false, out));
@@ -2430,11 +2479,7 @@ fn emit(
         Step::Un { op, d, s } => {
             let ls = l(s);
             match op {
-                Un::Move if int(s) && !int(d) => out.push(if kind_of(s).signed_zero {
-                    Ir::ToRSigned { d: l(d), s: ls }
-                } else {
-                    Ir::ToR { d: l(d), s: ls }
-                }),
+                Un::Move if int(s) && !int(d) => out.push(to_real(l(d), s, ls)),
                 Un::Move => out.push(Ir::Mov { d: l(d), s: ls }),
                 Un::Neg if int(s) => int_into(d, &|d| Ir::NegI { d, s: ls }, true, out),
                 Un::Neg => out.push(Ir::NegR { d: l(d), s: ls }),
@@ -2487,11 +2532,7 @@ fn emit(
                         decimals,
                     });
                 }
-                Store::Real if int(s) => out.push(if kind_of(s).signed_zero {
-                    Ir::ToRSigned { d: l(d), s: ls }
-                } else {
-                    Ir::ToR { d: l(d), s: ls }
-                }),
+                Store::Real if int(s) => out.push(to_real(l(d), s, ls)),
                 Store::Real => out.push(Ir::RealR { d: l(d), s: ls }),
             }
         }
@@ -2661,11 +2702,7 @@ fn emit(
                     out.push(Ir::PutR { s: c, off, arr });
                 }
                 Store::Real if int(s) => {
-                    out.push(if kind_of(s).signed_zero {
-                        Ir::ToRSigned { d: c, s: ls }
-                    } else {
-                        Ir::ToR { d: c, s: ls }
-                    });
+                    out.push(to_real(c, s, ls));
                     out.push(Ir::PutR { s: c, off, arr });
                 }
                 Store::Real => {

@@ -615,9 +615,14 @@ fn iterate<const COUNTED: bool, const NESTED: bool, const TEXT: bool>(
                 Code::ToRSigned => {
                     let x = int!(a);
                     if x == 0 {
-                        undone!();
+                        // `k` 1: a `MOD`'s zero, which has the sign of its dividend `b`.
+                        if k == 0 {
+                            undone!();
+                        }
+                        set_real!(d, if int!(b) < 0 { -0.0 } else { 0.0 });
+                    } else {
+                        set_real!(d, x as f64);
                     }
-                    set_real!(d, x as f64);
                 }
                 Code::LongR => {
                     let x = real!(a);

@@ -202,6 +202,8 @@ pub struct Machine {
     no_data: u32,
     /// How many runs of loops the machine ran outside the interpreter (`vm::tight`).
     tight_runs: u64,
+    /// How many of those runs of translated bodies left an iteration to the interpreter.
+    slow_runs: u64,
     /// The registers of a loop run on typed registers (`vm::body`), kept from one run to the
     /// next: a short loop entered often would otherwise clear them at each entry.
     body_regs: Box<body::Registers>,
@@ -293,6 +295,7 @@ impl Machine {
             rnd: rnd::Rnd::new(image.seed),
             no_data: 0,
             tight_runs: 0,
+            slow_runs: 0,
             body_regs: Box::default(),
             trials: Vec::new(),
             image,
@@ -326,6 +329,14 @@ impl Machine {
     /// outside the interpreter (`vm::tight`): what tests read to see that it did.
     pub fn tight_runs(&self) -> u64 {
         self.tight_runs
+    }
+
+    /// How many runs of translated loop bodies (`vm::body`) stopped at an iteration they could
+    /// not finish as the interpreter would (a value out of their range, a -0 they cannot
+    /// carry, a fault), leaving it to the interpreter: what tests read to see that a body
+    /// keeps running where it should.
+    pub fn slow_runs(&self) -> u64 {
+        self.slow_runs
     }
 
     /// Current value of a member by name, e.g. `Queue.0.QueueOffset` (for tests and tools).
@@ -1103,6 +1114,7 @@ impl Machine {
         };
         let counted = n - self.instructions;
         self.tight_runs += 1;
+        self.slow_runs += u64::from(end == tight::End::Slow);
         self.instructions = n;
         // The interpreter goes on after the loop, or where the run was left.
         let next = match end {
