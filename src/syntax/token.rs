@@ -44,6 +44,12 @@ pub enum Tok<'s> {
     Until,
     /// `EXIT` (MotionBASIC `EXIT FOR`, `EXIT DO`).
     Exit,
+    /// `SELECT` (MotionBASIC `SELECT CASE`).
+    Select,
+    /// `CASE` (MotionBASIC `SELECT CASE`, `CASE …`, `CASE ELSE`).
+    Case,
+    /// `IS` (MotionBASIC `CASE IS > 5`).
+    Is,
     End,
     Using,
     Last,
@@ -153,6 +159,9 @@ impl Tok<'_> {
             Tok::Loop => word("Loop"),
             Tok::Until => word("Until"),
             Tok::Exit => word("Exit"),
+            Tok::Select => word("Select"),
+            Tok::Case => word("Case"),
+            Tok::Is => word("Is"),
             Tok::End => word("End"),
             Tok::Using => word("Using"),
             Tok::Last => word("Last"),
