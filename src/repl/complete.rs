@@ -62,6 +62,7 @@ const MB_KEYWORDS: &[&str] = &[
     "RESTORE",
     "SWAP",
     "LET",
+    "CONST",
     "RANDOMIZE",
     "DEFINT",
     "DEFLNG",

@@ -50,6 +50,8 @@ pub enum Tok<'s> {
     Case,
     /// `IS` (MotionBASIC `CASE IS > 5`).
     Is,
+    /// `CONST` (MotionBASIC).
+    Const,
     End,
     Using,
     Last,
@@ -162,6 +164,7 @@ impl Tok<'_> {
             Tok::Select => word("Select"),
             Tok::Case => word("Case"),
             Tok::Is => word("Is"),
+            Tok::Const => word("Const"),
             Tok::End => word("End"),
             Tok::Using => word("Using"),
             Tok::Last => word("Last"),

@@ -60,6 +60,8 @@ enum MbLex<'s> {
     Case,
     #[token("is", ignore(case))]
     Is,
+    #[token("const", ignore(case))]
+    Const,
     #[token("for", ignore(case))]
     For,
     #[token("to", ignore(case))]
@@ -295,6 +297,7 @@ fn token(word: MbLex<'_>) -> Option<Tok<'_>> {
         MbLex::Select => Tok::Select,
         MbLex::Case => Tok::Case,
         MbLex::Is => Tok::Is,
+        MbLex::Const => Tok::Const,
         MbLex::ElseIf => Tok::ElseIf,
         MbLex::Endif => Tok::Endif,
         MbLex::While => Tok::While,

@@ -1,0 +1,225 @@
+//! `CONST name = value, …` (MotionBASIC, as QuickBASIC writes it): each name is bound once to
+//! a constant value, made of numbers, strings, other CONSTs declared before it and operators.
+//! The statement becomes assignments of its values where it is written, so the checker and the
+//! compiler see variables they know; this pass refuses what would make a CONST vary: a value
+//! that is not constant, and any other assignment to the name (`LET`, `READ`, a `FOR` counter,
+//! `SWAP`, the `MID$` statement, a second `CONST`), "Duplicate definition" in Microsoft
+//! BASIC's words.
+//!
+//! It runs after `syntax::deftype`, so a name is compared with the suffix a DEF statement gave
+//! it (after `DEFINT N`, `N` and `N%` are one CONST).
+
+use super::ast::{Expr, ExprKind, Name, Place, Stmt, StmtKind};
+use crate::diag::Problem;
+use crate::span::{LineIndex, Span};
+use indexmap::IndexMap;
+use std::collections::HashSet;
+
+/// Check the program's CONSTs and make each an assignment of its value.
+pub fn apply(body: &mut Vec<Stmt>, src: &str, problems: &mut Vec<Problem>) {
+    let mut consts = IndexMap::new();
+    collect(body, &mut consts);
+    if consts.is_empty() {
+        return;
+    }
+    let index = LineIndex::new(src);
+    let mut pass = Pass {
+        consts,
+        declared: HashSet::new(),
+        index: &index,
+        problems,
+    };
+    pass.stmts(body);
+}
+
+/// The name a CONST or an assignment names, as compared (Microsoft BASIC names ignore case).
+fn key(n: &Name) -> String {
+    n.text().to_ascii_uppercase()
+}
+
+/// Each CONST name and where its first CONST names it, in source order.
+fn collect(body: &[Stmt], consts: &mut IndexMap<String, Span>) {
+    for s in body {
+        match &s.kind {
+            StmtKind::Const(items) => {
+                for (n, _) in items {
+                    consts.entry(key(n)).or_insert(n.span);
+                }
+            }
+            StmtKind::If {
+                then_body,
+                else_body,
+                ..
+            } => {
+                collect(then_body, consts);
+                if let Some(e) = else_body {
+                    collect(e, consts);
+                }
+            }
+            StmtKind::DoWhile { body, .. } | StmtKind::For { body, .. } => collect(body, consts),
+            _ => {}
+        }
+    }
+}
+
+struct Pass<'a> {
+    /// Every CONST of the program and where it is declared.
+    consts: IndexMap<String, Span>,
+    /// Those whose CONST the walk has passed, in source order.
+    declared: HashSet<String>,
+    index: &'a LineIndex,
+    problems: &'a mut Vec<Problem>,
+}
+
+impl Pass<'_> {
+    fn stmts(&mut self, body: &mut Vec<Stmt>) {
+        for mut s in std::mem::take(body) {
+            match &mut s.kind {
+                StmtKind::Const(items) => {
+                    for (n, v) in std::mem::take(items) {
+                        self.value(&v);
+                        let k = key(&n);
+                        let first = self.consts.get(&k).copied();
+                        if self.declared.contains(&k) || first.is_some_and(|at| at != n.span) {
+                            self.duplicate(&n, "a second CONST of it");
+                        }
+                        self.declared.insert(k);
+                        body.push(Stmt {
+                            kind: StmtKind::Assign {
+                                target: n,
+                                value: v,
+                            },
+                            span: s.span,
+                        });
+                    }
+                    continue;
+                }
+                StmtKind::Assign { target, .. } => self.write(target, "assigned here"),
+                StmtKind::For { var, body, .. } => {
+                    self.write(var, "counts this FOR");
+                    self.stmts(body);
+                }
+                StmtKind::Read(places) => {
+                    for p in places.iter() {
+                        if let Place::Var(n) = p {
+                            self.write(n, "read into here");
+                        }
+                    }
+                }
+                StmtKind::Swap(a, b) => {
+                    for p in [&*a, &*b] {
+                        if let Place::Var(n) = p {
+                            self.write(n, "swapped here");
+                        }
+                    }
+                }
+                StmtKind::SetCall { target, args, .. }
+                    if target.text.eq_ignore_ascii_case("MID$") =>
+                {
+                    if let Some(Expr {
+                        kind: ExprKind::Name(n),
+                        ..
+                    }) = args.first()
+                    {
+                        self.write(n, "changed here");
+                    }
+                }
+                StmtKind::If {
+                    then_body,
+                    else_body,
+                    ..
+                } => {
+                    self.stmts(then_body);
+                    if let Some(e) = else_body {
+                        self.stmts(e);
+                    }
+                }
+                StmtKind::DoWhile { body, .. } => self.stmts(body),
+                _ => {}
+            }
+            body.push(s);
+        }
+    }
+
+    /// `n` stored into outside its CONST: refused when it is a CONST.
+    fn write(&mut self, n: &Name, label: &str) {
+        if self.consts.contains_key(&key(n)) {
+            self.duplicate(n, label);
+        }
+    }
+
+    fn duplicate(&mut self, n: &Name, label: &str) {
+        let line = self
+            .consts
+            .get(&key(n))
+            .map_or(0, |at| self.index.line(at.start));
+        self.problems.push(
+            Problem::error(
+                "pacer::check::const",
+                n.span,
+                format!("Duplicate definition: {} is a CONST", n.text()),
+                label.to_string(),
+            )
+            .with_help(format!(
+                "the CONST at line {line} gives it its one value: use another variable here"
+            )),
+        );
+    }
+
+    /// A CONST's value: numbers, strings, CONSTs declared before it, operators.
+    fn value(&mut self, e: &Expr) {
+        match &e.kind {
+            ExprKind::Number(..) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
+            ExprKind::Unary(_, a) | ExprKind::Paren(a) => self.value(a),
+            ExprKind::Binary(_, a, b) => {
+                self.value(a);
+                self.value(b);
+            }
+            ExprKind::Name(n) => {
+                let k = key(n);
+                if self.declared.contains(&k) {
+                    return;
+                }
+                let (message, label) = match self.consts.get(&k) {
+                    Some(at) => (
+                        format!(
+                            "{} is used before its CONST at line {}",
+                            n.text(),
+                            self.index.line(at.start)
+                        ),
+                        "declared later",
+                    ),
+                    None => (
+                        format!("a CONST's value cannot read the variable {}", n.text()),
+                        "not a constant",
+                    ),
+                };
+                self.not_constant(e.span, message, label);
+            }
+            ExprKind::Call(f, _) => {
+                let message = format!("a CONST's value cannot call {}", f.text);
+                self.not_constant(e.span, message, "not a constant");
+            }
+            ExprKind::AxisSet(_) => self.not_constant(
+                e.span,
+                "a CONST's value cannot be an axis set",
+                "an axis set",
+            ),
+        }
+    }
+
+    fn not_constant(&mut self, span: Span, message: impl Into<String>, label: &str) {
+        self.problems.push(
+            Problem::error(
+                "pacer::check::const",
+                span,
+                message.into(),
+                label.to_string(),
+            )
+            .with_help(
+                "a CONST's value is made of numbers, strings, CONSTs declared before it and \
+                 operators, as in QuickBASIC",
+            ),
+        );
+    }
+}
