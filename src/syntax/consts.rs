@@ -7,13 +7,15 @@
 //! BASIC's words.
 //!
 //! It runs after `syntax::deftype`, so a name is compared with the suffix a DEF statement gave
-//! it (after `DEFINT N`, `N` and `N%` are one CONST).
+//! it (after `DEFINT N`, `N` and `N%` are one CONST). A `DIM` bound may name a CONST declared
+//! before it (`DIM A(N%)`, as QuickBASIC allows): its value is written in there, since pacer
+//! sizes arrays before the run.
 
 use super::ast::{Expr, ExprKind, Name, Place, Stmt, StmtKind};
 use crate::diag::Problem;
 use crate::span::{LineIndex, Span};
 use indexmap::IndexMap;
-use std::collections::HashSet;
+use std::collections::{HashMap, HashSet};
 
 /// Check the program's CONSTs and make each an assignment of its value.
 pub fn apply(body: &mut Vec<Stmt>, src: &str, problems: &mut Vec<Problem>) {
@@ -26,6 +28,7 @@ pub fn apply(body: &mut Vec<Stmt>, src: &str, problems: &mut Vec<Problem>) {
     let mut pass = Pass {
         consts,
         declared: HashSet::new(),
+        values: HashMap::new(),
         index: &index,
         problems,
     };
@@ -67,6 +70,8 @@ struct Pass<'a> {
     consts: IndexMap<String, Span>,
     /// Those whose CONST the walk has passed, in source order.
     declared: HashSet<String>,
+    /// The values of those declared without error, CONSTs in them written out.
+    values: HashMap<String, Expr>,
     index: &'a LineIndex,
     problems: &'a mut Vec<Problem>,
 }
@@ -77,8 +82,14 @@ impl Pass<'_> {
             match &mut s.kind {
                 StmtKind::Const(items) => {
                     for (n, v) in std::mem::take(items) {
-                        self.value(&v);
                         let k = key(&n);
+                        let before = self.problems.len();
+                        self.value(&v);
+                        if self.problems.len() == before && !self.values.contains_key(&k) {
+                            let mut written = v.clone();
+                            self.inline(&mut written);
+                            self.values.insert(k.clone(), written);
+                        }
                         let first = self.consts.get(&k).copied();
                         if self.declared.contains(&k) || first.is_some_and(|at| at != n.span) {
                             self.duplicate(&n, "a second CONST of it");
@@ -135,9 +146,34 @@ impl Pass<'_> {
                     }
                 }
                 StmtKind::DoWhile { body, .. } => self.stmts(body),
+                StmtKind::Dim(arrays) => {
+                    for (_, bounds) in arrays.iter_mut() {
+                        bounds.iter_mut().for_each(|b| self.inline(b));
+                    }
+                }
                 _ => {}
             }
             body.push(s);
+        }
+    }
+
+    /// `e` with the CONSTs declared so far written out as their values.
+    fn inline(&self, e: &mut Expr) {
+        match &mut e.kind {
+            ExprKind::Name(n) => {
+                if let Some(v) = self.values.get(&key(n)) {
+                    e.kind = ExprKind::Paren(Box::new(v.clone()));
+                }
+            }
+            ExprKind::Unary(_, a) | ExprKind::Paren(a) => self.inline(a),
+            ExprKind::Binary(_, a, b) => {
+                self.inline(a);
+                self.inline(b);
+            }
+            ExprKind::Call(_, args) | ExprKind::AxisSet(args) => {
+                args.iter_mut().for_each(|a| self.inline(a));
+            }
+            ExprKind::Number(..) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
         }
     }
 
