@@ -4,14 +4,14 @@
 //! compiler see variables they know; this pass refuses what would make a CONST vary: a value
 //! that is not constant, and any other assignment to the name (`LET`, `READ`, a `FOR` counter,
 //! `SWAP`, the `MID$` statement, a second `CONST`), "Duplicate definition" in Microsoft
-//! BASIC's words.
+//! BASIC's words, and a read written above the `CONST` (which would find 0).
 //!
 //! It runs after `syntax::deftype`, so a name is compared with the suffix a DEF statement gave
 //! it (after `DEFINT N`, `N` and `N%` are one CONST). A `DIM` bound may name a CONST declared
 //! before it (`DIM A(N%)`, as QuickBASIC allows): its value is written in there, since pacer
 //! sizes arrays before the run.
 
-use super::ast::{Expr, ExprKind, Name, Place, Stmt, StmtKind};
+use super::ast::{Expr, ExprKind, GearForm, MoveForm, Name, Place, PrintItem, Stmt, StmtKind};
 use crate::diag::Problem;
 use crate::span::{LineIndex, Span};
 use indexmap::IndexMap;
@@ -79,6 +79,10 @@ struct Pass<'a> {
 impl Pass<'_> {
     fn stmts(&mut self, body: &mut Vec<Stmt>) {
         for mut s in std::mem::take(body) {
+            // A CONST read above its CONST would find 0: QuickBASIC refuses it too.
+            for e in heads(&s.kind) {
+                self.early_reads(e);
+            }
             match &mut s.kind {
                 StmtKind::Const(items) => {
                     for (n, v) in std::mem::take(items) {
@@ -154,6 +158,36 @@ impl Pass<'_> {
                 _ => {}
             }
             body.push(s);
+        }
+    }
+
+    /// The CONSTs `e` reads before their CONST, reported.
+    fn early_reads(&mut self, e: &Expr) {
+        match &e.kind {
+            ExprKind::Name(n) => {
+                let k = key(n);
+                if let (false, Some(at)) = (self.declared.contains(&k), self.consts.get(&k)) {
+                    let line = self.index.line(at.start);
+                    self.problems.push(
+                        Problem::error(
+                            "pacer::check::const",
+                            n.span,
+                            format!("{} is used before its CONST at line {line}", n.text()),
+                            "declared later",
+                        )
+                        .with_help("declare CONSTs at the top of the program, before their use"),
+                    );
+                }
+            }
+            ExprKind::Unary(_, a) | ExprKind::Paren(a) => self.early_reads(a),
+            ExprKind::Binary(_, a, b) => {
+                self.early_reads(a);
+                self.early_reads(b);
+            }
+            ExprKind::Call(_, args) | ExprKind::AxisSet(args) => {
+                args.iter().for_each(|a| self.early_reads(a));
+            }
+            ExprKind::Number(..) | ExprKind::Bool(_) | ExprKind::Str(_) => {}
         }
     }
 
@@ -257,5 +291,102 @@ impl Pass<'_> {
                  operators, as in QuickBASIC",
             ),
         );
+    }
+}
+
+/// The subscripts of an element stored into.
+fn place(p: &Place) -> Vec<&Expr> {
+    match p {
+        Place::Var(_) => Vec::new(),
+        Place::Element(_, args, _) => args.iter().collect(),
+    }
+}
+
+/// The values a PRINT prints.
+fn items(items: &[PrintItem]) -> Vec<&Expr> {
+    items
+        .iter()
+        .filter_map(|i| match i {
+            PrintItem::Expr(e) => Some(e),
+            _ => None,
+        })
+        .collect()
+}
+
+/// The expressions a statement computes itself (a block's head, not its body; a CONST's
+/// values are checked as such).
+fn heads(kind: &StmtKind) -> Vec<&Expr> {
+    match kind {
+        StmtKind::Assign { value, .. } => vec![value],
+        StmtKind::DwellTime(e, _)
+        | StmtKind::DwellMaster(e, _)
+        | StmtKind::WaitTime(e)
+        | StmtKind::WaitFor(e)
+        | StmtKind::If { cond: e, .. }
+        | StmtKind::DoWhile { cond: e, .. }
+        | StmtKind::OptionBase(e) => vec![e],
+        StmtKind::For { from, to, step, .. } => {
+            let mut v = vec![from, to];
+            v.extend(step.as_ref());
+            v
+        }
+        StmtKind::SetCall { args, value, .. } => args.iter().chain([value]).collect(),
+        StmtKind::Gear { axis, form } => {
+            let mut v = vec![axis];
+            match form {
+                GearForm::At {
+                    out,
+                    inn,
+                    pacer,
+                    after,
+                } => {
+                    v.extend([out, inn]);
+                    v.extend(pacer.iter().chain(after.iter()));
+                }
+                GearForm::For { dist, pacer } => v.extend([dist, pacer]),
+            }
+            v
+        }
+        StmtKind::Move { axis, form } => {
+            let mut v = vec![axis];
+            match form {
+                MoveForm::At { speed, time } => {
+                    v.push(speed);
+                    v.extend(time.iter());
+                }
+                MoveForm::Position {
+                    target,
+                    speed,
+                    time,
+                    ..
+                } => {
+                    v.push(target);
+                    v.extend(speed.iter().chain(time.iter()));
+                }
+            }
+            v
+        }
+        StmtKind::Print(list) => items(list),
+        StmtKind::PrintUsing(format, list) => {
+            let mut v = vec![format];
+            v.extend(items(list));
+            v
+        }
+        StmtKind::Dim(arrays) => arrays.iter().flat_map(|(_, b)| b.iter()).collect(),
+        StmtKind::Read(places) => places.iter().flat_map(place).collect(),
+        StmtKind::Swap(a, b) => place(a).into_iter().chain(place(b)).collect(),
+        StmtKind::Randomize(e) => e.iter().collect(),
+        StmtKind::Const(_)
+        | StmtKind::Action { .. }
+        | StmtKind::Call(_)
+        | StmtKind::Label(_)
+        | StmtKind::Goto(_)
+        | StmtKind::Exit { .. }
+        | StmtKind::End
+        | StmtKind::Gosub(_)
+        | StmtKind::Return
+        | StmtKind::Data(_)
+        | StmtKind::Restore(_)
+        | StmtKind::DefType { .. } => Vec::new(),
     }
 }
