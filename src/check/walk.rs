@@ -296,6 +296,8 @@ fn statement<R: Rules>(rules: &mut R, cx: &mut Context<'_>, s: &Stmt) -> Option<
         StmtKind::End => Some(T::End),
         // Left only where it leaves no loop, which `syntax::blocks` reported.
         StmtKind::Exit { .. } => None,
+        // Made assignments by `syntax::consts` before any check.
+        StmtKind::Const(_) => None,
         StmtKind::Return if basic => Some(T::Return),
         StmtKind::Return
         | StmtKind::DwellTime(..)

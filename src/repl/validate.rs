@@ -46,5 +46,12 @@ mod tests {
         ));
         assert!(incomplete("WHILE X& < 3", mb));
         assert!(!incomplete("WHILE X& < 3\nX& = X& + 1\nWEND", mb));
+        // A SELECT CASE goes on until its END SELECT, whatever its CASEs.
+        assert!(incomplete("SELECT CASE X&", mb));
+        assert!(incomplete("SELECT CASE X&\nCASE 1\nY& = 2\nCASE ELSE", mb));
+        assert!(!incomplete(
+            "SELECT CASE X&\nCASE 1\nY& = 2\nEND SELECT",
+            mb
+        ));
     }
 }

@@ -260,6 +260,9 @@ pub enum StmtKind {
     /// `OPTION BASE n` (MotionBASIC): the lowest subscript of the program's arrays, as
     /// written (the checker takes a literal 0 or 1 only).
     OptionBase(Expr),
+    /// `CONST name = value, …` (MotionBASIC, as QuickBASIC writes it). Made assignments once
+    /// checked (`syntax::consts`): no later pass sees it.
+    Const(Vec<(Name, Expr)>),
 }
 
 /// One item of a `DATA` statement.

@@ -1,7 +1,8 @@
-//! Assembles lines into nested statements: If/Else/Endif, Do While/Loop, For/Next.
+//! Assembles lines into nested statements: If/Else/Endif, Do While/Loop, For/Next, and
+//! MotionBASIC's SELECT CASE made an IF … ELSEIF chain.
 
-use super::ast::{Segment, Stmt, StmtKind, Using};
-use super::lines::{Line, LineKind, Modifier};
+use super::ast::{BinOp, Expr, ExprKind, Name, Segment, Stmt, StmtKind, Using};
+use super::lines::{CaseItem, Line, LineKind, Modifier};
 use crate::diag::Problem;
 use crate::span::Span;
 
@@ -70,6 +71,22 @@ enum Frame {
         else_body: Option<(Span, Vec<Stmt>)>,
         /// Opened by an `ELSEIF`: the `END IF` that closes it closes the block it continues.
         chained: bool,
+        /// Opened by a `CASE` (or `CASE ELSE`): only `END SELECT` closes it, and only `CASE`
+        /// lines continue it.
+        select: bool,
+    },
+    /// A `SELECT CASE` (its test already stored in `var`), until its first `CASE` opens the
+    /// `If` chain the cases make.
+    Select {
+        span: Span,
+        /// The made variable holding the tested value.
+        var: Name,
+        /// Labels before the first `CASE`, then the chain once `END SELECT` closes it.
+        body: Vec<Stmt>,
+        /// A `CASE` has opened the chain.
+        cases: bool,
+        /// A statement before the first `CASE` has been reported.
+        stray: bool,
     },
     Do {
         cond: super::ast::Expr,
@@ -99,7 +116,7 @@ impl Frame {
     fn exit_label(&mut self, n: &mut usize) -> Option<Segment> {
         let (exit, span) = match self {
             Frame::Do { exit, span, .. } | Frame::For { exit, span, .. } => (exit, *span),
-            Frame::If { .. } => return None,
+            Frame::If { .. } | Frame::Select { .. } => return None,
         };
         Some(
             exit.get_or_insert_with(|| made_label("exit", n, span))
@@ -117,13 +134,14 @@ impl Frame {
                 Some((_, b)) => b,
                 None => then_body,
             },
-            Frame::Do { body, .. } | Frame::For { body, .. } => body,
+            Frame::Do { body, .. } | Frame::For { body, .. } | Frame::Select { body, .. } => body,
         }
     }
 
-    /// The statement this block makes once closed.
-    fn into_stmt(self) -> Stmt {
-        match self {
+    /// The statements this block makes once closed.
+    fn into_stmts(self) -> Vec<Stmt> {
+        let stmt = match self {
+            Frame::Select { body, .. } => return body,
             Frame::If {
                 cond,
                 span,
@@ -162,12 +180,17 @@ impl Frame {
                 },
                 span,
             },
-        }
+        };
+        vec![stmt]
     }
 
     fn describe(&self, w: &Words) -> (&'static str, &'static str, Span) {
         match self {
+            Frame::If {
+                span, select: true, ..
+            } => ("CASE", END_SELECT, *span),
             Frame::If { span, .. } => (w.if_, w.endif, *span),
+            Frame::Select { span, .. } => (SELECT, END_SELECT, *span),
             Frame::Do {
                 span,
                 plain: Some(_),
@@ -179,6 +202,12 @@ impl Frame {
     }
 }
 
+/// How messages name the opening line of a `SELECT CASE` (MotionBASIC only).
+const SELECT: &str = "SELECT CASE";
+
+/// And its closing line.
+const END_SELECT: &str = "END SELECT";
+
 /// Deepest nesting of blocks accepted (keeps every later pass's recursion shallow).
 pub const MAX_NESTING: usize = 64;
 
@@ -189,8 +218,12 @@ pub const MAX_DEPTH: usize = 256;
 pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Words) -> Vec<Stmt> {
     let mut top: Vec<Stmt> = Vec::new();
     let mut stack: Vec<Frame> = Vec::new();
-    // Labels made for `EXIT` and `LOOP WHILE` (`exit 1`, `do 2`, …).
+    // Labels made for `EXIT` and `LOOP WHILE` (`exit 1`, `do 2`, …), and variables for
+    // `SELECT CASE`.
     let mut made = 0usize;
+    // The first letters `DEFSTR` has typed so far, for the type of a `SELECT CASE` test.
+    let mut strings = [false; 26];
+    let program = program_tag(src);
     let index = crate::span::LineIndex::new(src);
     let line_no = |span: Span| index.line(span.start);
     for line in lines {
@@ -202,13 +235,23 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
                 | LineKind::DoTest(_)
                 | LineKind::Do
                 | LineKind::For { .. }
+                | LineKind::Select(_)
         );
         // An ELSEIF nests its block in the ELSE of the one before: the tree has its own, larger
-        // limit, which the blocks inside a chain count towards too.
-        let chains = matches!(line.kind, LineKind::ElseIf(_));
+        // limit, which the blocks inside a chain count towards too. So does each CASE.
+        let chains = matches!(
+            line.kind,
+            LineKind::ElseIf(_) | LineKind::Case(_) | LineKind::CaseElse
+        );
+        // A SELECT CASE's frame stands for the chain its CASEs make.
         let blocks = stack
             .iter()
-            .filter(|f| !matches!(f, Frame::If { chained: true, .. }))
+            .filter(|f| {
+                !matches!(
+                    f,
+                    Frame::If { chained: true, .. } | Frame::If { select: true, .. }
+                )
+            })
             .count();
         let too_deep = if opens && blocks >= MAX_NESTING {
             Some((
@@ -232,7 +275,95 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
             );
             return top;
         }
+        if let Some(Frame::Select {
+            cases: false,
+            stray,
+            span: at,
+            ..
+        }) = stack.last_mut()
+        {
+            // Closing lines out of place are reported as such when they are handled.
+            let runs = matches!(
+                line.kind,
+                LineKind::Simple(_)
+                    | LineKind::Action { .. }
+                    | LineKind::If(_)
+                    | LineKind::DoWhile(_)
+                    | LineKind::DoTest(_)
+                    | LineKind::Do
+                    | LineKind::For { .. }
+                    | LineKind::Select(_)
+            ) && !matches!(line.kind, LineKind::Simple(StmtKind::Label(_)));
+            if runs && !*stray {
+                *stray = true;
+                problems.push(
+                    Problem::error(
+                        "pacer::syntax::select",
+                        span,
+                        format!("a statement between {SELECT} and its first CASE"),
+                        "under no CASE",
+                    )
+                    .with_help(format!(
+                        "move it above the {SELECT} at line {}, or under a CASE",
+                        line_no(*at)
+                    )),
+                );
+            }
+        }
         match line.kind {
+            LineKind::Select(value) => {
+                let string = string_valued(&value, &strings);
+                made += 1;
+                let seg = Segment {
+                    text: format!("SELECT {made} {program}{}", if string { '$' } else { '#' }),
+                    span: value.span,
+                };
+                let var = Name {
+                    span: seg.span,
+                    segments: vec![seg],
+                };
+                push(
+                    &mut stack,
+                    &mut top,
+                    Stmt {
+                        kind: StmtKind::Assign {
+                            target: var.clone(),
+                            value,
+                        },
+                        span,
+                    },
+                );
+                stack.push(Frame::Select {
+                    span,
+                    var,
+                    body: Vec::new(),
+                    cases: false,
+                    stray: false,
+                });
+            }
+            LineKind::Case(items) => case(&mut stack, Some(items), span, problems, &line_no),
+            LineKind::CaseElse => case(&mut stack, None, span, problems, &line_no),
+            LineKind::EndSelect => end_select(&mut stack, &mut top, span, problems, &line_no, w),
+            LineKind::Simple(StmtKind::DefType { suffix, ranges }) => {
+                for (from, to) in &ranges {
+                    let letter = |s: &Segment| {
+                        let c = s.text.chars().next().filter(|_| s.text.len() == 1)?;
+                        c.is_ascii_alphabetic()
+                            .then(|| (c.to_ascii_uppercase() as u8 - b'A') as usize)
+                    };
+                    // A range that is not letters is reported by `syntax::deftype`.
+                    let (Some(a), Some(b)) =
+                        (letter(from), to.as_ref().map_or(letter(from), letter))
+                    else {
+                        continue;
+                    };
+                    for typed in strings.iter_mut().take(a.max(b) + 1).skip(a.min(b)) {
+                        *typed = suffix == '$';
+                    }
+                }
+                let kind = StmtKind::DefType { suffix, ranges };
+                push(&mut stack, &mut top, Stmt { kind, span });
+            }
             LineKind::Simple(kind) => {
                 let mut stmt = Stmt { kind, span };
                 resolve_exits(&mut stmt, &mut stack, &mut made, problems, w);
@@ -248,6 +379,7 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
                 then_body: Vec::new(),
                 else_body: None,
                 chained: false,
+                select: false,
             }),
             LineKind::ElseIf(cond) => {
                 if open_else(&mut stack, span, true, problems, &line_no, w) {
@@ -257,6 +389,7 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
                         then_body: Vec::new(),
                         else_body: None,
                         chained: true,
+                        select: false,
                     });
                 }
             }
@@ -406,9 +539,12 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
     // Report unclosed blocks, but keep their bodies so later passes still check them.
     while let Some(frame) = stack.pop() {
         let (open, close, span) = frame.describe(w);
-        // The block an ELSEIF continues reports it.
-        if matches!(frame, Frame::If { chained: true, .. }) {
-            push(&mut stack, &mut top, frame.into_stmt());
+        // The block an ELSEIF continues reports it, and the SELECT CASE its CASEs.
+        if matches!(
+            frame,
+            Frame::If { chained: true, .. } | Frame::If { select: true, .. }
+        ) {
+            push_all(&mut stack, &mut top, frame.into_stmts());
             continue;
         }
         problems.push(
@@ -420,7 +556,7 @@ pub fn assemble(lines: Vec<Line>, src: &str, problems: &mut Vec<Problem>, w: &Wo
             )
             .with_help(format!("add `{close}` where the block ends")),
         );
-        push(&mut stack, &mut top, frame.into_stmt());
+        push_all(&mut stack, &mut top, frame.into_stmts());
     }
     top
 }
@@ -437,7 +573,7 @@ impl Closer {
     fn opens(self, f: &Frame) -> bool {
         matches!(
             (self, f),
-            (Closer::Endif, Frame::If { .. })
+            (Closer::Endif, Frame::If { select: false, .. })
                 | (Closer::Loop, Frame::Do { .. })
                 | (Closer::Next, Frame::For { .. })
         )
@@ -469,9 +605,9 @@ fn close(
             let mut chained = matches!(frame, Frame::If { chained: true, .. });
             let exit = match &mut frame {
                 Frame::Do { exit, .. } | Frame::For { exit, .. } => exit.take(),
-                Frame::If { .. } => None,
+                Frame::If { .. } | Frame::Select { .. } => None,
             };
-            push(stack, top, frame.into_stmt());
+            push_all(stack, top, frame.into_stmts());
             if let Some(exit) = exit {
                 push(
                     stack,
@@ -487,7 +623,7 @@ fn close(
             while chained {
                 let Some(outer) = stack.pop() else { break };
                 chained = matches!(outer, Frame::If { chained: true, .. });
-                push(stack, top, outer.into_stmt());
+                push_all(stack, top, outer.into_stmts());
             }
         }
         other => {
@@ -529,6 +665,7 @@ fn open_else(
     match stack.last_mut() {
         Some(Frame::If {
             else_body: else_body @ None,
+            select: false,
             ..
         }) => {
             *else_body = Some((span, Vec::new()));
@@ -536,6 +673,7 @@ fn open_else(
         }
         Some(Frame::If {
             else_body: Some((first, _)),
+            select: false,
             ..
         }) => {
             let first_line = line_no(*first);
@@ -585,7 +723,7 @@ fn resolve_exits(
             let frame = stack.iter_mut().rev().find(|f| match f {
                 Frame::For { .. } => for_,
                 Frame::Do { .. } => !for_,
-                Frame::If { .. } => false,
+                Frame::If { .. } | Frame::Select { .. } => false,
             });
             let (word, loop_) = if for_ {
                 ("EXIT FOR", w.for_)
@@ -617,6 +755,227 @@ fn resolve_exits(
             }
         }
         _ => {}
+    }
+}
+
+/// A `CASE` line (`items`; `None`: `CASE ELSE`) at `span`: the first opens the `If` chain of
+/// the innermost `SELECT CASE`, each later one continues it as an `ELSEIF` (or its `ELSE`).
+/// Anywhere else, or after the `CASE ELSE`, it is reported.
+fn case(
+    stack: &mut Vec<Frame>,
+    items: Option<Vec<CaseItem>>,
+    span: Span,
+    problems: &mut Vec<Problem>,
+    line_no: &dyn Fn(Span) -> usize,
+) {
+    let word = if items.is_some() { "CASE" } else { "CASE ELSE" };
+    // The value the cases test: the innermost SELECT's, under the chain its CASEs made.
+    let var = stack.iter().rev().find_map(|f| match f {
+        Frame::Select { var, .. } => Some(var.clone()),
+        _ => None,
+    });
+    match (stack.last_mut(), var) {
+        (Some(Frame::Select { cases, .. }), Some(var)) if !*cases => {
+            *cases = true;
+            let (cond, else_body) = match items {
+                Some(items) => (case_test(&var, items, span), None),
+                // Nothing is tested: the ELSE part runs.
+                None => (
+                    Expr {
+                        kind: ExprKind::Bool(false),
+                        span,
+                    },
+                    Some((span, Vec::new())),
+                ),
+            };
+            stack.push(Frame::If {
+                cond,
+                span,
+                then_body: Vec::new(),
+                else_body,
+                chained: false,
+                select: true,
+            });
+        }
+        (
+            Some(Frame::If {
+                else_body: else_body @ None,
+                select: true,
+                ..
+            }),
+            Some(var),
+        ) => {
+            *else_body = Some((span, Vec::new()));
+            if let Some(items) = items {
+                stack.push(Frame::If {
+                    cond: case_test(&var, items, span),
+                    span,
+                    then_body: Vec::new(),
+                    else_body: None,
+                    chained: true,
+                    select: true,
+                });
+            }
+        }
+        (
+            Some(Frame::If {
+                else_body: Some((first, _)),
+                select: true,
+                ..
+            }),
+            _,
+        ) => {
+            let first_line = line_no(*first);
+            let (message, label, help) = if items.is_some() {
+                (
+                    format!("CASE after the CASE ELSE of this {SELECT}"),
+                    "CASE after CASE ELSE".to_string(),
+                    format!(
+                        "the CASE ELSE at line {first_line} must come last: move this CASE above it"
+                    ),
+                )
+            } else {
+                (
+                    format!("a second CASE ELSE in the same {SELECT}"),
+                    "second CASE ELSE".to_string(),
+                    format!("this {SELECT} already has its CASE ELSE at line {first_line}"),
+                )
+            };
+            problems
+                .push(Problem::error("pacer::syntax::case", span, message, label).with_help(help));
+        }
+        (other, _) => {
+            let open = other.map(|f| f.describe(&MOTIONBASIC_WORDS));
+            problems.push(mismatch(word, SELECT, span, open, line_no));
+        }
+    }
+}
+
+/// `END SELECT` at `span`: closes the innermost block if it is a `SELECT CASE` (with the chain
+/// its CASEs made), else the mismatch is reported.
+fn end_select(
+    stack: &mut Vec<Frame>,
+    top: &mut Vec<Stmt>,
+    span: Span,
+    problems: &mut Vec<Problem>,
+    line_no: &dyn Fn(Span) -> usize,
+    w: &Words,
+) {
+    match stack.last() {
+        Some(Frame::If { select: true, .. } | Frame::Select { .. }) => {
+            // The CASEs of this SELECT are the `If` frames above it: a nested SELECT's sit
+            // above their own `Select` frame, closed already.
+            while let Some(Frame::If { select: true, .. }) = stack.last() {
+                if let Some(frame) = stack.pop() {
+                    push_all(stack, top, frame.into_stmts());
+                }
+            }
+            if let Some(frame) = stack.pop() {
+                push_all(stack, top, frame.into_stmts());
+            }
+        }
+        other => {
+            let open = other.map(|f| f.describe(w));
+            problems.push(mismatch(END_SELECT, SELECT, span, open, line_no));
+        }
+    }
+}
+
+/// The test of a `CASE` line: any of its items holds for `var`, the made variable holding the
+/// value of the `SELECT CASE`. Each comparison spans its item; the variable keeps the span of
+/// the tested expression, so a string tested against a number is shown as that expression.
+fn case_test(var: &Name, items: Vec<CaseItem>, span: Span) -> Expr {
+    let compare = |op: BinOp, e: Expr, at: Span| Expr {
+        kind: ExprKind::Binary(
+            op,
+            Box::new(Expr {
+                kind: ExprKind::Name(var.clone()),
+                span: var.span,
+            }),
+            Box::new(e),
+        ),
+        span: at,
+    };
+    let mut test: Option<Expr> = None;
+    for item in items {
+        let one = match item {
+            CaseItem::Is(op, e, at) => compare(op, e, at),
+            CaseItem::Range(lo, hi, at) => Expr {
+                kind: ExprKind::Binary(
+                    BinOp::And,
+                    Box::new(compare(BinOp::Ge, lo, at)),
+                    Box::new(compare(BinOp::Le, hi, at)),
+                ),
+                span: at,
+            },
+        };
+        test = Some(match test {
+            None => one,
+            Some(t) => {
+                let at = Span::new(t.span.start, one.span.end);
+                Expr {
+                    kind: ExprKind::Binary(BinOp::Or, Box::new(t), Box::new(one)),
+                    span: at,
+                }
+            }
+        });
+    }
+    test.unwrap_or(Expr {
+        kind: ExprKind::Bool(false),
+        span,
+    })
+}
+
+/// Whether `e` is a string, as far as its words tell before the checker types it: a string
+/// literal, a `$` name, variable or function (`LEFT$`), an unsuffixed variable of a `DEFSTR`
+/// letter (`strings`), a string controller variable, or a `+` of such.
+fn string_valued(e: &Expr, strings: &[bool; 26]) -> bool {
+    let typed_str = |text: &str| {
+        let Some(first) = text.chars().next() else {
+            return false;
+        };
+        text.ends_with('$')
+            || (text.ends_with(|c: char| c.is_ascii_alphanumeric() || c == '_')
+                && first.is_ascii_alphabetic()
+                && strings[(first.to_ascii_uppercase() as u8 - b'A') as usize])
+    };
+    match &e.kind {
+        ExprKind::Str(_) => true,
+        ExprKind::Name(n) => {
+            let text = n.text();
+            crate::registry::catalog::find_type(&n.segments[0].text).is_none()
+                && crate::check::motionbasic::builtin(&text.to_ascii_uppercase()).is_none()
+                && typed_str(&text)
+        }
+        ExprKind::Call(f, _) => match crate::check::motionbasic::controller(&f.text) {
+            Some(c) => c.ty == crate::check::typed::Ty::Str,
+            None => {
+                f.text.ends_with('$')
+                    || (crate::check::motionbasic::array_call(&f.text) && typed_str(&f.text))
+            }
+        },
+        ExprKind::Binary(BinOp::Add, a, b) => {
+            string_valued(a, strings) || string_valued(b, strings)
+        }
+        ExprKind::Paren(a) => string_valued(a, strings),
+        _ => false,
+    }
+}
+
+/// A tag of the program's text, in the names of the variables its `SELECT CASE`s make: the
+/// variables are the machine's, shared by all its MotionBASIC programs, and two programs'
+/// SELECTs running at once must not share one.
+fn program_tag(src: &str) -> String {
+    // FNV-1a: stable from run to run and build to build, unlike the std hasher.
+    let hash = src.bytes().fold(0xcbf2_9ce4_8422_2325u64, |h, b| {
+        (h ^ u64::from(b)).wrapping_mul(0x0000_0100_0000_01b3)
+    });
+    format!("{:06X}", hash & 0xFF_FFFF)
+}
+
+fn push_all(stack: &mut [Frame], top: &mut Vec<Stmt>, stmts: Vec<Stmt>) {
+    for s in stmts {
+        push(stack, top, s);
     }
 }
 

@@ -81,6 +81,12 @@ fn stmts(body: &mut [Stmt], table: &mut Table, problems: &mut Vec<Problem>) {
                 name(target, table);
                 expr(value, table);
             }
+            StmtKind::Const(items) => {
+                for (n, v) in items {
+                    name(n, table);
+                    expr(v, table);
+                }
+            }
             StmtKind::SetCall {
                 target,
                 args,

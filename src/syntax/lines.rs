@@ -59,6 +59,23 @@ pub enum LineKind {
     },
     /// `Next [v]`.
     Next(Option<Name>),
+    /// `SELECT CASE e` (MotionBASIC, as QuickBASIC writes it).
+    Select(Expr),
+    /// `CASE item, …`: the items of one case of a `SELECT CASE`.
+    Case(Vec<CaseItem>),
+    /// `CASE ELSE`.
+    CaseElse,
+    /// `END SELECT`.
+    EndSelect,
+}
+
+/// One item of a `CASE` line, compared with the value the `SELECT CASE` tests.
+#[derive(Debug, Clone, PartialEq)]
+pub enum CaseItem {
+    /// `IS op value`; a bare `value` is `IS = value`. The span is the item's.
+    Is(BinOp, Expr, Span),
+    /// `lo TO hi`, both ends included.
+    Range(Expr, Expr, Span),
 }
 
 /// Build a binary expression spanning `l..r`.

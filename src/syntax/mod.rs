@@ -3,6 +3,7 @@
 
 pub mod ast;
 pub mod blocks;
+pub mod consts;
 pub mod deftype;
 pub mod lex;
 pub mod lines;
@@ -67,6 +68,7 @@ fn parse_file(src: &str, dialect: Dialect, problems: &mut Vec<Problem>) -> Progr
             let mut body = blocks::assemble(lines, src, problems, dialect.words());
             if dialect == Dialect::MotionBasic {
                 deftype::apply(&mut body, problems);
+                consts::apply(&mut body, src, problems);
             }
             ProgramAst { body }
         }

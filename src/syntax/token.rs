@@ -44,6 +44,14 @@ pub enum Tok<'s> {
     Until,
     /// `EXIT` (MotionBASIC `EXIT FOR`, `EXIT DO`).
     Exit,
+    /// `SELECT` (MotionBASIC `SELECT CASE`).
+    Select,
+    /// `CASE` (MotionBASIC `SELECT CASE`, `CASE …`, `CASE ELSE`).
+    Case,
+    /// `IS` (MotionBASIC `CASE IS > 5`).
+    Is,
+    /// `CONST` (MotionBASIC).
+    Const,
     End,
     Using,
     Last,
@@ -153,6 +161,10 @@ impl Tok<'_> {
             Tok::Loop => word("Loop"),
             Tok::Until => word("Until"),
             Tok::Exit => word("Exit"),
+            Tok::Select => word("Select"),
+            Tok::Case => word("Case"),
+            Tok::Is => word("Is"),
+            Tok::Const => word("Const"),
             Tok::End => word("End"),
             Tok::Using => word("Using"),
             Tok::Last => word("Last"),

@@ -54,6 +54,14 @@ enum MbLex<'s> {
     Until,
     #[token("exit", ignore(case))]
     Exit,
+    #[token("select", ignore(case))]
+    Select,
+    #[token("case", ignore(case))]
+    Case,
+    #[token("is", ignore(case))]
+    Is,
+    #[token("const", ignore(case))]
+    Const,
     #[token("for", ignore(case))]
     For,
     #[token("to", ignore(case))]
@@ -286,6 +294,10 @@ fn token(word: MbLex<'_>) -> Option<Tok<'_>> {
         MbLex::Loop => Tok::Loop,
         MbLex::Until => Tok::Until,
         MbLex::Exit => Tok::Exit,
+        MbLex::Select => Tok::Select,
+        MbLex::Case => Tok::Case,
+        MbLex::Is => Tok::Is,
+        MbLex::Const => Tok::Const,
         MbLex::ElseIf => Tok::ElseIf,
         MbLex::Endif => Tok::Endif,
         MbLex::While => Tok::While,
