@@ -6,6 +6,27 @@
 /// them, no public source gives their syntax.
 const MOTIONBASIC: &[&str] = &["BLEND", "CAM", "PROFILE", "REPEAT"];
 
+/// The error message for a Microsoft BASIC keyword pacer knows but does not run (the MotionBASIC
+/// lexer makes [`crate::syntax::token::Tok::Unsupported`] of it), if `word` is one.
+pub fn basic(word: &str) -> Option<String> {
+    let w = word.to_ascii_uppercase();
+    Some(match w.as_str() {
+        "ERROR" | "RESUME" | "ERR" | "ERL" => format!(
+            "`{w}` belongs to error trapping (`ON ERROR GOTO`, `RESUME`, `ERROR n`, `ERR`, \
+             `ERL`), which pacer does not run: a run-time error stops the program and is \
+             reported at its place; test the values before the statement that would fail"
+        ),
+        "DEF" => "`DEF FN` functions are not run by pacer: write the expression where it is \
+                  used, or a GOSUB that leaves its result in a variable"
+            .into(),
+        "SUB" | "FUNCTION" => format!(
+            "QuickBASIC's `{w}` procedures are not run by pacer: use a label, GOSUB and \
+             RETURN, passing values in variables"
+        ),
+        _ => return None,
+    })
+}
+
 /// PowerTools objects of the cam feature.
 const POWERTOOLS: &[&str] = &["Cam", "CamTable"];
 
@@ -43,5 +64,9 @@ mod tests {
         assert_eq!(motionbasic("GEAR"), None);
         assert!(powertools("cam").is_some_and(|m| m.contains("`Cam`")));
         assert_eq!(powertools("Index"), None);
+        assert!(basic("Resume").is_some_and(|m| m.starts_with("`RESUME` belongs to error")));
+        assert!(basic("def").is_some_and(|m| m.contains("`DEF FN`")));
+        assert!(basic("function").is_some_and(|m| m.contains("`FUNCTION` procedures")));
+        assert_eq!(basic("GOSUB"), None);
     }
 }

@@ -220,6 +220,11 @@ fn in_words(src: &str, l: usize, r: usize, tok: &Tok<'_>, dialect: Dialect) -> O
             n * scale
         ));
     }
+    if let Tok::Unsupported(word) = tok {
+        if let Some(message) = crate::registry::not_yet::basic(word) {
+            return Some(message);
+        }
+    }
     if dialect == Dialect::MotionBasic {
         let line = &before[before.rfind('\n').map_or(0, |i| i + 1)..];
         // The statement's one word before the token, after a line number or a `LABEL:` if the

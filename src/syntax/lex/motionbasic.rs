@@ -56,6 +56,16 @@ enum MbLex<'s> {
     Exit,
     #[token("select", ignore(case))]
     Select,
+    /// Microsoft BASIC's words for error trapping, user functions and procedures, which
+    /// pacer does not run (reserved words there, so never a variable's name).
+    #[token("error", |lex| lex.slice(), ignore(case))]
+    #[token("resume", |lex| lex.slice(), ignore(case))]
+    #[token("err", |lex| lex.slice(), ignore(case))]
+    #[token("erl", |lex| lex.slice(), ignore(case))]
+    #[token("def", |lex| lex.slice(), ignore(case))]
+    #[token("sub", |lex| lex.slice(), ignore(case))]
+    #[token("function", |lex| lex.slice(), ignore(case))]
+    Unsupported(&'s str),
     #[token("case", ignore(case))]
     Case,
     #[token("is", ignore(case))]
@@ -287,6 +297,7 @@ fn token(word: MbLex<'_>) -> Option<Tok<'_>> {
         MbLex::Str(s) => Tok::Str(s),
         MbLex::Name(s) => Tok::Name(s),
         MbLex::Rem => return None,
+        MbLex::Unsupported(s) => Tok::Unsupported(s),
         MbLex::If => Tok::If,
         MbLex::Then => Tok::Then,
         MbLex::Else => Tok::Else,
