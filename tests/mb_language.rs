@@ -781,6 +781,10 @@ fn return_without_gosub_is_a_check_error() {
         "A& = 1\nSUB1:\nA& = A& + 1\nRETURN\n",
         // A line-numbered subroutine with no END before it.
         "GOSUB 100\n100 A& = 2\nRETURN\n",
+        // The main line jumps into a subroutine's loop: it runs into the RETURN after it.
+        "GOTO AGAIN\nEND\nSUB1:\nAGAIN:\nA& = A& + 1\nIF A& < 3 THEN GOTO AGAIN\nRETURN\n",
+        // Reached through a chain of GOTOs from the main line.
+        "GOTO FIRST\nSUB1:\nRETURN\nFIRST:\nGOTO SUB1\n",
     ] {
         let result = common::load_memory("return", &[("x.mb", program), ("machine.toml", MACHINE)]);
         let problems = common::problem_triples(&result);
@@ -800,6 +804,14 @@ fn return_without_gosub_is_a_check_error() {
         "GOSUB SUB1\nGOSUB 200\nEND\nSUB1:\nA& = A& + 1\nRETURN\n200 A& = A& + 10\nRETURN\n",
     );
     assert_eq!(val(&run, "A&"), 11.0);
+    // A subroutine's own GOTO loop, and an EXIT FOR inside it (a jump to a label made after
+    // its NEXT), do not make the main line run into its RETURN.
+    let run = run_ok(
+        "gosub-loops",
+        "GOSUB SUB1\nGOSUB SUB2\nEND\nSUB1:\nAGAIN:\nA& = A& + 1\nIF A& < 3 THEN GOTO AGAIN\nRETURN\nSUB2:\nFOR K& = 1 TO 9\n  IF K& = 4 THEN EXIT FOR\nNEXT\nRETURN\n",
+    );
+    assert_eq!(val(&run, "A&"), 3.0);
+    assert_eq!(val(&run, "K&"), 4.0);
 }
 
 #[test]

@@ -439,17 +439,73 @@ fn constant(e: &Expr) -> Option<f64> {
 }
 
 /// A `RETURN` the program runs into from its start without a `GOSUB`: after the start, code
-/// runs on until an `END`, a `GOTO` or a `RETURN`; a label a `GOTO` jumps to is run into too,
-/// one only `GOSUB` names starts a subroutine.
+/// runs on until an `END`, a `GOTO` or a `RETURN`; a label is run into from the code before it
+/// when that code goes on into it, or when a `GOTO` in code the program runs into jumps to it.
+/// A label only `GOSUB` names starts a subroutine, and so does one only a subroutine's own
+/// `GOTO`s name (a loop inside the subroutine, the label an `EXIT FOR` leaves to).
 fn returns_without_gosub(program: &Program, problems: &mut Vec<Problem>) {
-    let mut goto_targets = Vec::new();
-    each_stmt(&program.body, &mut |s| {
-        if let StmtKind::Goto(l) = &s.kind {
-            goto_targets.push(l.clone());
+    // The top-level runs of statements between labels and ends: where each starts, its
+    // label, and whether the run before it goes on into it.
+    struct Run<'a> {
+        stmts: &'a [Stmt],
+        label: Option<&'a str>,
+        fallen_into: bool,
+    }
+    let body = &program.body;
+    let mut runs: Vec<Run<'_>> = Vec::new();
+    let (mut start, mut label, mut fallen_into) = (0usize, None, true);
+    for (i, s) in body.iter().enumerate() {
+        match &s.kind {
+            StmtKind::Label(l) => {
+                runs.push(Run {
+                    stmts: &body[start..i],
+                    label,
+                    fallen_into,
+                });
+                (start, label, fallen_into) = (i, Some(l.as_str()), true);
+            }
+            StmtKind::End | StmtKind::Goto(_) | StmtKind::Return => {
+                runs.push(Run {
+                    stmts: &body[start..=i],
+                    label,
+                    fallen_into,
+                });
+                (start, label, fallen_into) = (i + 1, None, false);
+            }
+            _ => {}
         }
+    }
+    runs.push(Run {
+        stmts: &body[start.min(body.len())..],
+        label,
+        fallen_into,
     });
-    let runs_into = |stmts: &[Stmt], problems: &mut Vec<Problem>| {
-        each_stmt(stmts, &mut |s| {
+    // The runs the program runs into, from the first: grown until no `GOTO` in them reaches
+    // another.
+    let mut live = vec![false; runs.len()];
+    let mut changed = true;
+    while changed {
+        changed = false;
+        let mut targets: Vec<&str> = Vec::new();
+        for (run, _) in runs.iter().zip(&live).filter(|(_, &l)| l) {
+            each_stmt(run.stmts, &mut |s| {
+                if let StmtKind::Goto(l) = &s.kind {
+                    targets.push(l.as_str());
+                }
+            });
+        }
+        for k in 0..runs.len() {
+            let into = k == 0
+                || (runs[k].fallen_into && live[k - 1])
+                || runs[k].label.is_some_and(|l| targets.contains(&l));
+            if into && !live[k] {
+                live[k] = true;
+                changed = true;
+            }
+        }
+    }
+    for (run, _) in runs.iter().zip(&live).filter(|(_, &l)| l) {
+        each_stmt(run.stmts, &mut |s| {
             if matches!(s.kind, StmtKind::Return) {
                 problems.push(
                     Problem::error(
@@ -464,31 +520,6 @@ fn returns_without_gosub(program: &Program, problems: &mut Vec<Problem>) {
                     ),
                 );
             }
-        })
-    };
-    let mut live = true;
-    let mut start = 0;
-    let body = &program.body;
-    for (i, s) in body.iter().enumerate() {
-        match &s.kind {
-            StmtKind::Label(l) => {
-                if live {
-                    runs_into(&body[start..i], problems);
-                }
-                live = live || goto_targets.contains(l);
-                start = i;
-            }
-            StmtKind::End | StmtKind::Goto(_) | StmtKind::Return => {
-                if live {
-                    runs_into(&body[start..=i], problems);
-                }
-                live = false;
-                start = i + 1;
-            }
-            _ => {}
-        }
-    }
-    if live {
-        runs_into(&body[start.min(body.len())..], problems);
+        });
     }
 }
