@@ -138,7 +138,7 @@ struct Dialect {
 
 const MB: Dialect = Dialect {
     file: "x.mb",
-    vars: &["A&", "B&", "C&", "D&", "P%", "Q%", "X", "Y#"],
+    vars: &["A&", "B&", "C&", "D&", "P%", "Q%", "X", "Y#", "Z"],
     loop_var: "I&",
     inner_var: "J%",
     constants: &[
@@ -1109,6 +1109,61 @@ NEXT
     ];
     for p in std::iter::once(counted.to_string()).chain(others) {
         for budget in [7, 100, 1_000_000] {
+            assert_eq!(both("x.mb", &p, budget).1, None, "{p}");
+        }
+    }
+}
+
+#[test]
+fn real_variables_given_whole_numbers_run_as_integers_in_a_body() {
+    // Variables without a suffix are SINGLEs: a counter (`C = C + 1`), a remainder the body
+    // tests and sums (`K = I MOD 13`), a sum of those. Given only whole numbers, the body keeps
+    // them as integers and runs outside the interpreter. Counting down through negative
+    // dividends, a zero remainder is -0 in the interpreter's real: those iterations are left
+    // to it, which stores the sign. A variable holding a fraction when the loop starts keeps
+    // the whole loop in the interpreter; one the body gives a fraction is a real throughout.
+    let program = "C = 0: S = 0
+FOR I = 1 TO 2000
+  K = I MOD 13
+  IF K > 6 THEN C = C + 1
+  S = S + K
+NEXT
+";
+    let (machine, summary) = run_untraced(load("body-singles", "x.mb", program, 1_000_000));
+    assert!(summary.error.is_none());
+    assert_eq!(machine.tight_runs(), 1);
+    assert_eq!(machine.slow_runs(), 0);
+    let (c, s) = (1..=2000).fold((0, 0), |(c, s), i| {
+        let k = i % 13;
+        (c + i64::from(k > 6), s + k)
+    });
+    assert_eq!(machine.value_of("C"), Some(c as f64));
+    assert_eq!(machine.value_of("S"), Some(s as f64));
+    assert_eq!(machine.value_of("K"), Some(2000.0 % 13.0));
+
+    let down = program.replace("FOR I = 1 TO 2000", "FOR I = 40 TO -40 STEP -1");
+    let (machine, _) = run_untraced(load("body-singles-down", "x.mb", &down, 1_000_000));
+    let k = machine.value_of("K").unwrap_or(f64::NAN);
+    // -40 MOD 13 is -1; the last zero was that of -39.
+    assert_eq!(k, -1.0);
+    assert!(
+        machine.slow_runs() > 0,
+        "the -0 remainders are the interpreter's"
+    );
+    let zero = down.replace("FOR I = 40 TO -40 STEP -1", "FOR I = 40 TO -39 STEP -1");
+    let (machine, _) = run_untraced(load("body-singles-zero", "x.mb", &zero, 1_000_000));
+    let k = machine.value_of("K").unwrap_or(f64::NAN);
+    assert!(k == 0.0 && k.is_sign_negative(), "{k}");
+
+    let fraction = program.replace("C = 0: S = 0", "C = 0.5: S = 0");
+    let (machine, _) = run_untraced(load("body-singles-half", "x.mb", &fraction, 1_000_000));
+    assert_eq!(machine.tight_runs(), 0);
+    assert_eq!(machine.value_of("C"), Some(c as f64 + 0.5));
+    let halves = program.replace("S = S + K", "S = S + K / 2");
+    let (machine, _) = run_untraced(load("body-singles-halves", "x.mb", &halves, 1_000_000));
+    assert_eq!(machine.value_of("S"), Some(s as f64 / 2.0));
+    for p in [program.to_string(), down, zero, fraction, halves] {
+        for budget in [7, 10, 33, 1_000_000] {
             assert_eq!(both("x.mb", &p, budget).1, None, "{p}");
         }
     }

@@ -121,6 +121,12 @@ enum Ir {
     /// [`Ir::ToR`] of an `Int` a `MOD` gave, whose zero has the sign of the dividend `sign`
     /// (an `Int` that is never -0): -0 when the dividend is negative.
     ToRModSign { d: Local, s: Local, sign: Local },
+    /// `d = s` of an `Int` that may stand for -0, into a real variable the body keeps as an
+    /// `Int`: a 0 leaves the iteration (the interpreter's variable would hold its sign).
+    IntSigned { d: Local, s: Local },
+    /// [`Ir::IntSigned`] of a `MOD`'s `Int`, whose zero has the sign of the dividend `sign`:
+    /// a 0 leaves the iteration only when the dividend is negative.
+    IntModSign { d: Local, s: Local, sign: Local },
     /// A real stored into a long (halves rounded to even).
     LongR { d: Local, s: Local },
     /// A real stored into an INTEGER.
@@ -289,6 +295,9 @@ pub enum Code {
     /// `d = a` as a real; a zero leaves the iteration (`k` 0) or takes the sign of the integer
     /// `b` (`k` 1).
     ToRSigned,
+    /// `d = a` of an `Int` that may stand for -0 (`Ir::IntSigned`, `k` 0; `Ir::IntModSign`,
+    /// `k` 1, `b` the dividend).
+    IntSigned,
     LongR,
     ShortR,
     /// `k` the decimals.
@@ -401,7 +410,10 @@ impl Code {
                 self,
                 Code::JgtI | Code::JgeI | Code::IdxI | Code::Idx2 | Code::LoadI | Code::PutI
             )
-            || matches!(self, Code::ForCheckI | Code::ForNextL | Code::ForNextS)
+            || matches!(
+                self,
+                Code::ForCheckI | Code::ForNextL | Code::ForNextS | Code::IntSigned
+            )
     }
 
     /// Whether `k` is a jump's target.
@@ -1289,8 +1301,11 @@ fn result(
             Un::Neg => REAL,
             Un::Not | Un::BitNot => INT,
         },
-        Step::Store { to, .. } => match to {
+        Step::Store { to, s, .. } => match to {
             Store::Long | Store::Short | Store::Fixed(0) => INT,
+            // A real variable given only whole numbers is an `Int` while it holds them (of
+            // one that may be -0, see `translate`).
+            Store::Real if of(s) == INT => INT,
             Store::Real | Store::Fixed(_) => REAL,
         },
         // A subscript's sign never matters (`sign_matters`); an element is no -0 (one that
@@ -1474,16 +1489,38 @@ fn translate(
         if !int && written.contains(&r) && !observed.contains(&r) && Some(r) != var {
             continue;
         }
+        // A real variable the body writes starts as an `Int` (its writes may make it a real):
+        // one that stays so is loaded as an `Int`, and a loop entered while it holds
+        // anything else stays with the interpreter.
+        if !int && written.contains(&r) && constant(r).is_none() {
+            known.insert(r, INT);
+            continue;
+        }
         known.insert(r, if int { INT } else { REAL });
     }
+    // A real variable given an `Int` that may be -0 (a `MOD`'s remainder) is an `Int` too
+    // when the body reads it (its sums and tests stay integer), a zero that may be -0 leaving
+    // the iteration (`Ir::IntSigned`); one the body only writes stays a real, which holds
+    // the zero's sign (`Ir::ToRModSign`).
+    let read: Vec<Reg> = all.iter().flat_map(Step::read).collect();
     loop {
         let mut changed = false;
         for s in &all {
             let Some(d) = s.written() else { continue };
             let of = |r: Reg| known.get(&r).copied().unwrap_or(INT);
-            let Some(k) = result(s, &of, constant) else {
+            let Some(mut k) = result(s, &of, constant) else {
                 continue;
             };
+            if let Step::Store {
+                to: Store::Real,
+                s: from,
+                ..
+            } = *s
+            {
+                if of(from).kind == Kind::Int && read.contains(&d) {
+                    k = INT;
+                }
+            }
             let now = match known.get(&d) {
                 Some(&old) => join(old, k),
                 None => k,
@@ -1914,11 +1951,13 @@ fn ir_regs(ir: &Ir) -> (Vec<Local>, Option<Local>) {
         | Ir::NotR { d, s }
         | Ir::ToR { d, s }
         | Ir::ToRSigned { d, s }
+        | Ir::IntSigned { d, s }
         | Ir::LongR { d, s }
         | Ir::ShortR { d, s }
         | Ir::FixedR { d, s, .. }
         | Ir::RealR { d, s } => (vec![s], Some(d)),
         Ir::ToRModSign { d, s: a, sign: b }
+        | Ir::IntModSign { d, s: a, sign: b }
         | Ir::AddI { d, a, b }
         | Ir::SubI { d, a, b }
         | Ir::MulI { d, a, b }
@@ -2059,13 +2098,22 @@ fn lower(
         if let Some((family, d, a, b)) = Family::of(op) {
             // The store that follows, when it takes this result into a long or an INTEGER and
             // nothing else reads the temporary; or the check of the temporary in place.
+            // (Or a move of it into a real variable the body keeps as an `Int`.)
             let store = match ir.get(k + 1) {
                 Some(&Ir::FitI { d: v, s, w })
                     if s == d
                         && !targets.contains(&(k + 1))
                         && (v == d || temp_local(d) && dead_after(ir, jumps, d, k + 1)) =>
                 {
-                    Some((v, w))
+                    Some((v, Some(w)))
+                }
+                Some(&Ir::Mov { d: v, s })
+                    if s == d
+                        && !targets.contains(&(k + 1))
+                        && temp_local(d)
+                        && dead_after(ir, jumps, d, k + 1) =>
+                {
+                    Some((v, None))
                 }
                 _ => None,
             };
@@ -2079,7 +2127,7 @@ fn lower(
                 Family::Rem => c != 0,
                 _ => true,
             });
-            let code = family.code(k_const.is_some(), store.map(|s| s.1));
+            let code = family.code(k_const.is_some(), store.and_then(|s| s.1));
             op_of.push(*ir_op.get(k)?);
             out.push(Micro {
                 code,
@@ -2251,6 +2299,8 @@ fn pack(ir: &Ir) -> Micro {
         Ir::ToR { d, s } => m(Code::ToR, d, s, 0, 0),
         Ir::ToRSigned { d, s } => m(Code::ToRSigned, d, s, 0, 0),
         Ir::ToRModSign { d, s, sign } => m(Code::ToRSigned, d, s, sign, 1),
+        Ir::IntSigned { d, s } => m(Code::IntSigned, d, s, 0, 0),
+        Ir::IntModSign { d, s, sign } => m(Code::IntSigned, d, s, sign, 1),
         Ir::LongR { d, s } => m(Code::LongR, d, s, 0, 0),
         Ir::ShortR { d, s } => m(Code::ShortR, d, s, 0, 0),
         Ir::FixedR { d, s, decimals } => m(Code::FixedR, d, s, 0, i32::from(decimals)),
@@ -2532,6 +2582,17 @@ fn emit(
                         decimals,
                     });
                 }
+                Store::Real if int(s) && int(d) => out.push(if !kind_of(s).signed_zero {
+                    Ir::Mov { d: l(d), s: ls }
+                } else if let Some(&a) = signs.get(&s) {
+                    Ir::IntModSign {
+                        d: l(d),
+                        s: ls,
+                        sign: l(a),
+                    }
+                } else {
+                    Ir::IntSigned { d: l(d), s: ls }
+                }),
                 Store::Real if int(s) => out.push(to_real(l(d), s, ls)),
                 Store::Real => out.push(Ir::RealR { d: l(d), s: ls }),
             }

@@ -624,6 +624,14 @@ fn iterate<const COUNTED: bool, const NESTED: bool, const TEXT: bool>(
                         set_real!(d, x as f64);
                     }
                 }
+                Code::IntSigned => {
+                    let x = int!(a);
+                    // `k` 1: a `MOD`'s zero, which has the sign of its dividend `b`.
+                    if x == 0 && (k == 0 || int!(b) < 0) {
+                        undone!();
+                    }
+                    set_int!(d, x);
+                }
                 Code::LongR => {
                     let x = real!(a);
                     let v = if f64::from(trunc_i32(x)) == x {
