@@ -522,6 +522,9 @@ pub struct Body {
     /// It holds strings ([`Code::TextCmp`], [`Code::TextSet`]): the runner's third copy runs
     /// it.
     pub text: bool,
+    /// The same body with every SINGLE and DOUBLE a real: the one to run when this one, which
+    /// keeps some of them as `Int`s, cannot start (one holds a fraction on entry).
+    pub fallback: Option<Box<Body>>,
 }
 
 impl Body {
@@ -572,9 +575,20 @@ pub fn find(
             },
             _ => continue,
         };
-        if let Some(body) = translate(ops, ext, sure, at, temps, whole, constant) {
-            bodies.insert(entry, body);
-        }
+        // Real variables given only whole numbers kept as `Int`s, or not: the first where it
+        // differs, the second to fall back on.
+        let kept = translate(ops, ext, sure, at, temps, whole, constant, true);
+        let plain = translate(ops, ext, sure, at, temps, whole, constant, false);
+        let body = match (kept, plain) {
+            (Some(mut k), Some(p)) if k != p => {
+                k.fallback = Some(Box::new(p));
+                k
+            }
+            (_, Some(p)) => p,
+            (Some(k), None) => k,
+            (None, None) => continue,
+        };
+        bodies.insert(entry, body);
     }
     bodies
 }
@@ -1323,7 +1337,10 @@ fn result(
 /// The body of the loop `at` translated, when every instruction of it is one the translation
 /// knows, its jumps go forward within it (or to its `for.next` or `loop`, or out of the loop
 /// to the instruction after that), a `FOR`'s variable is whole with a whole step (`sure`),
-/// and the registers it uses fit.
+/// and the registers it uses fit. With `speculate`, a real variable every write of the body
+/// gives a whole number is an `Int` (loaded as one: a loop entered while it holds a fraction
+/// does not start); without, every real variable is a real.
+#[allow(clippy::too_many_arguments)]
 fn translate(
     ops: &[Op],
     ext: &[ExtOp],
@@ -1332,6 +1349,7 @@ fn translate(
     temps: &Range<Reg>,
     whole: &dyn Fn(Reg) -> bool,
     constant: &dyn Fn(Reg) -> Option<f64>,
+    speculate: bool,
 ) -> Option<Body> {
     let (start, next) = (at.start, at.next);
     // Scratch registers are numbered down from the top (`u32::MAX - i`), versions up from
@@ -1492,7 +1510,7 @@ fn translate(
         // A real variable the body writes starts as an `Int` (its writes may make it a real):
         // one that stays so is loaded as an `Int`, and a loop entered while it holds
         // anything else stays with the interpreter.
-        if !int && written.contains(&r) && constant(r).is_none() {
+        if speculate && !int && written.contains(&r) && constant(r).is_none() {
             known.insert(r, INT);
             continue;
         }
@@ -1517,7 +1535,9 @@ fn translate(
                 ..
             } = *s
             {
-                if of(from).kind == Kind::Int && read.contains(&d) {
+                if !speculate {
+                    k = REAL;
+                } else if of(from).kind == Kind::Int && read.contains(&d) {
                     k = INT;
                 }
             }
@@ -1742,6 +1762,15 @@ fn translate(
     }
     let mut live: Vec<Vec<(Reg, Local, Kind)>> = vec![Vec::new(); by_op.len() + 1];
     let mut snapshot = false;
+    // The instructions a run can stop at: those the body's instructions come from (a `MOD`
+    // fused with the store of its remainder stops at the `MOD`, never at the store).
+    let stops: Vec<u16> = {
+        let mut s = op_of.clone();
+        s.push(0);
+        s.sort_unstable();
+        s.dedup();
+        s
+    };
     for (&v, &(w, last)) in &span {
         for (k, at) in live.iter_mut().enumerate() {
             if w < k && k <= last {
@@ -1749,7 +1778,9 @@ fn translate(
                 // An integer that may be the interpreter's -0 cannot be given back as one:
                 // when a zero's sign matters to what reads it, an iteration is left undone
                 // from its start.
-                snapshot |= known.kind == Kind::Int
+                let stop = u16::try_from(k).is_ok_and(|k| stops.binary_search(&k).is_ok());
+                snapshot |= stop
+                    && known.kind == Kind::Int
                     && known.signed_zero
                     && all.iter().any(|s| sign_matters(s, v, &kind_of));
                 at.push((*origin.get(&v)?, l(v), known.kind));
@@ -1873,6 +1904,7 @@ fn translate(
         after: next + 1,
         nested,
         text,
+        fallback: None,
     })
 }
 
@@ -2094,6 +2126,34 @@ fn lower(
                 k += 2;
                 continue;
             }
+            // A real stored into an element: its test (or its conversion) between the
+            // subscript and the store, all three of one instruction (`store.idx.r`), goes
+            // first, and the store takes the subscript.
+            let value = match next {
+                Some(Ir::RealR { d, s } | Ir::ToR { d, s }) if d != t && s != t => Some(d),
+                _ => None,
+            };
+            let same = |j: usize| ir_op.get(j).is_some() && ir_op.get(j) == ir_op.get(k);
+            if let (Some(c), Some(&Ir::PutR { s, off, arr })) = (value, ir.get(k + 2)) {
+                let picks = off == t
+                    && s == c
+                    && arr_len(arr) == Some(len)
+                    && !targets.contains(&(k + 1))
+                    && !targets.contains(&(k + 2))
+                    && temp_local(t)
+                    && dead_after(ir, jumps, t, k + 2);
+                if picks && same(k + 1) && same(k + 2) {
+                    op_of.push(*ir_op.get(k + 1)?);
+                    out.push(pack(ir.get(k + 1)?));
+                    index[k] = out.len() - 1;
+                    index[k + 1] = out.len() - 1;
+                    op_of.push(*ir_op.get(k)?);
+                    out.push(pack(&Ir::PutR { s, off: idx, arr }));
+                    index[k + 2] = out.len() - 1;
+                    k += 3;
+                    continue;
+                }
+            }
         }
         if let Some((family, d, a, b)) = Family::of(op) {
             // The store that follows, when it takes this result into a long or an INTEGER and
@@ -2144,7 +2204,26 @@ fn lower(
             }
             continue;
         }
-        op_of.push(*ir_op.get(k)?);
+        // The test of a zero's sign (a remainder, a product stored into a real variable the
+        // body keeps as an `Int`) leaves the iteration at the instruction that gave the zero,
+        // when that is one instruction of its own just before: the interpreter computes it
+        // again, with its sign, rather than be given the temporary (an `Int` has no -0).
+        let from = match *op {
+            Ir::IntSigned { s, .. } | Ir::IntModSign { s, .. }
+                if k > 0 && !targets.contains(&k) =>
+            {
+                let whole = |j: usize| j == 0 || ir_op.get(j - 1) != ir_op.get(j);
+                let gives = ir.get(k - 1).is_some_and(|p| ir_regs(p).1 == Some(s));
+                let apart = ir_op.get(k - 1) != ir_op.get(k) && whole(k - 1);
+                if gives && apart {
+                    ir_op.get(k - 1)
+                } else {
+                    ir_op.get(k)
+                }
+            }
+            _ => ir_op.get(k),
+        };
+        op_of.push(*from?);
         out.push(pack(op));
         k += 1;
     }

@@ -54,8 +54,14 @@ const FEWEST_ROUNDS: u64 = 16;
 const TRIAL: u32 = 64;
 
 /// The fewest of the interpreter's instructions per entry, on average over its first [`TRIAL`]
-/// entries, that the machine must run for a `FOR` to stay handed over (`Machine::judge_for`).
-const FEWEST_COUNTED: u64 = 32;
+/// entries, that the machine must run for a `FOR` (or a `WHILE`) to stay handed over
+/// (`Machine::judge_for`, `Machine::run_body`). Handing a loop over and back costs some 900
+/// machine instructions an entry; a body saves between 1 and 7 of them per instruction of the
+/// interpreter's (a long's `MOD` and sum, which the interpreter does in integers too: 1; a
+/// SINGLE's count and remainder: 7). A short loop inside a loop the interpreter runs
+/// (`probe/inner`: 5 iterations of 7 instructions) took twice as long handed over; past 256
+/// instructions an entry the loss is at most some 12 %, and the gain up to some 20 %.
+const FEWEST_COUNTED: u64 = 256;
 
 /// Upper bound on a run with no duration whose programs never end (simulated seconds).
 pub const DEFAULT_MAX_SECONDS: u64 = 3600;
@@ -1010,7 +1016,7 @@ impl Machine {
     /// `chunk`, in which the machine ran `counted` of the interpreter's instructions (0 when
     /// the loop was left to the interpreter). A `FOR` that, over its first [`TRIAL`] entries,
     /// runs fewer than [`FEWEST_COUNTED`] instructions per entry on average costs more to hand
-    /// over (some 600 machine instructions an entry, `probe/gosubwork`) than it gains: its
+    /// over (some 900 machine instructions an entry, `probe/inner`) than it gains: its
     /// `for.check` becomes a plain one for the rest of the run; one that does is marked kept,
     /// and no longer counted. Only the speed changes.
     fn judge_for(&mut self, chunk: usize, pc: u32, counted: u64) {
@@ -1096,7 +1102,7 @@ impl Machine {
             return None;
         }
         let mut n = self.instructions;
-        let Some((end, at)) = body::run(
+        let mut ran = body::run(
             &mut self.values,
             &mut self.body_regs,
             b,
@@ -1104,7 +1110,21 @@ impl Machine {
             from,
             &mut n,
             budget_end,
-        ) else {
+        );
+        // A real variable it keeps as an `Int` holds a fraction (or whatever else kept it
+        // from starting): the body with every real variable a real may start.
+        if let (None, Some(plain)) = (&ran, &b.fallback) {
+            ran = body::run(
+                &mut self.values,
+                &mut self.body_regs,
+                plain,
+                &mut self.image.strings,
+                from,
+                &mut n,
+                budget_end,
+            );
+        }
+        let Some((end, at)) = ran else {
             // A `FOR` too short this time is entered once; a `WHILE` that could not start
             // would come back at every iteration.
             if b.counter.is_none() {
@@ -1130,7 +1150,8 @@ impl Machine {
             let trial = trial_of(&mut self.trials, chunk, entry);
             if trial.0 < TRIAL {
                 *trial = (trial.0 + 1, trial.1 + counted);
-                if trial.0 == TRIAL && trial.1 < u64::from(TRIAL) * FEWEST_ROUNDS * per_round {
+                let fewest = (FEWEST_ROUNDS * per_round).max(FEWEST_COUNTED);
+                if trial.0 == TRIAL && trial.1 < u64::from(TRIAL) * fewest {
                     self.plain_loop(chunk, entry);
                 }
             }
