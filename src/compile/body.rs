@@ -1508,8 +1508,8 @@ fn translate(
             continue;
         }
         // A real variable the body writes starts as an `Int` (its writes may make it a real):
-        // one that stays so is loaded as an `Int`, and a loop entered while it holds
-        // anything else stays with the interpreter.
+        // one that stays so is loaded as an `Int`; a loop entered while it holds anything
+        // else runs the body translated without (`Body::fallback`), if there is one.
         if speculate && !int && written.contains(&r) && constant(r).is_none() {
             known.insert(r, INT);
             continue;
@@ -1762,8 +1762,8 @@ fn translate(
     }
     let mut live: Vec<Vec<(Reg, Local, Kind)>> = vec![Vec::new(); by_op.len() + 1];
     let mut snapshot = false;
-    // The instructions a run can stop at: those the body's instructions come from (a `MOD`
-    // fused with the store of its remainder stops at the `MOD`, never at the store).
+    // The instructions a run can stop at: those the body's instructions come from (the test
+    // of a remainder's zero sign stops at its `MOD`, never at the store: `lower`).
     let stops: Vec<u16> = {
         let mut s = op_of.clone();
         s.push(0);
