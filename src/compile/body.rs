@@ -1315,11 +1315,9 @@ fn result(
             Un::Neg => REAL,
             Un::Not | Un::BitNot => INT,
         },
-        Step::Store { to, s, .. } => match to {
+        // (A real variable given only whole numbers may be an `Int`: `translate` says.)
+        Step::Store { to, .. } => match to {
             Store::Long | Store::Short | Store::Fixed(0) => INT,
-            // A real variable given only whole numbers is an `Int` while it holds them (of
-            // one that may be -0, see `translate`).
-            Store::Real if of(s) == INT => INT,
             Store::Real | Store::Fixed(_) => REAL,
         },
         // A subscript's sign never matters (`sign_matters`); an element is no -0 (one that
@@ -1516,10 +1514,10 @@ fn translate(
         }
         known.insert(r, if int { INT } else { REAL });
     }
-    // A real variable given an `Int` that may be -0 (a `MOD`'s remainder) is an `Int` too
-    // when the body reads it (its sums and tests stay integer), a zero that may be -0 leaving
-    // the iteration (`Ir::IntSigned`); one the body only writes stays a real, which holds
-    // the zero's sign (`Ir::ToRModSign`).
+    // Speculating, a real variable given an `Int` is an `Int` while it holds them; given one
+    // that may be -0 (a `MOD`'s remainder), only when the body reads it (its sums and tests
+    // stay integer), a zero that may be -0 leaving the iteration (`Ir::IntSigned`): one the
+    // body only writes stays a real, which holds the zero's sign (`Ir::ToRModSign`).
     let read: Vec<Reg> = all.iter().flat_map(Step::read).collect();
     loop {
         let mut changed = false;
@@ -1535,9 +1533,9 @@ fn translate(
                 ..
             } = *s
             {
-                if !speculate {
-                    k = REAL;
-                } else if of(from).kind == Kind::Int && read.contains(&d) {
+                let given = of(from);
+                if speculate && given.kind == Kind::Int && (!given.signed_zero || read.contains(&d))
+                {
                     k = INT;
                 }
             }
@@ -2135,14 +2133,14 @@ fn lower(
             };
             let same = |j: usize| ir_op.get(j).is_some() && ir_op.get(j) == ir_op.get(k);
             if let (Some(c), Some(&Ir::PutR { s, off, arr })) = (value, ir.get(k + 2)) {
-                let picks = off == t
+                let fused = off == t
                     && s == c
                     && arr_len(arr) == Some(len)
                     && !targets.contains(&(k + 1))
                     && !targets.contains(&(k + 2))
                     && temp_local(t)
                     && dead_after(ir, jumps, t, k + 2);
-                if picks && same(k + 1) && same(k + 2) {
+                if fused && same(k + 1) && same(k + 2) {
                     op_of.push(*ir_op.get(k + 1)?);
                     out.push(pack(ir.get(k + 1)?));
                     index[k] = out.len() - 1;
