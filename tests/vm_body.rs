@@ -301,7 +301,10 @@ fn inner_loop(d: &mut Draw, w: &Dialect, out: &mut String, exit: Option<usize>) 
     }
 }
 
-fn program(d: &mut Draw, w: &Dialect) -> String {
+/// A program of [`Dialect`] `w`: a loop or two, with loops inside; with `subs` (MotionBASIC),
+/// its loops call two subroutines after its `END` (`GOSUB`), which may return early (`IF …
+/// THEN RETURN`: a subroutine a body does not run inside).
+fn program(d: &mut Draw, w: &Dialect, subs: bool) -> String {
     let mut out = String::new();
     if w.file.ends_with(".mb") {
         out.push_str(&format!("DIM {}\n", ARRAYS.join(", ")));
@@ -347,6 +350,9 @@ fn program(d: &mut Draw, w: &Dialect) -> String {
             if exits && d.below(3) == 0 {
                 out.push_str(&format!("IF {} THEN GOTO {}\n", condition(d, w), 90 + k));
             }
+            if subs && d.below(2) == 0 {
+                out.push_str(&format!("GOSUB {}\n", 500 + d.below(2)));
+            }
         }
         if counted {
             out.push_str("Next\n");
@@ -359,16 +365,46 @@ fn program(d: &mut Draw, w: &Dialect) -> String {
         }
     }
     out.push_str(w.end);
+    if subs {
+        out.push_str("END\n");
+        for line in [500, 501] {
+            out.push_str(&format!("{line} "));
+            for _ in 0..1 + d.below(3) {
+                statement(d, w, &mut out, 2);
+            }
+            if d.below(6) == 0 {
+                out.push_str(&format!("IF {} THEN RETURN\n", condition(d, w)));
+                statement(d, w, &mut out, 1);
+            }
+            out.push_str("RETURN\n");
+        }
+    }
     out
 }
 
 #[test]
 fn random_loops_give_the_same_values_counts_and_faults_in_or_out_of_the_interpreter() {
-    for (w, seed, count) in [(&MB, 0x5eed_0001u64, 300), (&PT, 0x5eed_0002, 200)] {
+    random_loops(&[
+        (&MB, 0x5eed_0001u64, 300, false),
+        (&PT, 0x5eed_0002, 200, false),
+    ]);
+}
+
+#[test]
+fn random_loops_calling_subroutines_give_the_same_as_the_interpreter() {
+    // The subroutines run inside the bodies (stopping in them at a budget test, a fault, an
+    // iteration left undone), or keep the loop in the interpreter (one that returns early).
+    random_loops(&[(&MB, 0x5eed_0003u64, 300, true)]);
+}
+
+/// Draw `count` programs of each dialect from its seed (with subroutines or not), and run each
+/// traced and untraced at two budgets: the same values, counts and faults.
+fn random_loops(sets: &[(&Dialect, u64, usize, bool)]) {
+    for &(w, seed, count, subs) in sets {
         let mut d = Draw(seed);
         let (mut outside, mut faults, mut clean, mut refused) = (0u64, 0, 0, 0);
         for _ in 0..count {
-            let p = program(&mut d, w);
+            let p = program(&mut d, w, subs);
             let p = if w.file.ends_with(".mb") {
                 p.replace("If ", "IF ")
                     .replace(" Then\n", " THEN\n")
@@ -410,7 +446,9 @@ fn random_loops_give_the_same_values_counts_and_faults_in_or_out_of_the_interpre
         );
         assert!(faults > count / 20, "{faults} faults of {count}");
         assert!(clean > count / 10, "{clean} clean of {count}");
-        assert!(refused < count / 3, "{refused} refused of {count}");
+        // (Subroutines add statements, and with them constant subscripts out of range.)
+        let most_refused = if subs { count / 2 } else { count / 3 };
+        assert!(refused < most_refused, "{refused} refused of {count}");
     }
 }
 
@@ -1271,5 +1309,211 @@ LOOP UNTIL N& >= 30000
     assert_eq!(machine.value_of("S&"), Some(s as f64));
     for budget in [7, 100, 1_000_000] {
         assert_eq!(both("x.mb", program, budget).1, None);
+    }
+}
+
+/// The values `SUB_PROGRAM` leaves after `n` iterations: S&, C&, D&.
+fn sub_values(n: i64) -> (i64, i64, i64) {
+    let (mut s, mut c, mut d) = (0i64, 0i64, 0i64);
+    for i in 1..=n {
+        s = (s + i * 3) % 1_000_003;
+        if s % 100 > 50 {
+            c += 1;
+        }
+        if c > 5 {
+            d += c * i;
+            c = 0;
+        }
+    }
+    (s, c, d)
+}
+
+/// A loop calling two subroutines, one of them conditionally (MotionBASIC: control returns
+/// to the statement after the GOSUB).
+const SUB_PROGRAM: &str = "S& = 0: C& = 0: D& = 0
+FOR I& = 1 TO 3000
+  S& = (S& + I& * 3) MOD 1000003
+  GOSUB 100
+  IF C& > 5 THEN GOSUB 200
+NEXT
+END
+100 IF S& MOD 100 > 50 THEN C& = C& + 1
+RETURN
+200 D& = D& + C& * I&: C& = 0
+RETURN
+";
+
+#[test]
+fn a_loop_calling_subroutines_runs_them_inside_its_body() {
+    let (machine, summary) = run_untraced(load("body-gosub", "x.mb", SUB_PROGRAM, 1_000_000));
+    assert!(summary.error.is_none());
+    // Entered once, every iteration run outside the interpreter with its subroutines.
+    assert_eq!(machine.tight_runs(), 1);
+    assert_eq!(machine.slow_runs(), 0);
+    let (s, c, d) = sub_values(3000);
+    assert!(d > 0 && c < 6, "both subroutines called: {d}, {c}");
+    assert_eq!(machine.value_of("S&"), Some(s as f64));
+    assert_eq!(machine.value_of("C&"), Some(c as f64));
+    assert_eq!(machine.value_of("D&"), Some(d as f64));
+    // Its budget spent after a GOSUB or a RETURN, a run stops where the interpreter yields
+    // (inside the subroutine, in its frame, or after it): the same counts at every budget.
+    for budget in [3, 5, 7, 10, 33, 1000, 1_000_000] {
+        let (n, e, _) = both("x.mb", SUB_PROGRAM, budget);
+        assert_eq!((n, e), (summary.instructions, None), "budget {budget}");
+    }
+}
+
+#[test]
+fn a_turn_starting_inside_a_subroutine_hands_the_loop_back_at_once() {
+    // At a budget of 1000 most turns end after a GOSUB or a RETURN (a run stops there as the
+    // interpreter yields there): the next turn runs the rest of that iteration in the
+    // interpreter and gives the loop back to the machine, so nearly every turn runs it.
+    let long = SUB_PROGRAM.replace("TO 3000", "TO 30000");
+    let (machine, summary) = run_untraced(load("body-gosub-turns", "x.mb", &long, 1000));
+    assert!(summary.error.is_none());
+    let turns = summary.instructions / 1000;
+    assert!(turns > 300, "{turns} turns");
+    assert!(
+        machine.tight_runs() * 10 >= turns * 9,
+        "{} runs in {turns} turns",
+        machine.tight_runs()
+    );
+    let (s, c, d) = sub_values(30000);
+    assert_eq!(machine.value_of("S&"), Some(s as f64));
+    assert_eq!(machine.value_of("C&"), Some(c as f64));
+    assert_eq!(machine.value_of("D&"), Some(d as f64));
+    assert_eq!(both("x.mb", &long, 1000).0, summary.instructions);
+}
+
+#[test]
+fn a_fault_in_a_subroutine_run_inside_a_body_is_reported_in_the_subroutine() {
+    // S& passes 2^31 at I& = 66 (1,000,000 * 66 * 67 / 2): the overflow is the subroutine's,
+    // the 65 iterations before done.
+    let program = "FOR I& = 1 TO 100
+  GOSUB 100
+NEXT
+END
+100 S& = S& + 1000000 * I&
+RETURN
+";
+    let (machine, summary) = run_untraced(load("body-gosub-fault", "x.mb", program, 1_000_000));
+    assert_eq!(machine.tight_runs(), 1);
+    let error = summary.error.as_ref().expect("an overflow");
+    assert_eq!(error.line, 5);
+    assert_eq!(machine.value_of("S&"), Some(2_145_000_000.0));
+    assert_eq!(machine.value_of("I&"), Some(66.0));
+    for budget in [4, 7, 1_000_000] {
+        let (n, e, _) = both("x.mb", program, budget);
+        assert_eq!(n, summary.instructions);
+        assert_eq!(e.map(|e| e.0), Some(5));
+    }
+}
+
+#[test]
+fn an_iteration_left_inside_a_subroutine_goes_on_there_and_returns() {
+    // A remainder of a negative multiple of 10 is a -0 the SINGLE R takes with its sign: the
+    // iteration is left at that MOD, inside the subroutine; the interpreter goes on there in
+    // the GOSUB's frame, returns, and counts T&.
+    let program = "FOR I& = -20 TO 20
+  A& = I& * 5
+  GOSUB 100
+  T& = T& + 1
+NEXT
+END
+100 R = A& MOD 10
+S = S + R
+RETURN
+";
+    let (machine, summary) = run_untraced(load("body-gosub-slow", "x.mb", program, 1_000_000));
+    assert!(summary.error.is_none());
+    assert_eq!(machine.value_of("T&"), Some(41.0));
+    assert!(machine.tight_runs() >= 1);
+    assert!(
+        machine.slow_runs() >= 1,
+        "an iteration left in the subroutine"
+    );
+    let s: i64 = (-20..=20i64).map(|i| (i * 5) % 10).sum();
+    assert_eq!(machine.value_of("S"), Some(s as f64));
+    for budget in [3, 6, 1_000_000] {
+        let (n, e, _) = both("x.mb", program, budget);
+        assert_eq!((n, e), (summary.instructions, None));
+    }
+}
+
+#[test]
+fn a_body_does_not_call_a_subroutine_one_frame_too_deep() {
+    // Fourteen GOSUBs deep (the program's frame and 14 of theirs), the loop's GOSUB would be
+    // the 16th frame's: the interpreter runs it and reports the depth. Thirteen deep, the
+    // body runs its GOSUBs.
+    let program = |deep: u32| {
+        format!(
+            "GOSUB 100
+END
+100 D& = D& + 1
+IF D& < {deep} THEN GOSUB 100 ELSE GOSUB 300
+RETURN
+300 FOR I& = 1 TO 100
+  GOSUB 400
+NEXT
+RETURN
+400 S& = S& + I&
+RETURN
+"
+        )
+    };
+    let (machine, summary) = run_untraced(load("body-deep", "x.mb", &program(13), 1_000_000));
+    assert!(summary.error.is_none(), "{:?}", summary.error);
+    assert_eq!(machine.value_of("S&"), Some(5050.0));
+    assert_eq!(machine.tight_runs(), 1);
+    let (machine, summary) = run_untraced(load("body-deeper", "x.mb", &program(14), 1_000_000));
+    assert_eq!(machine.tight_runs(), 0);
+    let error = summary.error.as_ref().expect("too deep");
+    assert_eq!(error.line, 7);
+    assert!(error.message.contains("nested deeper"), "{}", error.message);
+    for deep in [13, 14] {
+        for budget in [5, 1_000_000] {
+            let (_, e, _) = both("x.mb", &program(deep), budget);
+            assert_eq!(e.is_some(), deep == 14);
+        }
+    }
+}
+
+#[test]
+fn two_tasks_see_each_other_where_the_interpreter_would_yield() {
+    // Task 1 folds task 0's variables into a hash at every instruction it runs: where task 0's
+    // turns end (inside its subroutine, after it, at its NEXT) shows in H&. Untraced (the
+    // subroutine run inside task 0's body) and traced (the interpreter) give the same.
+    let a = "FOR I& = 1 TO 2000
+  A& = A& + 1
+  GOSUB 100
+  B& = B& + 1
+NEXT
+END
+100 C& = C& + A& MOD 3
+RETURN
+";
+    let b = "FOR K& = 1 TO 3000
+  H& = (H& * 31 + A& + B& * 7 + C&) MOD 1000003
+NEXT
+";
+    for budget in [3, 5, 7, 11, 64, 1000] {
+        let machine = format!(
+            "[machine]\nname = \"t\"\nbudget = {budget}\n\n[[program]]\nnumber = 0\nfile = \"a.mb\"\n\
+             autostart = true\n\n[[program]]\nnumber = 1\nfile = \"b.mb\"\nautostart = true\n"
+        );
+        let files = [("a.mb", a), ("b.mb", b), ("machine.toml", machine.as_str())];
+        let loaded = || match load_memory("tasks", &files) {
+            Ok(l) => l,
+            Err(d) => panic!("{}", d.render_plain()),
+        };
+        let traced = run_loaded(loaded());
+        let (machine, summary) = run_untraced(loaded());
+        assert!(machine.tight_runs() > 0);
+        assert_eq!(
+            outcome(&traced.machine, &traced.summary),
+            outcome(&machine, &summary),
+            "budget {budget}"
+        );
+        assert_eq!(machine.value_of("B&"), Some(2000.0));
     }
 }

@@ -174,6 +174,9 @@ enum Ir {
     /// The `loop` of a loop inside the body: back to the target, where the interpreter
     /// tests its budget.
     Back,
+    /// The interpreter's budget test after the `GOSUB` or the `RETURN` of a subroutine run
+    /// inside the body.
+    Yield,
     /// The `for.check` of a `FOR` inside the body, on `Int`s: to the target when `var` is
     /// past `limit` in the direction of `step` (a step of 0 is the interpreter's fault).
     ForCheckI {
@@ -360,6 +363,11 @@ pub enum Code {
     PutI,
     /// The real `a` into element `b` of the body's array `d`.
     PutR,
+    /// The interpreter's test of its budget after a `GOSUB` or a `RETURN` of a subroutine
+    /// run inside the body ([`Body::subs`]): a run whose budget is spent there stops at the
+    /// instruction after it, `a | b << 8` of the body's instructions before the iteration's
+    /// end.
+    Yield,
     /// The end of the body (of the iteration, from a jump to it: not counting `k >> 16` of
     /// the interpreter's instructions).
     Next,
@@ -525,9 +533,30 @@ pub struct Body {
     /// The same body with every SINGLE and DOUBLE a real: the one to run when this one, which
     /// keeps some of them as `Int`s, cannot start (one holds a fraction on entry).
     pub fallback: Option<Box<Body>>,
+    /// The subroutines it runs inside, after their `GOSUB`s (none: its instructions are the
+    /// interpreter's from `start` on).
+    pub subs: Vec<Sub>,
 }
 
 impl Body {
+    /// Where the interpreter goes on from the body's instruction `at` (counted from its
+    /// start): the instruction of the frame running the loop, and when `at` is in a
+    /// subroutine run inside, the subroutine's instruction (in a `GOSUB`'s frame above it,
+    /// the loop's frame going on after the `GOSUB`).
+    pub fn place(&self, at: u16) -> (u32, Option<u32>) {
+        let k = usize::from(at);
+        if let Some(s) = self.subs.iter().find(|s| (s.from..=s.to).contains(&k)) {
+            return (s.gosub + 1, Some(s.pc + (k - s.from) as u32));
+        }
+        let inside: usize = self
+            .subs
+            .iter()
+            .filter(|s| s.to < k)
+            .map(|s| s.to + 1 - s.from)
+            .sum();
+        (self.start + (k - inside) as u32, None)
+    }
+
     /// The instructions, ending with [`Code::Next`] (then [`Code::Exit`] when a jump leaves
     /// the loop), every jump's target among them.
     pub fn ops(&self) -> &[Micro] {
@@ -609,7 +638,7 @@ pub fn heads(bodies: &BTreeMap<u32, Body>) -> BTreeMap<u32, (u32, u16)> {
             .filter_map(|m| b.op_of.get((m.k & 0xffff) as usize).copied());
         let own = b.counter.is_none().then_some(0);
         for at in inside.chain(own) {
-            let pc = b.start + u32::from(at);
+            let pc = b.place(at).0;
             if heads.get(&pc).is_none_or(|h| h.2 < span) {
                 heads.insert(pc, (entry, at, span));
             }
@@ -718,6 +747,9 @@ enum Step {
     Back {
         t: u32,
     },
+    /// The `GOSUB` of a subroutine run inside the body, or its `RETURN`: the interpreter's
+    /// budget test.
+    Yield,
     /// `d` = whether the strings whose handles are in `a` and `b` compare as `cmp` says.
     TextCmp {
         cmp: Cmp,
@@ -1032,7 +1064,7 @@ impl Step {
             Step::Un { s, .. } | Step::Store { s, .. } => vec![s],
             Step::Check { r, .. } => vec![r],
             Step::JumpZero { c, .. } => vec![c],
-            Step::Jump { .. } => vec![],
+            Step::Jump { .. } | Step::Yield => vec![],
             Step::Sub { s, .. } => vec![s],
             Step::Load { off, .. } => vec![off],
             Step::Put { off, s, .. } => vec![off, s],
@@ -1055,6 +1087,19 @@ impl Step {
             | Step::ForCheck { t, .. }
             | Step::ForNext { t, .. } => Some(t),
             _ => None,
+        }
+    }
+
+    /// Its jump's target mapped by `to`.
+    fn retarget(&mut self, to: impl Fn(u32) -> u32) {
+        match self {
+            Step::Jump { t }
+            | Step::JumpZero { t, .. }
+            | Step::JumpCmp { t, .. }
+            | Step::Back { t }
+            | Step::ForCheck { t, .. }
+            | Step::ForNext { t, .. } => *t = to(*t),
+            _ => {}
         }
     }
 
@@ -1126,7 +1171,7 @@ impl Step {
             },
             // A loop's variable, limit and step are never temporaries (`translate` refuses
             // them).
-            Step::Back { .. } | Step::ForCheck { .. } | Step::ForNext { .. } => self,
+            Step::Back { .. } | Step::ForCheck { .. } | Step::ForNext { .. } | Step::Yield => self,
             Step::TextCmp { cmp, d, a, b } => Step::TextCmp {
                 cmp,
                 d: w(d),
@@ -1245,6 +1290,7 @@ fn sign_matters(s: &Step, v: Reg, kind_of: &dyn Fn(Reg) -> Known) -> bool {
         | Step::Sub { .. }
         | Step::Load { .. }
         | Step::Back { .. }
+        | Step::Yield
         | Step::ForCheck { .. }
         | Step::ForNext { .. }
         | Step::TextCmp { .. }
@@ -1332,6 +1378,61 @@ fn result(
     })
 }
 
+/// The most instructions of a subroutine a body runs inside.
+const MOST_INLINED: u32 = 256;
+
+/// A subroutine run inside a body: the interpreter's `GOSUB` calling it, its first
+/// instruction and its `RETURN`, and where they are among the body's instructions (counted
+/// from the body's start, the `GOSUB` just before the first).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Sub {
+    /// The `GOSUB`'s instruction.
+    pub gosub: u32,
+    /// The subroutine's first instruction.
+    pub pc: u32,
+    /// Its `RETURN`.
+    pub last: u32,
+    /// The first's place among the body's instructions.
+    pub from: usize,
+    /// The `RETURN`'s.
+    pub to: usize,
+}
+
+/// The interpreter's instructions an iteration of the body from `start` to `next` (its
+/// `for.next` or `loop`, not among them) runs, in order: each subroutine a `GOSUB` of it
+/// calls comes after that `GOSUB`, when it lies outside the loop, reaches its `RETURN` within
+/// [`MOST_INLINED`] instructions and calls none (its jumps are seen to go forward to its
+/// `RETURN` at most where they are translated). `None` when a subroutine is not one of those:
+/// the interpreter runs that loop.
+fn inline(ops: &[Op], start: u32, next: u32) -> Option<(Vec<u32>, Vec<Sub>)> {
+    let mut order = Vec::new();
+    let mut subs = Vec::new();
+    for pc in start..next {
+        order.push(pc);
+        let Some(&Op::Gosub { target }) = ops.get(pc as usize) else {
+            continue;
+        };
+        let last = (target..target.saturating_add(MOST_INLINED)).find(|&p| {
+            !matches!(ops.get(p as usize), Some(op) if !matches!(op, Op::Return | Op::Gosub { .. }))
+        })?;
+        if !matches!(ops.get(last as usize), Some(Op::Return))
+            || (target <= next + 1 && last >= start)
+        {
+            return None;
+        }
+        let from = order.len();
+        order.extend(target..=last);
+        subs.push(Sub {
+            gosub: pc,
+            pc: target,
+            last,
+            from,
+            to: order.len() - 1,
+        });
+    }
+    Some((order, subs))
+}
+
 /// The body of the loop `at` translated, when every instruction of it is one the translation
 /// knows, its jumps go forward within it (or to its `for.next` or `loop`, or out of the loop
 /// to the instruction after that), a `FOR`'s variable is whole with a whole step (`sure`),
@@ -1349,14 +1450,41 @@ fn translate(
     constant: &dyn Fn(Reg) -> Option<f64>,
     speculate: bool,
 ) -> Option<Body> {
-    let (start, next) = (at.start, at.next);
+    let (start, next_op) = (at.start, at.next);
     // Scratch registers are numbered down from the top (`u32::MAX - i`), versions up from
     // `VIRTUAL`: they never meet.
-    if next < start || next >= 1 << 28 {
+    if next_op < start || next_op >= 1 << 27 {
         return None;
     }
+    // The interpreter's instructions an iteration runs, in order: the body's, each
+    // subroutine a `GOSUB` calls that can run inside ([`inline`]) after that `GOSUB`. From
+    // here on an instruction is its place in that order (`start` + its index), `next` the
+    // `for.next` or `loop`.
+    let (order, subs) = inline(ops, start, next_op)?;
+    let next = start + order.len() as u32;
+    if next >= 1 << 28 {
+        return None;
+    }
+    // A jump's target in that order, from the instruction at index `k`: within the body
+    // (its instructions, its end, the one after it) or forward within the subroutine `k` is
+    // in; `u32::MAX` (which every test refuses) anywhere else.
+    let place = |t: u32, k: usize| -> u32 {
+        match subs.iter().find(|s| (s.from..=s.to).contains(&k)) {
+            Some(s) if t > order[k] && t <= s.last => start + (s.from + (t - s.pc) as usize) as u32,
+            Some(_) => u32::MAX,
+            None if (start..=next_op + 1).contains(&t) => {
+                let before: usize = subs
+                    .iter()
+                    .filter(|s| s.gosub < t)
+                    .map(|s| s.to + 1 - s.from)
+                    .sum();
+                t + before as u32
+            }
+            None => u32::MAX,
+        }
+    };
     // A `FOR`'s variable, limit, and whether the variable is an INTEGER.
-    let counter: Option<(Reg, Reg, bool)> = match (at.counter, *ops.get(next as usize)?) {
+    let counter: Option<(Reg, Reg, bool)> = match (at.counter, *ops.get(next_op as usize)?) {
         (
             Some((var, limit)),
             Op::ForNext {
@@ -1371,7 +1499,7 @@ fn translate(
             // to the interpreter) and only the `for.next` writes it: a whole step (tested at
             // each entry) keeps it whole, its sum exact while it fits 32 bits (past them the
             // interpreter's `for.next` adds it).
-            let sure_next = sure.get(next as usize).is_some_and(|f| f & SURE != 0);
+            let sure_next = sure.get(next_op as usize).is_some_and(|f| f & SURE != 0);
             let real_var = decimals == REAL_STORE;
             if body != start || v != var || lim != limit || !(sure_next || real_var) {
                 return None;
@@ -1389,10 +1517,20 @@ fn translate(
     let bounds = |r: Reg| counter.is_some_and(|(_, limit, _)| r == limit || r == limit + 1);
     // The body's steps, by instruction.
     let mut by_op: Vec<Vec<Step>> = Vec::new();
-    for i in start..next {
+    for (k, &pc) in order.iter().enumerate() {
+        let i = start + k as u32;
         let scratch = u32::MAX - i;
         debug_assert!(scratch >= VIRTUAL);
-        let s = steps(*ops.get(i as usize)?, ext, scratch, whole)?;
+        // A subroutine's `GOSUB` and `RETURN` are the interpreter's budget tests.
+        let call = subs.iter().any(|s| k + 1 == s.from || k == s.to);
+        let mut s = if call {
+            vec![Step::Yield]
+        } else {
+            steps(*ops.get(pc as usize)?, ext, scratch, whole)?
+        };
+        for step in &mut s {
+            step.retarget(|t| place(t, k));
+        }
         for step in &s {
             // A loop inside goes back within the body (to an instruction that is not before
             // its start); every other jump goes forward, at most out of the loop.
@@ -1404,7 +1542,7 @@ fn translate(
             match *step {
                 // A `for.next` inside adds a step known to be whole to a whole variable, as
                 // the body's own does.
-                Step::ForNext { .. } if sure.get(i as usize).is_none_or(|f| f & SURE == 0) => {
+                Step::ForNext { .. } if sure.get(pc as usize).is_none_or(|f| f & SURE == 0) => {
                     return None
                 }
                 Step::ForCheck { var, limit, .. } | Step::ForNext { var, limit, .. }
@@ -1827,6 +1965,14 @@ fn translate(
     let count = u64::from(next - start) + 1;
     let mut ops = ops;
     for (m, micro) in ops.iter_mut().enumerate() {
+        // After a `GOSUB` or a `RETURN` inside: the instructions after it.
+        if micro.code == Code::Yield {
+            let at = u64::from(*op_of.get(m)?);
+            [micro.a, micro.b] = u16::try_from(count.checked_sub(at + 1)?)
+                .ok()?
+                .to_le_bytes();
+            continue;
+        }
         if micro.code != Code::Back {
             continue;
         }
@@ -1899,10 +2045,11 @@ fn translate(
         count,
         lowest_write,
         highest,
-        after: next + 1,
+        after: next_op + 1,
         nested,
         text,
         fallback: None,
+        subs,
     })
 }
 
@@ -2018,7 +2165,7 @@ fn ir_regs(ir: &Ir) -> (Vec<Local>, Option<Local>) {
         Ir::ForNextI {
             var, limit, step, ..
         } => (vec![var, limit, step], Some(var)),
-        Ir::Jump | Ir::Back | Ir::Next | Ir::Exit => (vec![], None),
+        Ir::Jump | Ir::Back | Ir::Yield | Ir::Next | Ir::Exit => (vec![], None),
     }
 }
 
@@ -2414,6 +2561,7 @@ fn pack(ir: &Ir) -> Micro {
         }
         Ir::PutR { s, off, arr } => m(Code::PutR, arr, s, off, 0),
         Ir::Back => m(Code::Back, 0, 0, 0, 0),
+        Ir::Yield => m(Code::Yield, 0, 0, 0, 0),
         Ir::TextCmp { cmp, d, a, b } => m(Code::TextCmp, d, a, b, i32::from(cmp_index(cmp))),
         Ir::TextSet { cell, s } => m(Code::TextSet, 0, cell, s, 0),
         Ir::TextPut { s, off, arr } => m(Code::TextPut, arr, s, off, 0),
@@ -2693,6 +2841,7 @@ fn emit(
             skip(t, out, skips);
             out.push(Ir::Back);
         }
+        Step::Yield => out.push(Ir::Yield),
         // Handles as reals (a constant's real copy is made on entry).
         Step::TextCmp { cmp, d, a, b } => {
             let (ra, rb) = (real(a, 0, false, out), real(b, 1, false, out));

@@ -837,6 +837,17 @@ fn iterate<const COUNTED: bool, const NESTED: bool, const TEXT: bool>(
                         break 'iterations End::Budget;
                     }
                 }
+                Code::Yield => {
+                    // After a `GOSUB` or `RETURN`, the interpreter tests its budget: the
+                    // run stops at the next instruction when it is spent.
+                    let left = u64::from(a) | u64::from(b) << 8;
+                    let done = count.wrapping_sub(left);
+                    if done >= budget {
+                        stopped = (body.count - left) as u16;
+                        count = done;
+                        break 'iterations End::Budget;
+                    }
+                }
                 Code::ForCheckI => {
                     let (x, l, s) = (int!(a), int!(b), int!(d));
                     if s == 0 {

@@ -63,6 +63,12 @@ const TRIAL: u32 = 64;
 /// instructions an entry the loss is at most some 12 %, and the gain up to some 20 %.
 const FEWEST_COUNTED: u64 = 256;
 
+/// How many of the interpreter's budget tests a turn starting inside an iteration of a body
+/// that runs subroutines stops at, at most, to hand the loop back (`Machine::run_task`): an
+/// iteration holds a few (each `GOSUB`, each `RETURN`, the `for.next`); past them the loop
+/// has ended, or is one the machine does not take back.
+const REJOIN_TESTS: u32 = 8;
+
 /// Upper bound on a run with no duration whose programs never end (simulated seconds).
 pub const DEFAULT_MAX_SECONDS: u64 = 3600;
 
@@ -219,6 +225,10 @@ pub struct Machine {
     /// Indexed by chunk, then instruction (grown when first needed): a lookup at every entry
     /// of a short loop must cost little.
     trials: Vec<Vec<(u32, u64)>>,
+    /// The task whose last turn ended in a body that runs subroutines inside, its budget
+    /// spent at a `GOSUB` or `RETURN` there: its next turn hands the loop back to the machine
+    /// as soon as the interpreter has run the rest of that iteration (`Machine::run_task`).
+    rejoin: Option<usize>,
 }
 
 /// The trial of the loop whose `for.check` or `loop` is instruction `pc` of `chunk`
@@ -303,6 +313,7 @@ impl Machine {
             tight_runs: 0,
             slow_runs: 0,
             body_regs: Box::default(),
+            rejoin: None,
             trials: Vec::new(),
             image,
         };
@@ -977,6 +988,7 @@ impl Machine {
     /// Where the task goes on, and whether its budget is spent; or the `for.check`'s fault.
     fn enter_loop(
         &mut self,
+        ti: usize,
         chunk: usize,
         pc: u32,
         budget_end: u64,
@@ -1005,7 +1017,7 @@ impl Machine {
             return Ok((exit, false));
         }
         let before = self.instructions;
-        let ran = self.run_loop(chunk, pc + 1, budget_end);
+        let ran = self.run_loop(ti, chunk, pc + 1, budget_end);
         if !kept {
             self.judge_for(chunk, pc, self.instructions.saturating_sub(before));
         }
@@ -1054,11 +1066,17 @@ impl Machine {
     /// about to run an iteration, when it has at least [`tight::FEWEST`] more and writes
     /// nothing traced (`tight::plan`). Where the task goes on, and whether its budget is spent;
     /// `None` when the interpreter is to run it.
-    fn run_loop(&mut self, chunk: usize, start: u32, budget_end: u64) -> Option<(u32, bool)> {
+    fn run_loop(
+        &mut self,
+        ti: usize,
+        chunk: usize,
+        start: u32,
+        budget_end: u64,
+    ) -> Option<(u32, bool)> {
         let traced_below = self.traced_below();
         let c = self.image.chunks.get(chunk)?;
         let Some(plan) = tight::plan(&c.ops, &c.sure, start, traced_below) else {
-            return self.run_body(chunk, start.checked_sub(1)?, 0, budget_end);
+            return self.run_body(ti, chunk, start.checked_sub(1)?, 0, budget_end);
         };
         let get = |r: u32| self.values.get(r as usize).copied();
         let (x, l, s) = (get(plan.var)?, get(plan.limit)?, get(plan.limit + 1)?);
@@ -1082,17 +1100,25 @@ impl Machine {
     /// Run here (`vm::body`) the loop that instruction `entry` of `chunk` enters (its
     /// `for.check` or its `loop`), about to run its body's instruction `from` (0: an iteration
     /// from its start; else the start of a loop inside, where a run stopped), when its body is
-    /// translated and writes nothing traced. Where the task goes on, and whether its budget is
-    /// spent; `None` when the interpreter is to run it.
+    /// translated and writes nothing traced, on task `ti`'s top frame. Where the task goes
+    /// on, and whether its budget is spent; `None` when the interpreter is to run it. A run
+    /// left inside a subroutine the body runs inside leaves the task there, in the frame its
+    /// `GOSUB` would have pushed.
     fn run_body(
         &mut self,
+        ti: usize,
         chunk: usize,
         entry: u32,
         from: u16,
         budget_end: u64,
     ) -> Option<(u32, bool)> {
         let traced_below = self.traced_below();
+        let depth = self.tasks.get(ti)?.frames.len();
         let b = self.image.chunks.get(chunk)?.bodies.get(&entry)?;
+        // Its `GOSUB`s would fault here (the interpreter's to report).
+        if !b.subs.is_empty() && depth >= MAX_CALL_DEPTH {
+            return None;
+        }
         if b.lowest_write < traced_below {
             // A variable it writes is traced: a `WHILE`'s `loop` goes back to a plain one
             // rather than leave the interpreter at every iteration for nothing.
@@ -1137,9 +1163,10 @@ impl Machine {
         self.slow_runs += u64::from(end == tight::End::Slow);
         self.instructions = n;
         // The interpreter goes on after the loop, or where the run was left.
-        let next = match end {
-            tight::End::Done => b.after,
-            tight::End::Budget | tight::End::Slow => b.start + at,
+        let has_subs = !b.subs.is_empty();
+        let (next, sub) = match end {
+            tight::End::Done => (b.after, None),
+            tight::End::Budget | tight::End::Slow => b.place(u16::try_from(at).ok()?),
         };
         // A `WHILE` is handed over at every entry whatever it does then: one that goes round
         // only a few times each (Euclid's algorithm inside two `FOR`s) costs more to hand over
@@ -1156,7 +1183,24 @@ impl Machine {
                 }
             }
         }
-        Some((next, end == tight::End::Budget))
+        let spent = end == tight::End::Budget;
+        if spent && has_subs {
+            self.rejoin = Some(ti);
+        }
+        let Some(pc) = sub else {
+            return Some((next, spent));
+        };
+        // Left in a subroutine: the loop's frame goes on after the `GOSUB`, the subroutine's
+        // is the task's top frame (whose instruction the caller sets).
+        let frames = &mut self.tasks.get_mut(ti)?.frames;
+        let top = frames.last_mut()?;
+        top.pc = next;
+        frames.push(Frame {
+            chunk,
+            pc,
+            gosub: true,
+        });
+        Some((pc, spent))
     }
 
     /// The `loop` at `entry` of `chunk` that hands its loop over (`Op::LoopTight`) made a plain
@@ -1197,10 +1241,10 @@ impl Machine {
         // The outermost loop first: a `FOR` inside one, run alone, would leave the rest of the
         // outer loop's iterations to the interpreter.
         let ran = head
-            .and_then(|(entry, from)| self.run_body(frame.chunk, entry, from, budget_end))
+            .and_then(|(entry, from)| self.run_body(ti, frame.chunk, entry, from, budget_end))
             .or_else(|| {
                 entered
-                    .then(|| self.run_loop(frame.chunk, frame.pc, budget_end))
+                    .then(|| self.run_loop(ti, frame.chunk, frame.pc, budget_end))
                     .flatten()
             });
         let Some((next, spent)) = ran else {
@@ -1282,12 +1326,28 @@ impl Machine {
         if self.resume_loop(ti, budget_end) {
             return;
         }
+        // A turn starting inside an iteration of a body that runs subroutines (where its
+        // budget was spent, at a `GOSUB` or a `RETURN`): the interpreter, which would run the
+        // loop to the end of this turn, stops at each of its budget tests (a `GOSUB`, a
+        // `RETURN`, a `for.next`, a `loop`) until the machine takes the loop back. A test
+        // passed so is one the interpreter passes: only the speed changes.
+        let mut rejoin = if self.rejoin == Some(ti) {
+            self.rejoin = None;
+            REJOIN_TESTS
+        } else {
+            0
+        };
         loop {
             let Some(frame) = self.tasks[ti].frames.last().copied() else {
                 self.end_task(ti, ProgramEvent::End);
                 return;
             };
-            let exit = self.exec(ti, frame.chunk, frame.pc, false, budget_end);
+            let end = if rejoin > 0 {
+                budget_end.min(self.instructions.saturating_add(1))
+            } else {
+                budget_end
+            };
+            let exit = self.exec(ti, frame.chunk, frame.pc, false, end);
             // The frame running when the interpreter stopped, which a `Call Program` or the
             // end of a called program may have changed: its program is the one faults name.
             let frame = self.tasks[ti].frames.last().copied().unwrap_or(frame);
@@ -1297,6 +1357,13 @@ impl Machine {
                 }
             };
             match exit {
+                Exit::Yield(pc) if self.instructions < budget_end => {
+                    set_pc(self, pc);
+                    rejoin = rejoin.saturating_sub(1);
+                    if self.resume_loop(ti, budget_end) {
+                        return;
+                    }
+                }
                 Exit::Yield(pc) => {
                     set_pc(self, pc);
                     return;
@@ -1430,14 +1497,14 @@ impl Machine {
                 Exit::Probed { .. } => return,
                 Exit::Back { pc, start } => {
                     let (next, spent) = self
-                        .run_body(frame.chunk, pc, 0, budget_end)
+                        .run_body(ti, frame.chunk, pc, 0, budget_end)
                         .unwrap_or((start, false));
                     set_pc(self, next);
                     if spent {
                         return;
                     }
                 }
-                Exit::Loop { pc } => match self.enter_loop(frame.chunk, pc, budget_end) {
+                Exit::Loop { pc } => match self.enter_loop(ti, frame.chunk, pc, budget_end) {
                     Ok((next, spent)) => {
                         set_pc(self, next);
                         if spent {
