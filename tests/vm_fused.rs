@@ -1253,3 +1253,48 @@ fn scaled_sums_and_real_quotients_give_the_values_faults_and_counts_of_their_ins
     assert_eq!(val(&run, "Q"), 1.0);
     assert_eq!(run.summary.instructions, 4);
 }
+
+#[test]
+fn a_product_summed_and_stored_gives_the_values_faults_and_counts_of_its_three_instructions() {
+    // A first-order filter (`F = F * K1 + X * K2`), the accumulator on either side, and a
+    // product taken away (`G = G * K1 - X * K2`): `mul`, `add`/`sub` and `store.r` are one
+    // instruction, the product rounded before the sum as the three round it.
+    let program = "F = 0: G = 1: H = 0\nFOR I& = 1 TO 30\n  M& = I& MOD 7\n  F = F * 0.875 + M& * 0.125\n  G = G * 0.5 - M& * 0.3\n  H = M& * 0.1 + H * 0.9\nNEXT\n";
+    let loaded = load_mb("fused-filter-store", program, 7);
+    let fused = |want: fn(&Op) -> bool| {
+        loaded.image.chunks[0]
+            .ops
+            .iter()
+            .filter(|op| want(op))
+            .count()
+    };
+    assert_eq!(fused(|op| matches!(op, Op::MulAccReal { .. })), 2);
+    assert_eq!(fused(|op| matches!(op, Op::MulDecReal { .. })), 1);
+    let run = run_loaded(loaded);
+    assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+    let (mut f, mut g, mut h) = (0.0f64, 1.0f64, 0.0f64);
+    for i in 1..=30i64 {
+        let m = (i % 7) as f64;
+        f = f * 0.875 + m * 0.125;
+        g = g * 0.5 - m * 0.3;
+        h = m * 0.1 + h * 0.9;
+    }
+    for (name, v) in [("F", f), ("G", g), ("H", h)] {
+        let got = val(&run, name);
+        assert_eq!(got.to_bits(), v.to_bits(), "{name}: {got}, want {v}");
+    }
+    // 3 stores and the FOR's 4 before the loop, 30 iterations of 2 + 3 * 4 + 1 instructions,
+    // the END.
+    assert_eq!(run.summary.instructions, 7 + 30 * 15 + 1);
+    // A difference that is not finite faults at its store, the variable as it was.
+    let run = run_mb(
+        "fused-mb-mdec-inf",
+        "A = 1E200\nB = 3\nY = 1\nY = B * B - A * A\nY = 2\n",
+        10_000,
+    );
+    let (line, message) = run_error(&run);
+    assert_eq!(line, 4);
+    assert!(message.contains("not a finite number"), "{message}");
+    assert_eq!(val(&run, "Y"), 1.0);
+    assert_eq!(run.summary.instructions, 7);
+}

@@ -338,6 +338,13 @@ pub enum Op {
     },
     /// `add t <- a + b` then `store.r dst <- t`.
     AddReal { t: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `mul acc+1 <- a * b`, `add acc <- acc + (acc+1)` (or the other order), then
+    /// `store.r dst <- acc`: the last term of a sum of products stored, as a filter writes it
+    /// (`F = F * K1 + X * K2`). The product, in the temporary after `acc`, is rounded first,
+    /// as the three instructions round it.
+    MulAccReal { acc: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `mul acc+1 <- a * b`, `sub acc <- acc - (acc+1)`, then `store.r dst <- acc`.
+    MulDecReal { acc: Reg, dst: Reg, a: Reg, b: Reg },
     /// `sub t <- a - b` then `store.r dst <- t`.
     SubReal { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// `mul t <- a * b` then `store.r dst <- t`.
@@ -858,7 +865,9 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
         if let (Some(&second), Some(&third)) = (ops.get(i + 1), ops.get(i + 2)) {
             if let Some((_, t)) = triple(ops[i], second, third) {
                 let g = 2 + gain[i + 3];
-                if temps.contains(&t) && g >= best {
+                // (A product summed and stored goes through the temporary after `t` too.)
+                let product = matches!(op_of_triple(ops[i], second, third), Some(true));
+                if temps.contains(&t) && (!product || temps.contains(&(t + 1))) && g >= best {
                     (best, pick) = (g, 3);
                 }
             }
@@ -1212,8 +1221,40 @@ pub fn fuse_ext_pairs(ops: &mut [Op]) {
 
 /// The superinstruction doing the work of `first`, `second` and `third`, and the temporary
 /// joining them, if there is one.
+/// Whether [`triple`] fuses the three into a product summed and stored (which goes through
+/// two temporaries): `Some(true)`; another triple `Some(false)`; none, `None`.
+fn op_of_triple(first: Op, second: Op, third: Op) -> Option<bool> {
+    triple(first, second, third)
+        .map(|(op, _)| matches!(op, Op::MulAccReal { .. } | Op::MulDecReal { .. }))
+}
+
 fn triple(first: Op, second: Op, third: Op) -> Option<(Op, Reg)> {
     match (first, second, third) {
+        (
+            Op::Mul { dst: p, a, b },
+            Op::Add {
+                dst: acc,
+                a: x,
+                b: y,
+            },
+            Op::StoreReal { dst, src },
+        ) if p == acc.wrapping_add(1)
+            && src == acc
+            && ((x == acc && y == p) || (x == p && y == acc)) =>
+        {
+            Some((Op::MulAccReal { acc, dst, a, b }, acc))
+        }
+        (
+            Op::Mul { dst: p, a, b },
+            Op::Sub {
+                dst: acc,
+                a: x,
+                b: y,
+            },
+            Op::StoreReal { dst, src },
+        ) if p == acc.wrapping_add(1) && src == acc && x == acc && y == p => {
+            Some((Op::MulDecReal { acc, dst, a, b }, acc))
+        }
         (
             Op::Add { dst: t, a, b },
             Op::IMod {
@@ -1636,6 +1677,10 @@ impl Op {
             | Op::SubReal { t, dst, a, b }
             | Op::MulReal { t, dst, a, b }
             | Op::DivReal { t, dst, a, b } => t.max(dst).max(a).max(b),
+            // The product's temporary is the one after `acc`.
+            Op::MulAccReal { acc, dst, a, b } | Op::MulDecReal { acc, dst, a, b } => {
+                acc.saturating_add(1).max(dst).max(a).max(b)
+            }
             Op::MulAddCheck { t, a, b, c, .. }
             | Op::MulAddCheckModLong { t, a, b, c, .. }
             | Op::AddAdd { t, a, b, c }
