@@ -1268,8 +1268,14 @@ fn a_product_summed_and_stored_gives_the_values_faults_and_counts_of_its_three_i
             .filter(|op| want(op))
             .count()
     };
-    assert_eq!(fused(|op| matches!(op, Op::MulAccReal { .. })), 2);
-    assert_eq!(fused(|op| matches!(op, Op::MulDecReal { .. })), 1);
+    let sums = |minus: bool| {
+        fused(if minus {
+            |op| matches!(op, Op::MulSumReal { minus: true, .. })
+        } else {
+            |op| matches!(op, Op::MulSumReal { minus: false, .. })
+        })
+    };
+    assert_eq!((sums(false), sums(true)), (2, 1));
     let run = run_loaded(loaded);
     assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
     let (mut f, mut g, mut h) = (0.0f64, 1.0f64, 0.0f64);

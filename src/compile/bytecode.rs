@@ -338,13 +338,17 @@ pub enum Op {
     },
     /// `add t <- a + b` then `store.r dst <- t`.
     AddReal { t: Reg, dst: Reg, a: Reg, b: Reg },
-    /// `mul acc+1 <- a * b`, `add acc <- acc + (acc+1)` (or the other order), then
-    /// `store.r dst <- acc`: the last term of a sum of products stored, as a filter writes it
-    /// (`F = F * K1 + X * K2`). The product, in the temporary after `acc`, is rounded first,
-    /// as the three instructions round it.
-    MulAccReal { acc: Reg, dst: Reg, a: Reg, b: Reg },
-    /// `mul acc+1 <- a * b`, `sub acc <- acc - (acc+1)`, then `store.r dst <- acc`.
-    MulDecReal { acc: Reg, dst: Reg, a: Reg, b: Reg },
+    /// `mul acc+1 <- a * b`, `add acc <- acc + (acc+1)` (or the other order; `minus`:
+    /// `sub acc <- acc - (acc+1)`), then `store.r dst <- acc`: the last term of a sum of
+    /// products stored, as a filter writes it (`F = F * K1 + X * K2`). The product, in the
+    /// temporary after `acc`, is rounded first, as the three instructions round it.
+    MulSumReal {
+        acc: Reg,
+        dst: Reg,
+        a: Reg,
+        b: Reg,
+        minus: bool,
+    },
     /// `sub t <- a - b` then `store.r dst <- t`.
     SubReal { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// `mul t <- a * b` then `store.r dst <- t`.
@@ -1224,8 +1228,7 @@ pub fn fuse_ext_pairs(ops: &mut [Op]) {
 /// Whether [`triple`] fuses the three into a product summed and stored (which goes through
 /// two temporaries): `Some(true)`; another triple `Some(false)`; none, `None`.
 fn op_of_triple(first: Op, second: Op, third: Op) -> Option<bool> {
-    triple(first, second, third)
-        .map(|(op, _)| matches!(op, Op::MulAccReal { .. } | Op::MulDecReal { .. }))
+    triple(first, second, third).map(|(op, _)| matches!(op, Op::MulSumReal { .. }))
 }
 
 fn triple(first: Op, second: Op, third: Op) -> Option<(Op, Reg)> {
@@ -1242,7 +1245,17 @@ fn triple(first: Op, second: Op, third: Op) -> Option<(Op, Reg)> {
             && src == acc
             && ((x == acc && y == p) || (x == p && y == acc)) =>
         {
-            Some((Op::MulAccReal { acc, dst, a, b }, acc))
+            let minus = false;
+            Some((
+                Op::MulSumReal {
+                    acc,
+                    dst,
+                    a,
+                    b,
+                    minus,
+                },
+                acc,
+            ))
         }
         (
             Op::Mul { dst: p, a, b },
@@ -1253,7 +1266,17 @@ fn triple(first: Op, second: Op, third: Op) -> Option<(Op, Reg)> {
             },
             Op::StoreReal { dst, src },
         ) if p == acc.wrapping_add(1) && src == acc && x == acc && y == p => {
-            Some((Op::MulDecReal { acc, dst, a, b }, acc))
+            let minus = true;
+            Some((
+                Op::MulSumReal {
+                    acc,
+                    dst,
+                    a,
+                    b,
+                    minus,
+                },
+                acc,
+            ))
         }
         (
             Op::Add { dst: t, a, b },
@@ -1678,9 +1701,7 @@ impl Op {
             | Op::MulReal { t, dst, a, b }
             | Op::DivReal { t, dst, a, b } => t.max(dst).max(a).max(b),
             // The product's temporary is the one after `acc`.
-            Op::MulAccReal { acc, dst, a, b } | Op::MulDecReal { acc, dst, a, b } => {
-                acc.saturating_add(1).max(dst).max(a).max(b)
-            }
+            Op::MulSumReal { acc, dst, a, b, .. } => acc.saturating_add(1).max(dst).max(a).max(b),
             Op::MulAddCheck { t, a, b, c, .. }
             | Op::MulAddCheckModLong { t, a, b, c, .. }
             | Op::AddAdd { t, a, b, c }
@@ -2042,13 +2063,23 @@ mod tests {
             // @7, @8: `p - acc` is not an accumulation: left alone.
             mul(101, 2, 4),
             sub(100, 101, 100),
-            // @9..@11: the last term gives way to the subtraction's fusion with its store.
+            // @9..@11: the last term and its store are one instruction (the last two fused as
+            // a pair too, for a jump to the second).
             mul(101, 5, 6),
             sub(100, 100, 101),
             Op::StoreReal { dst: 9, src: 100 },
             // @12, @13: a product in a variable (its write would be traced): not fused.
             mul(8, 1, 2),
             add(100, 100, 8),
+            // @14..@16: the product not in the temporary after the sum's: the sum and its
+            // store are a pair.
+            mul(103, 5, 6),
+            add(100, 100, 103),
+            Op::StoreReal { dst: 9, src: 100 },
+            // @17..@19: the temporary after the sum's is not one (the last of `temps`).
+            mul(110, 5, 6),
+            add(109, 109, 110),
+            Op::StoreReal { dst: 9, src: 109 },
             Op::End,
         ];
         let mut fused = ops.clone();
@@ -2067,9 +2098,22 @@ mod tests {
         );
         assert_eq!(fused[5], acc(101, 1, 3));
         assert_eq!(fused[7], ops[7]);
-        assert_eq!(fused[9], ops[9]);
+        assert_eq!(
+            fused[9],
+            Op::MulSumReal {
+                acc: 100,
+                dst: 9,
+                a: 5,
+                b: 6,
+                minus: true
+            }
+        );
         assert!(matches!(fused[10], Op::SubReal { t: 100, dst: 9, .. }));
         assert_eq!(fused[12], ops[12]);
+        assert_eq!(fused[14], ops[14]);
+        assert!(matches!(fused[15], Op::AddReal { t: 100, dst: 9, .. }));
+        assert_eq!(fused[17], ops[17]);
+        assert!(matches!(fused[18], Op::AddReal { t: 109, dst: 9, .. }));
         // The second halves stay in place for a jump to them.
         for i in [2, 4, 6, 8, 13] {
             assert_eq!(fused[i], ops[i], "@{i}");

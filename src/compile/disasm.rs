@@ -124,7 +124,7 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
             Op::MulAdd { t, a, b, .. }
             | Op::MulAcc { p: t, a, b, .. }
             | Op::MulDec { p: t, a, b, .. } => format!("mul       {} <- {} * {}", r(t), r(a), r(b)),
-            Op::MulAccReal { acc, a, b, .. } | Op::MulDecReal { acc, a, b, .. } => {
+            Op::MulSumReal { acc, a, b, .. } => {
                 format!("mul       {} <- {} * {}", r(acc + 1), r(a), r(b))
             }
             Op::MulAddCheck { t, a, b, .. }

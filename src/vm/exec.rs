@@ -956,21 +956,19 @@ pub fn run<'a>(
                     wr!(acc as usize, rd!(acc as usize) + product);
                     pc = here + 2;
                 }
-                Op::MulAccReal { acc, dst, a, b } => {
-                    // `mul`, `add` (here + 1), `store.r` (here + 2).
+                Op::MulSumReal {
+                    acc,
+                    dst,
+                    a,
+                    b,
+                    minus,
+                } => {
+                    // `mul`, `add` or `sub` (here + 1), `store.r` (here + 2).
                     n += 2;
                     let product = rd!(a as usize) * rd!(b as usize);
                     wr!(acc as usize + 1, product);
-                    let x = rd!(acc as usize) + product;
-                    wr!(acc as usize, x);
-                    store_real!(dst, x, here + 2);
-                    pc = here + 3;
-                }
-                Op::MulDecReal { acc, dst, a, b } => {
-                    n += 2;
-                    let product = rd!(a as usize) * rd!(b as usize);
-                    wr!(acc as usize + 1, product);
-                    let x = rd!(acc as usize) - product;
+                    let sum = rd!(acc as usize);
+                    let x = if minus { sum - product } else { sum + product };
                     wr!(acc as usize, x);
                     store_real!(dst, x, here + 2);
                     pc = here + 3;
