@@ -1517,3 +1517,122 @@ NEXT
         assert_eq!(machine.value_of("B&"), Some(2000.0));
     }
 }
+
+/// A machine of the PowerTools programs `programs` (program n in `pn.pt`; those in
+/// `autostart` started), its whole variables S, K, X, I, Y, H and `D` of two decimals, at
+/// `budget`: the outcome traced (the interpreter) and untraced, with the untraced machine and
+/// the program of its error.
+#[allow(clippy::type_complexity)]
+fn pt_machines(
+    programs: &[&str],
+    autostart: &[u32],
+    budget: u32,
+) -> (
+    (Vec<u64>, u64, Option<(u32, u32, String)>),
+    (Vec<u64>, u64, Option<(u32, u32, String)>),
+    Machine,
+    Option<u32>,
+) {
+    let mut machine = format!("[machine]\nname = \"calls\"\nbudget = {budget}\n");
+    for (n, _) in programs.iter().enumerate() {
+        let auto = autostart.contains(&(n as u32));
+        machine.push_str(&format!(
+            "\n[[program]]\nnumber = {n}\nfile = \"p{n}.pt\"\nautostart = {auto}\n"
+        ));
+    }
+    for v in ["S", "K", "X", "I", "Y", "H"] {
+        machine.push_str(&format!("[variables.{v}]\n"));
+    }
+    machine.push_str("[variables.D]\ndecimals = 2\n");
+    let names: Vec<String> = (0..programs.len()).map(|n| format!("p{n}.pt")).collect();
+    let mut files: Vec<(&str, &str)> = names
+        .iter()
+        .zip(programs)
+        .map(|(n, p)| (n.as_str(), *p))
+        .collect();
+    files.push(("machine.toml", &machine));
+    let loaded = || match load_memory("calls", &files) {
+        Ok(l) => l,
+        Err(d) => panic!("{}", d.render_plain()),
+    };
+    let traced = run_loaded(loaded());
+    assert_eq!(traced.machine.tight_runs(), 0);
+    let (machine, summary) = run_untraced(loaded());
+    let program = summary.error.as_ref().map(|e| e.program);
+    assert_eq!(program, traced.summary.error.as_ref().map(|e| e.program));
+    (
+        outcome(&traced.machine, &traced.summary),
+        outcome(&machine, &summary),
+        machine,
+        program,
+    )
+}
+
+/// bench/call's PowerTools programs in small: a loop calling a program that folds its
+/// argument into a sum (PowerTools `Call Program`: the caller goes on after the called
+/// program's `End`).
+const CALLER: &str =
+    "Var.S = 0\nVar.K = 0\nFor Var.I = 1 To 3000\n  Var.X = Var.I\n  Call Program.1\nNext\nEnd\n";
+const CALLED: &str = "Var.S = Var.S + Var.X MOD 13\nIf Var.S > 1000 Then\n  Var.S = Var.S - 1000\n  Var.K = Var.K + 1\nEndif\nEnd\n";
+
+#[test]
+fn a_loop_calling_a_program_runs_it_inside_its_body() {
+    let (mut s, mut k) = (0i64, 0i64);
+    for i in 1..=3000i64 {
+        s += i % 13;
+        if s > 1000 {
+            s -= 1000;
+            k += 1;
+        }
+    }
+    for budget in [3, 5, 7, 10, 33, 1000, 1_000_000] {
+        let (traced, untraced, machine, _) = pt_machines(&[CALLER, CALLED], &[0], budget);
+        assert_eq!(traced, untraced, "budget {budget}");
+        assert!(machine.tight_runs() > 0);
+        if budget == 1_000_000 {
+            // Entered once, every iteration outside the interpreter with the program called.
+            assert_eq!((machine.tight_runs(), machine.slow_runs()), (1, 0));
+        }
+        assert_eq!(slot_value(&machine, "Var.S"), Some(s as f64));
+        assert_eq!(slot_value(&machine, "Var.K"), Some(k as f64));
+        assert!(untraced.2.is_none());
+    }
+}
+
+#[test]
+fn a_fault_in_a_program_called_inside_a_body_is_that_program_s() {
+    // At I = 50 the called program takes a remainder by zero: its fault, at its line, the
+    // 49 calls before done.
+    let called = "Var.S = Var.S + Var.X MOD (Var.X - 50)\nEnd\n";
+    for budget in [4, 7, 1_000_000] {
+        let (traced, untraced, machine, program) = pt_machines(&[CALLER, called], &[0], budget);
+        assert_eq!(traced, untraced, "budget {budget}");
+        assert_eq!(untraced.2.as_ref().map(|e| e.0), Some(1));
+        assert_eq!(program, Some(1), "the error is program 1's");
+        assert_eq!(slot_value(&machine, "Var.I"), Some(50.0));
+        assert!(machine.tight_runs() > 0);
+    }
+}
+
+#[test]
+fn a_body_does_not_call_a_program_running_on_another_task() {
+    // Program 1 waits on a task of its own: the loop's call is the interpreter's fault.
+    let waiting = "Wait For Var.H = 1\nEnd\n";
+    let (traced, untraced, machine, _) = pt_machines(&[CALLER, waiting], &[0, 1], 1_000_000);
+    assert_eq!(traced, untraced);
+    let message = untraced.2.map(|e| e.2).unwrap_or_default();
+    assert!(message.contains("already running"), "{message}");
+    assert_eq!(machine.tight_runs(), 0);
+}
+
+#[test]
+fn two_tasks_see_a_program_called_inside_a_body_where_the_interpreter_would_yield() {
+    // Program 2, on a task of its own, hashes what the loop and the program it calls write:
+    // where task 0's turns end shows in H.
+    let hash = "For Var.Y = 1 To 4000\n  Var.H = (Var.H * 31 + Var.S + Var.K * 7 + Var.X) MOD 1000003\nNext\nEnd\n";
+    for budget in [3, 5, 7, 11, 64, 1000] {
+        let (traced, untraced, machine, _) = pt_machines(&[CALLER, CALLED, hash], &[0, 2], budget);
+        assert_eq!(traced, untraced, "budget {budget}");
+        assert!(machine.tight_runs() > 0);
+    }
+}

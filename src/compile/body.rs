@@ -541,12 +541,14 @@ pub struct Body {
 impl Body {
     /// Where the interpreter goes on from the body's instruction `at` (counted from its
     /// start): the instruction of the frame running the loop, and when `at` is in a
-    /// subroutine run inside, the subroutine's instruction (in a `GOSUB`'s frame above it,
-    /// the loop's frame going on after the `GOSUB`).
-    pub fn place(&self, at: u16) -> (u32, Option<u32>) {
+    /// subroutine run inside, the subroutine's instruction and the chunk of the program it
+    /// is when a `Call Program` calls it (in a frame of its own above the loop's, which goes
+    /// on after the call).
+    pub fn place(&self, at: u16) -> (u32, Option<(u32, Option<usize>)>) {
         let k = usize::from(at);
         if let Some(s) = self.subs.iter().find(|s| (s.from..=s.to).contains(&k)) {
-            return (s.gosub + 1, Some(s.pc + (k - s.from) as u32));
+            let callee = s.call.map(|c| c.1);
+            return (s.gosub + 1, Some((s.pc + (k - s.from) as u32, callee)));
         }
         let inside: usize = self
             .subs
@@ -580,16 +582,15 @@ pub const EXACT: i64 = 1 << 53;
 /// Every loop of the unfused `ops` (with their [`SURE`] flags `sure`) whose body [`translate`]
 /// can translate, by the instruction that enters it: a `FOR`'s `for.check`, or the `loop`
 /// going back to the start of a `WHILE` (or of any loop a backward jump makes).
-pub fn find(
-    ops: &[Op],
-    ext: &[ExtOp],
-    sure: &[u8],
+pub fn find<'a>(
+    code: Unfused<'a>,
+    called: &dyn Fn(u32) -> Option<(usize, Unfused<'a>)>,
     temps: &Range<Reg>,
     whole: &dyn Fn(Reg) -> bool,
     constant: &dyn Fn(Reg) -> Option<f64>,
 ) -> BTreeMap<u32, Body> {
     let mut bodies = BTreeMap::new();
-    for (i, op) in ops.iter().enumerate() {
+    for (i, op) in code.ops.iter().enumerate() {
         let entry = i as u32;
         let at = match *op {
             Op::ForCheck { var, limit, exit } => Loop {
@@ -606,8 +607,8 @@ pub fn find(
         };
         // Real variables given only whole numbers kept as `Int`s, or not: the first where it
         // differs, the second to fall back on.
-        let kept = translate(ops, ext, sure, at, temps, whole, constant, true);
-        let plain = translate(ops, ext, sure, at, temps, whole, constant, false);
+        let kept = translate(code, called, at, temps, whole, constant, true);
+        let plain = translate(code, called, at, temps, whole, constant, false);
         let body = match (kept, plain) {
             (Some(mut k), Some(p)) if k != p => {
                 k.fallback = Some(Box::new(p));
@@ -1381,56 +1382,96 @@ fn result(
 /// The most instructions of a subroutine a body runs inside.
 const MOST_INLINED: u32 = 256;
 
-/// A subroutine run inside a body: the interpreter's `GOSUB` calling it, its first
-/// instruction and its `RETURN`, and where they are among the body's instructions (counted
-/// from the body's start, the `GOSUB` just before the first).
+/// A program's instructions as the translation reads them: before fusion, with the side
+/// table [`Op::Ext`] names (before it is specialized) and their [`SURE`] flags.
+#[derive(Debug, Clone, Copy)]
+pub struct Unfused<'a> {
+    /// The instructions.
+    pub ops: &'a [Op],
+    /// The side table.
+    pub ext: &'a [ExtOp],
+    /// The flags, one per instruction.
+    pub sure: &'a [u8],
+}
+
+/// A subroutine run inside a body (or a program it calls): the interpreter's `GOSUB` (or
+/// `Call Program`) calling it, its first instruction and its `RETURN` (or `End`), and where
+/// they are among the body's instructions (counted from the body's start, the call just
+/// before the first).
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 pub struct Sub {
-    /// The `GOSUB`'s instruction.
+    /// The call's instruction.
     pub gosub: u32,
     /// The subroutine's first instruction.
     pub pc: u32,
-    /// Its `RETURN`.
+    /// Its `RETURN` (a program's `End`).
     pub last: u32,
     /// The first's place among the body's instructions.
     pub from: usize,
     /// The `RETURN`'s.
     pub to: usize,
+    /// A program called (`Call Program`): its number and its chunk; none for a `GOSUB`.
+    pub call: Option<(u32, usize)>,
 }
 
-/// The interpreter's instructions an iteration of the body from `start` to `next` (its
-/// `for.next` or `loop`, not among them) runs, in order: each subroutine a `GOSUB` of it
-/// calls comes after that `GOSUB`, when it lies outside the loop, reaches its `RETURN` within
-/// [`MOST_INLINED`] instructions and calls none (its jumps are seen to go forward to its
-/// `RETURN` at most where they are translated). `None` when a subroutine is not one of those:
-/// the interpreter runs that loop.
-fn inline(ops: &[Op], start: u32, next: u32) -> Option<(Vec<u32>, Vec<Sub>)> {
+/// The interpreter's instructions an iteration of the body of `code` from `start` to `next`
+/// (its `for.next` or `loop`, not among them) runs, in order, each with the program it is of
+/// (0: `code`; then those in the list given): each subroutine a `GOSUB` of it calls comes
+/// after that `GOSUB`, when it lies outside the loop, reaches its `RETURN` within
+/// [`MOST_INLINED`] instructions and calls none; each program a `Call Program` calls
+/// (`called` gives its chunk and instructions) after that call, when it reaches its first
+/// `End` so and calls none (the jumps of either are seen to go forward to that end at most
+/// where they are translated). `None` when a subroutine or a program called is not one of
+/// those: the interpreter runs that loop.
+#[allow(clippy::type_complexity)]
+fn inline<'a>(
+    code: Unfused<'a>,
+    called: &dyn Fn(u32) -> Option<(usize, Unfused<'a>)>,
+    start: u32,
+    next: u32,
+) -> Option<(Vec<(usize, u32)>, Vec<Sub>, Vec<Unfused<'a>>)> {
     let mut order = Vec::new();
     let mut subs = Vec::new();
-    for pc in start..next {
-        order.push(pc);
-        let Some(&Op::Gosub { target }) = ops.get(pc as usize) else {
-            continue;
-        };
-        let last = (target..target.saturating_add(MOST_INLINED)).find(|&p| {
-            !matches!(ops.get(p as usize), Some(op) if !matches!(op, Op::Return | Op::Gosub { .. }))
+    let mut programs = vec![code];
+    // The first instruction from `from` of `ops` that is none of the subroutine's, when it is
+    // `end`.
+    let last_of = |ops: &[Op], from: u32, end: Op| {
+        let last = (from..from.saturating_add(MOST_INLINED)).find(|&p| {
+            !matches!(ops.get(p as usize), Some(op) if !matches!(op,
+                Op::Return | Op::Gosub { .. } | Op::End | Op::CallProgram { .. }))
         })?;
-        if !matches!(ops.get(last as usize), Some(Op::Return))
-            || (target <= next + 1 && last >= start)
-        {
-            return None;
-        }
+        (ops.get(last as usize) == Some(&end)).then_some(last)
+    };
+    for pc in start..next {
+        order.push((0, pc));
+        let (source, first, last, call) = match code.ops.get(pc as usize) {
+            Some(&Op::Gosub { target }) => {
+                let last = last_of(code.ops, target, Op::Return)?;
+                if target <= next + 1 && last >= start {
+                    return None;
+                }
+                (0, target, last, None)
+            }
+            Some(&Op::CallProgram { program }) => {
+                let (chunk, callee) = called(program)?;
+                let last = last_of(callee.ops, 0, Op::End)?;
+                programs.push(callee);
+                (programs.len() - 1, 0, last, Some((program, chunk)))
+            }
+            _ => continue,
+        };
         let from = order.len();
-        order.extend(target..=last);
+        order.extend((first..=last).map(|p| (source, p)));
         subs.push(Sub {
             gosub: pc,
-            pc: target,
+            pc: first,
             last,
             from,
             to: order.len() - 1,
+            call,
         });
     }
-    Some((order, subs))
+    Some((order, subs, programs))
 }
 
 /// The body of the loop `at` translated, when every instruction of it is one the translation
@@ -1440,10 +1481,9 @@ fn inline(ops: &[Op], start: u32, next: u32) -> Option<(Vec<u32>, Vec<Sub>)> {
 /// gives a whole number is an `Int` (loaded as one: a loop entered while it holds a fraction
 /// does not start); without, every real variable is a real.
 #[allow(clippy::too_many_arguments)]
-fn translate(
-    ops: &[Op],
-    ext: &[ExtOp],
-    sure: &[u8],
+fn translate<'a>(
+    code: Unfused<'a>,
+    called: &dyn Fn(u32) -> Option<(usize, Unfused<'a>)>,
     at: Loop,
     temps: &Range<Reg>,
     whole: &dyn Fn(Reg) -> bool,
@@ -1460,7 +1500,8 @@ fn translate(
     // subroutine a `GOSUB` calls that can run inside ([`inline`]) after that `GOSUB`. From
     // here on an instruction is its place in that order (`start` + its index), `next` the
     // `for.next` or `loop`.
-    let (order, subs) = inline(ops, start, next_op)?;
+    let (order, subs, programs) = inline(code, called, start, next_op)?;
+    let (ops, sure) = (code.ops, code.sure);
     let next = start + order.len() as u32;
     if next >= 1 << 28 {
         return None;
@@ -1470,7 +1511,9 @@ fn translate(
     // in; `u32::MAX` (which every test refuses) anywhere else.
     let place = |t: u32, k: usize| -> u32 {
         match subs.iter().find(|s| (s.from..=s.to).contains(&k)) {
-            Some(s) if t > order[k] && t <= s.last => start + (s.from + (t - s.pc) as usize) as u32,
+            Some(s) if t > order[k].1 && t <= s.last => {
+                start + (s.from + (t - s.pc) as usize) as u32
+            }
             Some(_) => u32::MAX,
             None if (start..=next_op + 1).contains(&t) => {
                 let before: usize = subs
@@ -1517,16 +1560,23 @@ fn translate(
     let bounds = |r: Reg| counter.is_some_and(|(_, limit, _)| r == limit || r == limit + 1);
     // The body's steps, by instruction.
     let mut by_op: Vec<Vec<Step>> = Vec::new();
-    for (k, &pc) in order.iter().enumerate() {
+    for (k, &(source, pc)) in order.iter().enumerate() {
         let i = start + k as u32;
         let scratch = u32::MAX - i;
         debug_assert!(scratch >= VIRTUAL);
-        // A subroutine's `GOSUB` and `RETURN` are the interpreter's budget tests.
-        let call = subs.iter().any(|s| k + 1 == s.from || k == s.to);
+        let program = programs.get(source)?;
+        // A `GOSUB`, its `RETURN` and a `Call Program` are the interpreter's budget tests; a
+        // called program's `End` only goes back.
+        let call = subs
+            .iter()
+            .any(|s| k + 1 == s.from || (k == s.to && s.call.is_none()));
+        let end = subs.iter().any(|s| k == s.to && s.call.is_some());
         let mut s = if call {
             vec![Step::Yield]
+        } else if end {
+            Vec::new()
         } else {
-            steps(*ops.get(pc as usize)?, ext, scratch, whole)?
+            steps(*program.ops.get(pc as usize)?, program.ext, scratch, whole)?
         };
         for step in &mut s {
             step.retarget(|t| place(t, k));
@@ -1542,7 +1592,9 @@ fn translate(
             match *step {
                 // A `for.next` inside adds a step known to be whole to a whole variable, as
                 // the body's own does.
-                Step::ForNext { .. } if sure.get(pc as usize).is_none_or(|f| f & SURE == 0) => {
+                Step::ForNext { .. }
+                    if program.sure.get(pc as usize).is_none_or(|f| f & SURE == 0) =>
+                {
                     return None
                 }
                 Step::ForCheck { var, limit, .. } | Step::ForNext { var, limit, .. }

@@ -228,6 +228,87 @@ pub struct Chunk {
     /// (`body::heads`): by instruction, the loop's entering instruction and its body's
     /// instruction.
     pub heads: BTreeMap<u32, (u32, u16)>,
+    /// The instructions before fusion, as the translation of bodies reads them
+    /// ([`link_calls`]).
+    pub plain: Plain,
+}
+
+/// A program's instructions before fusion, with the side table before it is specialized and
+/// their `whole` flags: what [`body::find`] reads.
+#[derive(Debug, Clone, Default)]
+pub struct Plain {
+    /// The instructions.
+    pub ops: Vec<Op>,
+    /// The side table.
+    pub ext: Vec<ExtOp>,
+    /// The flags, one per instruction.
+    pub sure: Vec<u8>,
+}
+
+impl Plain {
+    /// The instructions as [`body::find`] takes them.
+    pub fn code(&self) -> body::Unfused<'_> {
+        body::Unfused {
+            ops: &self.ops,
+            ext: &self.ext,
+            sure: &self.sure,
+        }
+    }
+}
+
+/// Once every program of a machine is compiled (`programs`: each one's chunk, by number):
+/// the loops that call other programs (`Call Program`) whose bodies, those programs run
+/// inside them, the machine may run outside the interpreter ([`body::find`]), added to
+/// their chunks' [`Chunk::bodies`]. A loop holding a loop `vm::tight` runs stays with the
+/// interpreter, as [`compile`] leaves it.
+pub fn link_calls(chunks: &mut [Chunk], programs: &IndexMap<u32, usize>, layout: &Layout) {
+    let temps = layout.temp_base()..layout.temp_base() + MAX_TEMPS;
+    for k in 0..chunks.len() {
+        let calls = chunks[k]
+            .plain
+            .ops
+            .iter()
+            .any(|op| matches!(op, Op::CallProgram { .. }));
+        if !calls {
+            continue;
+        }
+        let found = {
+            let all = &*chunks;
+            // A program calling itself is the interpreter's fault to report.
+            let called = |program: u32| {
+                let &c = programs.get(&program).filter(|&&c| c != k)?;
+                let callee = all.get(c).filter(|c| c.closed)?;
+                Some((c, callee.plain.code()))
+            };
+            body::find(
+                all[k].plain.code(),
+                &called,
+                &temps,
+                &|r| layout.is_whole(r),
+                &|r| layout.constant_value(r),
+            )
+        };
+        let chunk = &mut chunks[k];
+        let tight = |ops: &[Op], bodies: &BTreeMap<u32, body::Body>, b: &body::Body| {
+            (b.start..b.after).any(|i| {
+                matches!(ops.get(i as usize), Some(Op::ForTight { .. })) && !bodies.contains_key(&i)
+            })
+        };
+        let mut added = BTreeMap::new();
+        for (entry, b) in found {
+            let calls = b.subs.iter().any(|s| s.call.is_some());
+            if calls && !chunk.bodies.contains_key(&entry) && !tight(&chunk.ops, &chunk.bodies, &b)
+            {
+                added.insert(entry, b);
+            }
+        }
+        if added.is_empty() {
+            continue;
+        }
+        chunk.bodies.append(&mut added);
+        body::mark(&mut chunk.ops, &chunk.bodies);
+        chunk.heads = body::heads(&chunk.bodies);
+    }
 }
 
 /// Compile a program that checked without errors. `src` and `file` are its text and name
@@ -329,10 +410,16 @@ impl<'a> Compiler<'a> {
         }
         let temps = self.layout.temp_base()..self.layout.temp_base() + MAX_TEMPS;
         let sure = whole::operands(&self.ops, &temps, &|r| self.layout.is_whole(r));
+        // The programs a loop calls are translated with it once they are all compiled
+        // (`link_calls`), from the instructions kept as they are now.
+        let plain = Plain {
+            ops: self.ops.clone(),
+            ext: self.ext.clone(),
+            sure: sure.clone(),
+        };
         let mut bodies = body::find(
-            &self.ops,
-            &self.ext,
-            &sure,
+            plain.code(),
+            &|_| None,
             &temps,
             &|r| self.layout.is_whole(r),
             &|r| self.layout.constant_value(r),
@@ -385,6 +472,7 @@ impl<'a> Compiler<'a> {
             data: self.data,
             bodies,
             heads,
+            plain,
         })
     }
 

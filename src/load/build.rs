@@ -70,6 +70,7 @@ pub fn image(
         by_number.insert(number, chunks.len());
         chunks.push(chunk);
     }
+    crate::compile::link_calls(&mut chunks, &by_number, layout);
     let mut autostart: Vec<u32> = programs
         .iter()
         .filter(|p| p.autostart)

@@ -1115,8 +1115,20 @@ impl Machine {
         let traced_below = self.traced_below();
         let depth = self.tasks.get(ti)?.frames.len();
         let b = self.image.chunks.get(chunk)?.bodies.get(&entry)?;
-        // Its `GOSUB`s would fault here (the interpreter's to report).
+        // Its `GOSUB`s would fault here, or a program it calls is running (the interpreter's
+        // to report). No other task runs while it does.
         if !b.subs.is_empty() && depth >= MAX_CALL_DEPTH {
+            return None;
+        }
+        let running = |c: usize| {
+            self.tasks
+                .iter()
+                .any(|t| t.busy() && t.frames.iter().any(|f| f.chunk == c))
+        };
+        if b.subs
+            .iter()
+            .any(|s| s.call.is_some_and(|(_, c)| running(c)))
+        {
             return None;
         }
         if b.lowest_write < traced_below {
@@ -1187,18 +1199,19 @@ impl Machine {
         if spent && has_subs {
             self.rejoin = Some(ti);
         }
-        let Some(pc) = sub else {
+        let Some((pc, callee)) = sub else {
             return Some((next, spent));
         };
-        // Left in a subroutine: the loop's frame goes on after the `GOSUB`, the subroutine's
-        // is the task's top frame (whose instruction the caller sets).
+        // Left in a subroutine (or a program called): the loop's frame goes on after the
+        // `GOSUB` (or the call), the subroutine's is the task's top frame (whose instruction
+        // the caller sets).
         let frames = &mut self.tasks.get_mut(ti)?.frames;
         let top = frames.last_mut()?;
         top.pc = next;
         frames.push(Frame {
-            chunk,
+            chunk: callee.unwrap_or(chunk),
             pc,
-            gosub: true,
+            gosub: callee.is_none(),
         });
         Some((pc, spent))
     }
