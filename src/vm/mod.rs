@@ -1113,23 +1113,25 @@ impl Machine {
         budget_end: u64,
     ) -> Option<(u32, bool)> {
         let traced_below = self.traced_below();
-        let depth = self.tasks.get(ti)?.frames.len();
         let b = self.image.chunks.get(chunk)?.bodies.get(&entry)?;
         // Its `GOSUB`s would fault here, or a program it calls is running (the interpreter's
         // to report). No other task runs while it does.
-        if !b.subs.is_empty() && depth >= MAX_CALL_DEPTH {
-            return None;
-        }
-        let running = |c: usize| {
-            self.tasks
+        if !b.subs.is_empty() {
+            let tasks = &self.tasks;
+            if tasks.get(ti)?.frames.len() >= MAX_CALL_DEPTH {
+                return None;
+            }
+            let running = |c: usize| {
+                tasks
+                    .iter()
+                    .any(|t| t.busy() && t.frames.iter().any(|f| f.chunk == c))
+            };
+            if b.subs
                 .iter()
-                .any(|t| t.busy() && t.frames.iter().any(|f| f.chunk == c))
-        };
-        if b.subs
-            .iter()
-            .any(|s| s.call.is_some_and(|(_, c)| running(c)))
-        {
-            return None;
+                .any(|s| s.call.is_some_and(|(_, c)| running(c)))
+            {
+                return None;
+            }
         }
         if b.lowest_write < traced_below {
             // A variable it writes is traced: a `WHILE`'s `loop` goes back to a plain one
