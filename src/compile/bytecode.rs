@@ -1235,38 +1235,23 @@ fn triple(first: Op, second: Op, third: Op) -> Option<(Op, Reg)> {
     match (first, second, third) {
         (
             Op::Mul { dst: p, a, b },
-            Op::Add {
+            sum @ (Op::Add {
                 dst: acc,
                 a: x,
                 b: y,
-            },
+            }
+            | Op::Sub {
+                dst: acc,
+                a: x,
+                b: y,
+            }),
             Op::StoreReal { dst, src },
         ) if p == acc.wrapping_add(1)
             && src == acc
-            && ((x == acc && y == p) || (x == p && y == acc)) =>
+            // `acc - p` only; `p + acc` is `acc + p`.
+            && ((x == acc && y == p) || (x == p && y == acc && matches!(sum, Op::Add { .. }))) =>
         {
-            let minus = false;
-            Some((
-                Op::MulSumReal {
-                    acc,
-                    dst,
-                    a,
-                    b,
-                    minus,
-                },
-                acc,
-            ))
-        }
-        (
-            Op::Mul { dst: p, a, b },
-            Op::Sub {
-                dst: acc,
-                a: x,
-                b: y,
-            },
-            Op::StoreReal { dst, src },
-        ) if p == acc.wrapping_add(1) && src == acc && x == acc && y == p => {
-            let minus = true;
+            let minus = matches!(sum, Op::Sub { .. });
             Some((
                 Op::MulSumReal {
                     acc,

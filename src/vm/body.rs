@@ -504,6 +504,19 @@ fn iterate<const COUNTED: bool, const NESTED: bool, const TEXT: bool>(
                     }
                 }};
             }
+            // The interpreter's budget test where the body's `a | b << 8` last instructions
+            // are left: spent, the run stops there (counted to there).
+            macro_rules! budget_test {
+                () => {{
+                    let left = u64::from(a) | u64::from(b) << 8;
+                    let done = count.wrapping_sub(left);
+                    if done >= budget {
+                        stopped = (body.count - left) as u16;
+                        count = done;
+                        break 'iterations End::Budget;
+                    }
+                }};
+            }
             match m.code {
                 Code::Mov => r[d as usize] = r[a as usize],
                 Code::AddI => family!(add, false, 0),
@@ -829,25 +842,11 @@ fn iterate<const COUNTED: bool, const NESTED: bool, const TEXT: bool>(
                     jump!(k);
                     // There the interpreter tests its budget, the body's instructions from
                     // there on not run.
-                    let left = u64::from(a) | u64::from(b) << 8;
-                    let done = count.wrapping_sub(left);
-                    if done >= budget {
-                        stopped = (body.count - left) as u16;
-                        count = done;
-                        break 'iterations End::Budget;
-                    }
+                    budget_test!();
                 }
-                Code::Yield => {
-                    // After a `GOSUB` or `RETURN`, the interpreter tests its budget: the
-                    // run stops at the next instruction when it is spent.
-                    let left = u64::from(a) | u64::from(b) << 8;
-                    let done = count.wrapping_sub(left);
-                    if done >= budget {
-                        stopped = (body.count - left) as u16;
-                        count = done;
-                        break 'iterations End::Budget;
-                    }
-                }
+                // After a `GOSUB`, a `RETURN` or a `Call Program`, the interpreter tests its
+                // budget: the run stops at the next instruction when it is spent.
+                Code::Yield => budget_test!(),
                 Code::ForCheckI => {
                     let (x, l, s) = (int!(a), int!(b), int!(d));
                     if s == 0 {
