@@ -1636,3 +1636,55 @@ fn two_tasks_see_a_program_called_inside_a_body_where_the_interpreter_would_yiel
         assert!(machine.tight_runs() > 0);
     }
 }
+
+#[test]
+fn powertools_quotients_into_whole_variables_run_as_the_interpreter_rounds_them() {
+    // PowerTools has no integer division: `/` divides as reals, and a whole variable stores
+    // the quotient rounded (halves away from zero), alone or added to (taken from) a whole
+    // variable. Each is one instruction of a body: the same values, counts and faults as the
+    // interpreter's, halves and negative quotients included.
+    let program = "Var.A = 0\nVar.B = 0\nVar.C = 7\nFor Var.I = -300 To 300\n  Var.A = Var.I / 4\n  Var.B = Var.B + Var.I / 3\n  Var.C = Var.C - Var.I / 8\n  Var.E = (Var.I * 1000) / (Var.I + 307)\nNext\nEnd\n";
+    let (machine, summary) = run_untraced(load("pt-quotients", "x.pt", program, 1_000_000));
+    assert!(summary.error.is_none(), "{:?}", summary.error);
+    assert_eq!(machine.tight_runs(), 1);
+    let round = |x: f64| {
+        let r = x.round();
+        // `f64::round` takes halves away from zero, as the fixed-point store does here (no
+        // quotient below is within the store's slack of a half without being one).
+        if r == 0.0 {
+            0.0
+        } else {
+            r
+        }
+    };
+    let (mut b, mut c) = (0.0f64, 7.0f64);
+    for i in -300..=300i32 {
+        let i = f64::from(i);
+        b = round(b + i / 3.0);
+        c = round(c - i / 8.0);
+    }
+    assert_eq!(slot_value(&machine, "Var.A"), Some(75.0));
+    assert_eq!(slot_value(&machine, "Var.B"), Some(b));
+    assert_eq!(slot_value(&machine, "Var.C"), Some(c));
+    assert_eq!(
+        slot_value(&machine, "Var.E"),
+        Some(round(300_000.0 / 607.0))
+    );
+    for budget in [7, 10, 1_000_000] {
+        assert_eq!(both("x.pt", program, budget).1, None);
+    }
+    // A divisor of 0 (at I = -250) and a sum past 32 bits are the interpreter's faults, at
+    // their lines.
+    let zero = program.replace("+ 307", "+ 250");
+    let (_, summary) = run_untraced(load("pt-quotients-zero", "x.pt", &zero, 1_000_000));
+    let error = summary.error.as_ref().expect("a division by zero");
+    assert_eq!(error.line, 8);
+    let past = "Var.J = 0\nFor Var.I = 1 To 10\n  Var.J = Var.J + 1500000000 / 1\nNext\nEnd\n";
+    let (machine, summary) = run_untraced(load("pt-quotients-past", "x.pt", past, 1_000_000));
+    assert_eq!(summary.error.as_ref().map(|e| e.line), Some(3));
+    assert_eq!(slot_value(&machine, "Var.J"), Some(1_500_000_000.0));
+    for budget in [5, 1_000_000] {
+        assert_eq!(both("x.pt", &zero, budget).1.map(|e| e.0), Some(8));
+        assert_eq!(both("x.pt", past, budget).1.map(|e| e.0), Some(3));
+    }
+}

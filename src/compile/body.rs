@@ -133,6 +133,18 @@ enum Ir {
     ShortR { d: Local, s: Local },
     /// A real stored into a fixed-point slot of `decimals` places: `Int` when 0, else `Real`.
     FixedR { d: Local, s: Local, decimals: u8 },
+    /// The quotient of the `Int`s `a / b` (a real division) stored into a fixed-point slot
+    /// without decimals: PowerTools' `/` into a whole variable.
+    DivFixedI { d: Local, a: Local, b: Local },
+    /// The `Int` `q` plus (`minus`: less) the quotient of the `Int` `a` by the constant `k`,
+    /// as reals, stored so (`Q = Q + A / 3`).
+    SumDivFixedI {
+        d: Local,
+        q: Local,
+        a: Local,
+        k: i32,
+        minus: bool,
+    },
     /// A real stored into a real: `d = s` when finite.
     RealR { d: Local, s: Local },
     /// The real `s` fits `w` (a check of long or INTEGER arithmetic).
@@ -281,6 +293,15 @@ pub enum Code {
     NotI,
     /// `d = (a cmp b)`, `k` the comparison.
     CmpI,
+    /// `d` = the `Int`s `a / b` divided as reals and stored into a fixed-point slot without
+    /// decimals (rounded, within 32 bits); a divisor of 0 or a quotient that does not fit
+    /// leaves the iteration (the interpreter's fault).
+    DivFixedI,
+    /// `d` = the `Int` `a` plus the quotient of the `Int` `b` by the constant `k`, as reals,
+    /// stored so (`Q = Q + A / 3`).
+    AddDivFixedI,
+    /// The same less the quotient (`Q = Q - A / 3`).
+    SubDivFixedI,
     /// `d = a` when it fits 32 bits (`k` 0) or 16 (`k` 1).
     FitI,
     AddR,
@@ -1834,9 +1855,115 @@ fn translate<'a>(
     // The `Int` results of a `MOD` whose dividend is an `Int` never -0, by that dividend, while
     // it keeps its value: a zero result has the dividend's sign (`basic_mod_of`).
     let mut signs: BTreeMap<Reg, Reg> = BTreeMap::new();
+    // PowerTools' `/` of two `Int`s into a whole variable (`div.f0`, or a `div` and the store
+    // after it, nothing jumping to the store) is one instruction when nothing else reads the
+    // quotient (a temporary): by the division's instruction, its operands, the variable, and
+    // whether the store is the next instruction's.
+    let targets: Vec<u32> = all.iter().filter_map(Step::target).collect();
+    let read_once = |t: Reg| all.iter().filter(|x| x.read().contains(&t)).count() == 1;
+    // And the quotient by a constant added to (or taken from) a whole variable stored so (a
+    // `div`, then an `add.f0` or `sub.f0`): by the division's instruction, the sum's operand,
+    // the quotient's dividend and divisor, the variable, and whether it is taken away.
+    let sums: BTreeMap<usize, (Reg, Reg, i32, Reg, bool)> = (0..by_op.len())
+        .filter_map(|k| {
+            let [Step::Bin {
+                op: Bin::Div,
+                d: t,
+                a,
+                b,
+            }] = *by_op[k].as_slice()
+            else {
+                return None;
+            };
+            let [Step::Bin {
+                op,
+                d: u,
+                a: x,
+                b: y,
+            }, Step::Store {
+                to: Store::Fixed(0),
+                d,
+                s,
+            }] = *by_op.get(k + 1)?.as_slice()
+            else {
+                return None;
+            };
+            let (q, minus) = match op {
+                Bin::Add if y == t => (x, false),
+                Bin::Add if x == t => (y, false),
+                Bin::Sub if y == t => (x, true),
+                _ => return None,
+            };
+            let divisor = constant(b).filter(|c| *c != 0.0 && f64::from(*c as i32) == *c)?;
+            let ints = [q, a, b].iter().all(|&r| kind_of(r).kind == Kind::Int);
+            let landed = targets.contains(&(start + k as u32 + 1));
+            let temps = scratch_reg(t) && scratch_reg(u) && read_once(t) && read_once(u);
+            (s == u && ints && temps && !landed && q != t)
+                .then_some((k, (q, a, divisor as i32, d, minus)))
+        })
+        .collect();
+    let quotients: BTreeMap<usize, (Reg, Reg, Reg, bool)> = (0..by_op.len())
+        .filter_map(|k| {
+            let next_store = by_op.get(k + 1).map_or(&[][..], |s| s.as_slice());
+            let (div, store, across) = match by_op[k].as_slice() {
+                [div, store] => (div, store, false),
+                [div] => (div, next_store.first()?, next_store.len() == 1),
+                _ => return None,
+            };
+            let (
+                &Step::Bin {
+                    op: Bin::Div,
+                    d: t,
+                    a,
+                    b,
+                },
+                &Step::Store {
+                    to: Store::Fixed(0),
+                    d,
+                    s,
+                },
+            ) = (div, store)
+            else {
+                return None;
+            };
+            let once = read_once(t);
+            let ints = kind_of(a).kind == Kind::Int && kind_of(b).kind == Kind::Int;
+            let landed = across && targets.contains(&(start + k as u32 + 1));
+            let shaped = across || by_op[k].len() == 2;
+            (s == t && scratch_reg(t) && once && ints && shaped && !landed)
+                .then_some((k, (a, b, d, across)))
+        })
+        .collect();
+    let mut stored = false;
     for (k, s) in by_op.iter().enumerate() {
         first_micro.push(out.len());
         let i = start + k as u32;
+        if std::mem::take(&mut stored) {
+            // The store of the division before, done with it.
+            continue;
+        }
+        if let Some(&(q, a, k_, d, minus)) = sums.get(&k) {
+            out.push(Ir::SumDivFixedI {
+                d: l(d),
+                q: l(q),
+                a: l(a),
+                k: k_,
+                minus,
+            });
+            ir_op.resize(out.len(), u16::try_from(k).ok()?);
+            stored = true;
+            continue;
+        }
+        if let Some(&(a, b, d, across)) = quotients.get(&k) {
+            out.push(Ir::DivFixedI {
+                d: l(d),
+                a: l(a),
+                b: l(b),
+            });
+            ir_op.resize(out.len(), u16::try_from(k).ok()?);
+            stored = across;
+            continue;
+        }
         for step in s {
             emit(
                 step,
@@ -2187,6 +2314,8 @@ fn ir_regs(ir: &Ir) -> (Vec<Local>, Option<Local>) {
         | Ir::RealR { d, s } => (vec![s], Some(d)),
         Ir::ToRModSign { d, s: a, sign: b }
         | Ir::IntModSign { d, s: a, sign: b }
+        | Ir::DivFixedI { d, a, b }
+        | Ir::SumDivFixedI { d, q: a, a: b, .. }
         | Ir::AddI { d, a, b }
         | Ir::SubI { d, a, b }
         | Ir::MulI { d, a, b }
@@ -2580,6 +2709,15 @@ fn pack(ir: &Ir) -> Micro {
         Ir::LongR { d, s } => m(Code::LongR, d, s, 0, 0),
         Ir::ShortR { d, s } => m(Code::ShortR, d, s, 0, 0),
         Ir::FixedR { d, s, decimals } => m(Code::FixedR, d, s, 0, i32::from(decimals)),
+        Ir::DivFixedI { d, a, b } => m(Code::DivFixedI, d, a, b, 0),
+        Ir::SumDivFixedI { d, q, a, k, minus } => {
+            let code = if minus {
+                Code::SubDivFixedI
+            } else {
+                Code::AddDivFixedI
+            };
+            m(code, d, q, a, k)
+        }
         Ir::RealR { d, s } => m(Code::RealR, d, s, 0, 0),
         Ir::CheckR { s, w } => m(Code::CheckR, 0, s, 0, width(w)),
         Ir::Jump => m(Code::Jump, 0, 0, 0, 0),
