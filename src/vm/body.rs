@@ -667,19 +667,18 @@ fn iterate<const COUNTED: bool, const NESTED: bool, const TEXT: bool>(
                     }
                 }
                 // As `div`, then `add.f0` or `sub.f0` (the divisor a constant other than 0).
-                Code::AddDivFixedI | Code::SubDivFixedI => {
-                    let quotient = int!(b) as f64 / k as f64;
-                    let q = int!(a) as f64;
-                    let x = if m.code == Code::AddDivFixedI {
-                        q + quotient
-                    } else {
-                        q - quotient
-                    };
-                    match to_fixed(x, 0) {
-                        Some(x) => set_int!(d, x as i64),
-                        None => undone!(),
-                    }
-                }
+                // (Two handlers: one testing the code would keep it in a register through
+                // every other instruction's dispatch.)
+                Code::AddDivFixedI => match to_fixed(int!(a) as f64 + int!(b) as f64 / k as f64, 0)
+                {
+                    Some(x) => set_int!(d, x as i64),
+                    None => undone!(),
+                },
+                Code::SubDivFixedI => match to_fixed(int!(a) as f64 - int!(b) as f64 / k as f64, 0)
+                {
+                    Some(x) => set_int!(d, x as i64),
+                    None => undone!(),
+                },
                 Code::FixedR => match to_fixed(real!(a), k as u8) {
                     Some(x) if k == 0 => from_real!(d, Ok::<f64, ()>(x)),
                     Some(x) => set_real!(d, x),
