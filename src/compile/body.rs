@@ -1942,6 +1942,13 @@ fn translate<'a>(
             // The store of the division before, done with it.
             continue;
         }
+        // (A variable written forgets the remainders it held or was the dividend of.)
+        if let Some(&(_, _, _, w, _)) = sums.get(&k) {
+            signs.retain(|&r, &mut a| r != w && a != w);
+        }
+        if let Some(&(_, _, w, _)) = quotients.get(&k) {
+            signs.retain(|&r, &mut a| r != w && a != w);
+        }
         if let Some(&(q, a, k_, d, minus)) = sums.get(&k) {
             out.push(Ir::SumDivFixedI {
                 d: l(d),
