@@ -1425,14 +1425,19 @@ pub struct Sub {
     pub gosub: u32,
     /// The subroutine's first instruction.
     pub pc: u32,
-    /// Its `RETURN` (a program's `End`).
-    pub last: u32,
     /// The first's place among the body's instructions.
     pub from: usize,
     /// The `RETURN`'s.
     pub to: usize,
     /// A program called (`Call Program`): its number and its chunk; none for a `GOSUB`.
     pub call: Option<(u32, usize)>,
+}
+
+impl Sub {
+    /// Its `RETURN`'s instruction (a program's `End`).
+    fn last(&self) -> u32 {
+        self.pc + (self.to - self.from) as u32
+    }
 }
 
 /// The interpreter's instructions an iteration of the body of `code` from `start` to `next`
@@ -1486,7 +1491,6 @@ fn inline<'a>(
         subs.push(Sub {
             gosub: pc,
             pc: first,
-            last,
             from,
             to: order.len() - 1,
             call,
@@ -1532,7 +1536,7 @@ fn translate<'a>(
     // in; `u32::MAX` (which every test refuses) anywhere else.
     let place = |t: u32, k: usize| -> u32 {
         match subs.iter().find(|s| (s.from..=s.to).contains(&k)) {
-            Some(s) if t > order[k].1 && t <= s.last => {
+            Some(s) if t > order[k].1 && t <= s.last() => {
                 start + (s.from + (t - s.pc) as usize) as u32
             }
             Some(_) => u32::MAX,
