@@ -1293,3 +1293,67 @@ fn a_product_summed_and_stored_gives_the_values_faults_and_counts_of_its_three_i
     // the END.
     assert_eq!(run.summary.instructions, 7 + 30 * 15 + 1);
 }
+
+#[test]
+fn a_stored_sum_of_products_gives_the_values_faults_and_counts_of_its_instructions() {
+    // Sums of three and four terms (`fuse_sums`): products, a variable added or taken away
+    // anywhere, all summed in the instructions' order; one instruction each.
+    let program = "A = 0.3: B = -1.7: C = 2.5: D = 0.125: E = -3.25\nX# = 1.1\nFOR I& = 1 TO 25\n  X# = X# * 1.01\n  Y = A * X# + B * C - D * E + E * X#\n  Z = X# + A * B - C + D * E\n  W# = A * B - X# * X# - C\nNEXT\n";
+    let (a, b, c, d, e) = (0.3f64, -1.7f64, 2.5f64, 0.125f64, -3.25f64);
+    let (mut x, mut y, mut z, mut w) = (1.1f64, 0.0f64, 0.0f64, 0.0f64);
+    for _ in 0..25 {
+        x *= 1.01;
+        y = a * x + b * c - d * e + e * x;
+        z = x + a * b - c + d * e;
+        w = a * b - x * x - c;
+    }
+    let loaded = load_mb("fused-sums", program, 7);
+    let sums = loaded.image.chunks[0]
+        .ops
+        .iter()
+        .filter(|op| matches!(op, Op::SumReal { .. }))
+        .count();
+    assert_eq!(sums, 3);
+    // The same values whatever the budget cuts the run into: a sum counts as its
+    // instructions.
+    for budget in [10_000, 1, 2, 3, 7] {
+        let run = run_mb("fused-sums", program, budget);
+        assert!(run.summary.error.is_none(), "{:?}", run.summary.error);
+        for (name, v) in [("X#", x), ("Y", y), ("Z", z), ("W#", w)] {
+            let got = val(&run, name);
+            assert_eq!(got.to_bits(), v.to_bits(), "{name}: {got}, want {v}");
+        }
+        // 8 before the loop, the FOR's 4, 25 iterations of 2 + 8 + 6 + 5 + 1, the END
+        // (`pacer disasm` of the program).
+        assert_eq!(
+            run.summary.instructions,
+            8 + 4 + 25 * 22 + 1,
+            "budget {budget}"
+        );
+    }
+    // A sum past the largest double faults at its store, naming the variable, after all its
+    // instructions; the variable keeps its value.
+    let run = run_mb(
+        "fused-sum-inf",
+        "A# = 1D300\nY = 1\nY = A# * A# + A# * 2 + 3 * A#\n",
+        10_000,
+    );
+    let (line, message) = run_error(&run);
+    assert_eq!(line, 3);
+    assert!(
+        message.starts_with("Y cannot take inf: the result is not a finite number"),
+        "{message}"
+    );
+    assert_eq!(val(&run, "Y"), 1.0);
+    assert_eq!(run.summary.instructions, 2 + 6);
+    // Infinities taken from each other: not a number.
+    let run = run_mb(
+        "fused-sum-nan",
+        "A# = 1D300\nY = 1\nY = A# * A# - A# * A# - 1\n",
+        10_000,
+    );
+    let (line, message) = run_error(&run);
+    assert_eq!(line, 3);
+    assert!(message.starts_with("Y cannot take NaN"), "{message}");
+    assert_eq!(val(&run, "Y"), 1.0);
+}

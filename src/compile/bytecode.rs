@@ -349,6 +349,23 @@ pub enum Op {
         b: Reg,
         minus: bool,
     },
+    /// A sum of three or more terms, two products at least, stored into a real
+    /// ([`fuse_sums`]: `Y = B0 * U + B1 * U1 + B2 * U2 - A1 * Y1 - A2 * Y2`, a filter's or a
+    /// controller's): `mul acc <- a * b` of the first term; for each further one, a product
+    /// `mul p <- a * b` and `add`/`sub acc <- acc ± p`, or an `add`/`sub` of a register (a
+    /// term that is the product of that register with the constant 1, which is exact); then
+    /// `store.r dst <- acc`. The terms are entries `at + 1 ..= at + terms` of
+    /// [`super::Chunk::terms`], summed in the instructions' order; entry `at` is the last
+    /// product's, whose value `p` is left holding. It counts as its `slots` instructions;
+    /// listed as the first, the others following (nothing jumps among them).
+    SumReal {
+        acc: Reg,
+        p: Reg,
+        dst: Reg,
+        at: u32,
+        slots: u8,
+        terms: u8,
+    },
     /// `sub t <- a - b` then `store.r dst <- t`.
     SubReal { t: Reg, dst: Reg, a: Reg, b: Reg },
     /// `mul t <- a * b` then `store.r dst <- t`.
@@ -588,6 +605,19 @@ pub enum Op {
     End,
 }
 
+/// A term of an [`Op::SumReal`]: the product of registers `a` and `b`, its sign bit flipped
+/// by `mask` (a term taken away: `x - y` is `x + -y` in IEEE arithmetic, and `-(a * b)` is
+/// the product negated exactly).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Term {
+    /// The first factor.
+    pub a: Reg,
+    /// The second factor.
+    pub b: Reg,
+    /// `1 << 63` for a term taken away, else 0.
+    pub mask: u64,
+}
+
 /// The instructions of [`Op::Ext`]. A string value is a handle: an index into the machine's
 /// string table, which holds the programs' literals and one cell per string variable, array
 /// element and string-making instruction (a string variable's slot always holds its own cell).
@@ -808,6 +838,145 @@ pub struct DataConst {
 
 pub use crate::check::text::TextFunc;
 
+/// Before [`fuse`]: each sum of three or more terms, two of them products at least, stored
+/// into a real becomes one [`Op::SumReal`], its terms pushed onto `table`; `one` gives the
+/// register of the constant 1 (asked for only when a term is a plain register). A real
+/// filter's or controller's line was a dispatch a product; now it is one. Nothing may jump
+/// among a sum's instructions, which stay in place, as a superinstruction's second half does.
+pub fn fuse_sums(
+    ops: &mut [Op],
+    temps: &std::ops::Range<Reg>,
+    one: &mut dyn FnMut() -> Reg,
+    table: &mut Vec<Term>,
+) {
+    let targets: std::collections::BTreeSet<u32> = ops.iter().filter_map(Op::target).collect();
+    let mut i = 0;
+    while i < ops.len() {
+        let Some(sum) = sum_at(ops, i, temps) else {
+            i += 1;
+            continue;
+        };
+        let end = i + usize::from(sum.slots) - 1;
+        if targets.range(i as u32 + 1..=end as u32).next().is_some() {
+            i += 1;
+            continue;
+        }
+        let at = table.len() as u32;
+        table.push(Term {
+            a: sum.last.0,
+            b: sum.last.1,
+            mask: 0,
+        });
+        let mut plain_one = None;
+        for &(a, b, minus) in &sum.terms {
+            let b = match b {
+                Some(b) => b,
+                None => *plain_one.get_or_insert_with(&mut *one),
+            };
+            table.push(Term {
+                a,
+                b,
+                mask: if minus { 1 << 63 } else { 0 },
+            });
+        }
+        ops[i] = Op::SumReal {
+            acc: sum.acc,
+            p: sum.p,
+            dst: sum.dst,
+            at,
+            slots: sum.slots,
+            terms: sum.terms.len() as u8,
+        };
+        i = end + 1;
+    }
+}
+
+/// A sum [`fuse_sums`] makes one instruction.
+struct Sum {
+    acc: Reg,
+    p: Reg,
+    dst: Reg,
+    slots: u8,
+    /// Each term: its factors (a plain register's second is `None`: the constant 1), and
+    /// whether it is taken away.
+    terms: Vec<(Reg, Option<Reg>, bool)>,
+    /// The factors of the last product into `p`.
+    last: (Reg, Reg),
+}
+
+/// The sum starting at `ops[i]`: `mul acc <- a * b`, then terms (`mul p <- a * b` and `add acc
+/// <- acc + p`, `add acc <- p + acc` or `sub acc <- acc - p`; or `add`/`sub` of a register
+/// other than `acc` and `p`), then `store.r dst <- acc`. No term reads `acc` or `p` once the sum
+/// has written them: the instruction reads every operand before it writes.
+fn sum_at(ops: &[Op], i: usize, temps: &std::ops::Range<Reg>) -> Option<Sum> {
+    // The most terms a sum takes (its instructions then fit `slots`).
+    const MOST: usize = 100;
+    let Op::Mul { dst: acc, a, b } = *ops.get(i)? else {
+        return None;
+    };
+    if !temps.contains(&acc) {
+        return None;
+    }
+    let mut terms = vec![(a, Some(b), false)];
+    let mut p: Option<Reg> = None;
+    let mut last = (a, b);
+    let mut j = i + 1;
+    let dst = loop {
+        if terms.len() > MOST {
+            return None;
+        }
+        match *ops.get(j)? {
+            Op::StoreReal { dst, src } if src == acc => break dst,
+            Op::Mul { dst: w, a, b }
+                if temps.contains(&w)
+                    && w != acc
+                    && p.is_none_or(|p| p == w)
+                    && ![acc, w].contains(&a)
+                    && ![acc, w].contains(&b) =>
+            {
+                let minus = match *ops.get(j + 1)? {
+                    Op::Add { dst, a: x, b: y }
+                        if dst == acc && ((x == acc && y == w) || (x == w && y == acc)) =>
+                    {
+                        false
+                    }
+                    Op::Sub { dst, a: x, b: y } if dst == acc && x == acc && y == w => true,
+                    _ => return None,
+                };
+                terms.push((a, Some(b), minus));
+                p = Some(w);
+                last = (a, b);
+                j += 2;
+            }
+            Op::Add { dst, a: x, b: y } if dst == acc && (x == acc) != (y == acc) => {
+                let c = if x == acc { y } else { x };
+                if p == Some(c) {
+                    return None;
+                }
+                terms.push((c, None, false));
+                j += 1;
+            }
+            Op::Sub { dst, a: x, b: y } if dst == acc && x == acc && y != acc && p != Some(y) => {
+                terms.push((y, None, true));
+                j += 1;
+            }
+            _ => return None,
+        }
+    };
+    let products = terms.iter().filter(|t| t.1.is_some()).count();
+    if terms.len() < 3 || products < 2 {
+        return None;
+    }
+    Some(Sum {
+        acc,
+        p: p?,
+        dst,
+        slots: u8::try_from(j - i + 1).ok()?,
+        terms,
+        last,
+    })
+}
+
 /// Fuse adjacent pairs of instructions into superinstructions (see [`Op::AddLong`]). Only a pair
 /// joined by a temporary in `temps` is fused. Before that, single instructions are specialised
 /// in place: an integer operator into a whole fixed-point slot ([`Op::ModWhole`] …), a jump to a
@@ -856,6 +1025,11 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
     let mut gain = vec![0u32; len + 3];
     let mut choice = vec![0u8; len];
     for i in (0..len).rev() {
+        // A sum ([`fuse_sums`]) is taken whole: its other instructions are not run.
+        if let Op::SumReal { slots, .. } = ops[i] {
+            gain[i] = gain[(i + usize::from(slots)).min(len)];
+            continue;
+        }
         let (mut best, mut pick) = (gain[i + 1], 0u8);
         let fused = ops.get(i + 1).and_then(|&second| pair(ops[i], second));
         if let Some(op) = fused.filter(|&op| joined(op, &temps)) {
@@ -899,7 +1073,12 @@ pub fn fuse(ops: &mut [Op], temps: std::ops::Range<Reg>) {
                 }
                 i += 2;
             }
-            _ => i += 1,
+            _ => {
+                i += match ops[i] {
+                    Op::SumReal { slots, .. } => usize::from(slots).max(1),
+                    _ => 1,
+                }
+            }
         }
     }
     // Then a long multiply-add: a `MulCheck` and the `AddCheck` of its product after it.
@@ -1687,6 +1866,8 @@ impl Op {
             | Op::DivReal { t, dst, a, b } => t.max(dst).max(a).max(b),
             // The product's temporary is the one after `acc`.
             Op::MulSumReal { acc, dst, a, b, .. } => acc.saturating_add(1).max(dst).max(a).max(b),
+            // (Its terms' registers are counted with the chunk's table.)
+            Op::SumReal { acc, p, dst, .. } => acc.max(p).max(dst),
             Op::MulAddCheck { t, a, b, c, .. }
             | Op::MulAddCheckModLong { t, a, b, c, .. }
             | Op::AddAdd { t, a, b, c }
@@ -2027,6 +2208,93 @@ mod tests {
                 assert_eq!(f, o, "@{i} stays as it was");
             }
         }
+    }
+
+    #[test]
+    fn fuse_sums_makes_one_instruction_of_each_stored_sum_of_products() {
+        let temps = 100..110;
+        let mul = |dst, a, b| Op::Mul { dst, a, b };
+        let add = |dst, a, b| Op::Add { dst, a, b };
+        let sub = |dst, a, b| Op::Sub { dst, a, b };
+        let store = |dst, src| Op::StoreReal { dst, src };
+        let mut ops = vec![
+            // @0..@7: `Y = a * b + c * d - e * f + x`, the product after the sum in an add.
+            mul(100, 1, 2),
+            mul(101, 3, 4),
+            add(100, 101, 100),
+            mul(101, 5, 6),
+            sub(100, 100, 101),
+            add(100, 100, 7),
+            store(9, 100),
+            // @7..@11: two terms only: left to `fuse`.
+            mul(100, 1, 2),
+            mul(101, 3, 4),
+            add(100, 100, 101),
+            store(9, 100),
+            // @11..@16: a term reading the product before it: left alone.
+            mul(100, 1, 2),
+            mul(101, 3, 4),
+            add(100, 100, 101),
+            sub(100, 100, 101),
+            store(9, 100),
+            // @16..@22: a jump to its store (@21): left alone.
+            mul(100, 1, 2),
+            mul(101, 3, 4),
+            add(100, 100, 101),
+            mul(101, 5, 6),
+            add(100, 100, 101),
+            store(9, 100),
+            Op::Jump { target: 21 },
+            // @23..@28: `x - a * b - c * d`, stored into a long: not a real sum.
+            mul(100, 1, 2),
+            sub(100, 7, 100),
+            mul(101, 3, 4),
+            sub(100, 100, 101),
+            Op::StoreLong { dst: 9, src: 100 },
+            Op::End,
+        ];
+        let plain = ops.clone();
+        let mut table = Vec::new();
+        let mut asked = 0;
+        fuse_sums(
+            &mut ops,
+            &temps,
+            &mut || {
+                asked += 1;
+                50
+            },
+            &mut table,
+        );
+        assert_eq!(
+            ops[0],
+            Op::SumReal {
+                acc: 100,
+                p: 101,
+                dst: 9,
+                at: 0,
+                slots: 7,
+                terms: 4
+            }
+        );
+        // Its other instructions, and every other one, stay as they were.
+        assert_eq!(ops[1..], plain[1..]);
+        let minus = 1 << 63;
+        let term = |a, b, mask| Term { a, b, mask };
+        assert_eq!(
+            table,
+            [
+                term(5, 6, 0),
+                term(1, 2, 0),
+                term(3, 4, 0),
+                term(5, 6, minus),
+                term(7, 50, 0)
+            ]
+        );
+        assert_eq!(asked, 1);
+        // `fuse` keeps the sum whole: nothing inside it is fused, and it fuses with nothing.
+        let mut fused = ops.clone();
+        fuse(&mut fused, temps.clone());
+        assert_eq!(fused[..7], ops[..7]);
     }
 
     #[test]

@@ -173,6 +173,11 @@ pub fn disassemble(chunk: &Chunk, layout: &Layout, registry: &Registry) -> Strin
                 format!("cmp       {} <- {} {} {}", r(dst), r(a), cmp.symbol(), r(b))
             }
             Op::Neg { dst, a } => format!("neg       {} <- -{}", r(dst), r(a)),
+            // A sum is listed as its first product, the rest of its instructions following.
+            Op::SumReal { acc, at, .. } => match chunk.terms.get(at as usize + 1) {
+                Some(first) => format!("mul       {} <- {} * {}", r(acc), r(first.a), r(first.b)),
+                None => format!("mul       {} <- ?", r(acc)),
+            },
             Op::Not { dst, a } => format!("not       {} <- NOT {}", r(dst), r(a)),
             Op::BitNot { dst, a } => format!("bnot      {} <- NOT {}", r(dst), r(a)),
             Op::Call { func, dst, a, b } => {

@@ -219,6 +219,8 @@ pub struct Chunk {
     pub source: SourceFile,
     /// The instructions [`Op::Ext`] names.
     pub ext: Vec<ExtOp>,
+    /// The terms of the chunk's sums ([`Op::SumReal`]).
+    pub terms: Vec<bytecode::Term>,
     /// The program's `DATA` constants, in program order.
     pub data: Vec<DataConst>,
     /// The loops the machine may run outside the interpreter on typed registers
@@ -424,6 +426,14 @@ impl<'a> Compiler<'a> {
             &|r| self.layout.is_whole(r),
             &|r| self.layout.constant_value(r),
         );
+        let mut terms = Vec::new();
+        let layout = &mut *self.layout;
+        bytecode::fuse_sums(
+            &mut self.ops,
+            &temps,
+            &mut || layout.constant(1.0),
+            &mut terms,
+        );
         bytecode::fuse(&mut self.ops, temps.clone());
         bytecode::fuse_with_constants(&mut self.ops, &temps, &|r| self.layout.constant_value(r));
         bytecode::fuse_text(&mut self.ops, &self.ext, &temps);
@@ -445,6 +455,7 @@ impl<'a> Compiler<'a> {
             .ops
             .iter()
             .filter_map(Op::max_register)
+            .chain(terms.iter().map(|t| t.a.max(t.b)))
             .map(|r| r as usize + 1)
             .max()
             .unwrap_or(0);
@@ -469,6 +480,7 @@ impl<'a> Compiler<'a> {
             spans: self.spans,
             source: SourceFile::new(file, src),
             ext: self.ext,
+            terms,
             data: self.data,
             bodies,
             heads,

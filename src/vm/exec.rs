@@ -973,6 +973,33 @@ pub fn run<'a>(
                     store_real!(dst, x, here + 2);
                     pc = here + 3;
                 }
+                Op::SumReal {
+                    acc,
+                    p,
+                    dst,
+                    at,
+                    slots,
+                    terms,
+                } => {
+                    let from = at as usize;
+                    let Some([last, first, rest @ ..]) =
+                        chunk.terms.get(from..from + 1 + usize::from(terms))
+                    else {
+                        pc = here;
+                        fault!("internal error: the terms of a sum are missing");
+                    };
+                    let mut sum = rd!(first.a as usize) * rd!(first.b as usize);
+                    for t in rest {
+                        let product = rd!(t.a as usize) * rd!(t.b as usize);
+                        sum += f64::from_bits(product.to_bits() ^ t.mask);
+                    }
+                    wr!(p as usize, rd!(last.a as usize) * rd!(last.b as usize));
+                    wr!(acc as usize, sum);
+                    // Every instruction of the sum, its store (the last) included.
+                    n += u64::from(slots) - 1;
+                    store_real!(dst, sum, here + u32::from(slots) - 1);
+                    pc = here + u32::from(slots);
+                }
                 Op::MulDec { p, a, b, acc } => {
                     n += 1;
                     let product = rd!(a as usize) * rd!(b as usize);
