@@ -1688,3 +1688,61 @@ fn powertools_quotients_into_whole_variables_run_as_the_interpreter_rounds_them(
         assert_eq!(both("x.pt", past, budget).1.map(|e| e.0), Some(3));
     }
 }
+
+#[test]
+fn a_loop_given_back_by_its_trial_is_tried_again_later() {
+    // Each loop's first 64 entries go round once or twice, too few to pay for a hand-over: the
+    // interpreter keeps it. Later entries go round 100 and 150 times: some million of the
+    // machine's instructions after its trial failed, the loop is tried again, and handed over
+    // from then on. Values and counts are the interpreter's either way.
+    let while_loop = "T& = 0
+FOR I& = 1 TO 3000
+  P& = I& ^ 1
+  N& = 1
+  IF I& > 64 THEN N& = 100
+  WHILE N& > 0
+    T& = T& + N& MOD 7
+    N& = N& - 1
+  WEND
+NEXT
+";
+    let for_loop = "T& = 0
+FOR I& = 1 TO 3000
+  P& = I& ^ 1
+  N& = 2
+  IF I& > 64 THEN N& = 150
+  FOR K& = 1 TO N&
+    T& = T& + (K& * I&) MOD 7
+  NEXT
+NEXT
+";
+    let while_sum: i64 = (1..=3000i64)
+        .map(|i| {
+            let n = if i > 64 { 100 } else { 1 };
+            (1..=n).map(|k| k % 7).sum::<i64>()
+        })
+        .sum();
+    let for_sum: i64 = (1..=3000i64)
+        .map(|i| {
+            let n = if i > 64 { 150 } else { 2 };
+            (1..=n).map(|k| (k * i) % 7).sum::<i64>()
+        })
+        .sum();
+    for (name, program, sum) in [
+        ("retry-while", while_loop, while_sum),
+        ("retry-for", for_loop, for_sum),
+    ] {
+        let (machine, summary) = run_untraced(load(name, "x.mb", program, 10_000));
+        assert!(summary.error.is_none(), "{name}: {:?}", summary.error);
+        assert_eq!(machine.value_of("T&"), Some(sum as f64), "{name}");
+        // The trial's 64 entries, then (past 2^20 instructions, of some 2.1 and 2.7 million)
+        // every entry of the rest: more than a thousand.
+        let runs = machine.tight_runs();
+        assert!(runs > 1_000, "{name}: {runs} runs outside the interpreter");
+        for budget in [7, 10_000] {
+            let (_, error, untraced_runs) = both("x.mb", program, budget);
+            assert_eq!(error, None, "{name}");
+            assert!(untraced_runs > 64, "{name} at {budget}: {untraced_runs}");
+        }
+    }
+}

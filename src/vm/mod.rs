@@ -63,6 +63,15 @@ const TRIAL: u32 = 64;
 /// instructions an entry the loss is at most some 12 %, and the gain up to some 20 %.
 const FEWEST_COUNTED: u64 = 256;
 
+/// How many of the machine's instructions after a trial gives a loop back to the interpreter
+/// it is tried again (doubled at each trial that fails again, to [`RETRY_LAST`] doublings): a
+/// loop's first entries are not always its others (Collatz lengths of 1 to 64, short, then of
+/// larger numbers), and a trial costs less than some 64 × 900 machine instructions.
+const RETRY_AFTER: u64 = 1 << 20;
+
+/// The most doublings of [`RETRY_AFTER`].
+const RETRY_LAST: u32 = 16;
+
 /// How many of the interpreter's budget tests a turn starting inside an iteration of a body
 /// that runs subroutines stops at, at most, to hand the loop back (`Machine::run_task`): an
 /// iteration holds a few (each `GOSUB`, each `RETURN`, the `for.next`); past them the loop
@@ -229,6 +238,24 @@ pub struct Machine {
     /// spent at a `GOSUB` or `RETURN` there: its next turn hands the loop back to the machine
     /// as soon as the interpreter has run the rest of that iteration (`Machine::run_task`).
     rejoin: Option<usize>,
+    /// The loops their trial gave back to the interpreter, to be tried again
+    /// (`Machine::retry_loops`), in the order they were given back.
+    retries: Vec<Retry>,
+    /// The machine's instruction count at which the earliest of [`Machine::retries`] is due.
+    next_retry: u64,
+}
+
+/// A loop a trial gave back to the interpreter ([`Machine::judge_for`], [`Machine::run_body`]).
+#[derive(Debug, Clone, Copy)]
+struct Retry {
+    /// Its chunk.
+    chunk: usize,
+    /// Its `for.check` or `loop`.
+    pc: u32,
+    /// The machine's instruction count at which it is tried again; `None` while it is.
+    due: Option<u64>,
+    /// How many of its trials have failed.
+    failed: u32,
 }
 
 /// The trial of the loop whose `for.check` or `loop` is instruction `pc` of `chunk`
@@ -315,6 +342,8 @@ impl Machine {
             body_regs: Box::default(),
             rejoin: None,
             trials: Vec::new(),
+            retries: Vec::new(),
+            next_retry: u64::MAX,
             image,
         };
         m.devices.start(&mut m.values);
@@ -1058,6 +1087,9 @@ impl Machine {
                 } else {
                     Op::ForCheck { var, limit, exit }
                 };
+                if !pays {
+                    self.retry_later(chunk, pc);
+                }
             }
         }
     }
@@ -1194,6 +1226,7 @@ impl Machine {
                 let fewest = (FEWEST_ROUNDS * per_round).max(FEWEST_COUNTED);
                 if trial.0 == TRIAL && trial.1 < u64::from(TRIAL) * fewest {
                     self.plain_loop(chunk, entry);
+                    self.retry_later(chunk, entry);
                 }
             }
         }
@@ -1216,6 +1249,77 @@ impl Machine {
             gosub: callee.is_none(),
         });
         Some((pc, spent))
+    }
+
+    /// The loop whose `for.check` or `loop` is instruction `pc` of `chunk`, which its trial
+    /// just gave back to the interpreter, tried again later: after [`RETRY_AFTER`] of the
+    /// machine's instructions, doubled at each trial of it that failed before.
+    fn retry_later(&mut self, chunk: usize, pc: u32) {
+        let at = match self
+            .retries
+            .iter()
+            .position(|r| r.chunk == chunk && r.pc == pc)
+        {
+            Some(at) => at,
+            None => {
+                self.retries.push(Retry {
+                    chunk,
+                    pc,
+                    due: None,
+                    failed: 0,
+                });
+                self.retries.len() - 1
+            }
+        };
+        let retry = &mut self.retries[at];
+        let wait = RETRY_AFTER << retry.failed.min(RETRY_LAST);
+        retry.failed += 1;
+        let due = self.instructions.saturating_add(wait);
+        retry.due = Some(due);
+        self.next_retry = self.next_retry.min(due);
+    }
+
+    /// Hand over again the loops whose retry is due ([`Machine::retry_later`]): a `for.check`
+    /// made plain by its trial becomes the one that hands its loop over, a `loop` too, and
+    /// each starts a new trial. Only the speed changes.
+    fn retry_loops(&mut self) {
+        let now = self.instructions;
+        let mut next = u64::MAX;
+        for retry in &mut self.retries {
+            let Some(due) = retry.due else {
+                continue;
+            };
+            if due > now {
+                next = next.min(due);
+                continue;
+            }
+            retry.due = None;
+            let op = self
+                .image
+                .chunks
+                .get_mut(retry.chunk)
+                .and_then(|c| c.ops.get_mut(retry.pc as usize));
+            match op {
+                Some(op @ Op::ForCheck { .. }) => {
+                    if let Op::ForCheck { var, limit, exit } = *op {
+                        *op = Op::ForTight {
+                            var,
+                            limit,
+                            exit,
+                            kept: false,
+                        };
+                    }
+                }
+                Some(op @ Op::Loop { .. }) => {
+                    if let Op::Loop { target } = *op {
+                        *op = Op::LoopTight { target };
+                    }
+                }
+                _ => continue,
+            }
+            *trial_of(&mut self.trials, retry.chunk, retry.pc) = (0, 0);
+        }
+        self.next_retry = next;
     }
 
     /// The `loop` at `entry` of `chunk` that hands its loop over (`Op::LoopTight`) made a plain
@@ -1337,6 +1441,9 @@ impl Machine {
 
     /// Run task `ti` for one turn: until it blocks, ends, or spends its instruction budget.
     fn run_task(&mut self, ti: usize) {
+        if self.instructions >= self.next_retry {
+            self.retry_loops();
+        }
         let budget_end = self.instructions.saturating_add(self.image.budget);
         if self.resume_loop(ti, budget_end) {
             return;
