@@ -1299,24 +1299,19 @@ impl Machine {
                 .chunks
                 .get_mut(retry.chunk)
                 .and_then(|c| c.ops.get_mut(retry.pc as usize));
-            match op {
-                Some(op @ Op::ForCheck { .. }) => {
-                    if let Op::ForCheck { var, limit, exit } = *op {
-                        *op = Op::ForTight {
-                            var,
-                            limit,
-                            exit,
-                            kept: false,
-                        };
-                    }
-                }
-                Some(op @ Op::Loop { .. }) => {
-                    if let Op::Loop { target } = *op {
-                        *op = Op::LoopTight { target };
-                    }
-                }
+            let Some(op) = op else {
+                continue;
+            };
+            *op = match *op {
+                Op::ForCheck { var, limit, exit } => Op::ForTight {
+                    var,
+                    limit,
+                    exit,
+                    kept: false,
+                },
+                Op::Loop { target } => Op::LoopTight { target },
                 _ => continue,
-            }
+            };
             *trial_of(&mut self.trials, retry.chunk, retry.pc) = (0, 0);
         }
         self.next_retry = next;
